@@ -1,0 +1,371 @@
+//! The 24-DOF fully parameterized beam element (SPEC §1): shape functions,
+//! elastic force and Jacobian, mass matrix and gravity force.
+//!
+//! Two kernels compute the same elastic force and Jacobian:
+//! * the **generated** kernel ([`point_kernel`], written by
+//!   `ancf_macros::structured_point_kernel!` from the sparsity of ∇s, with
+//!   the axial loop specialised by `build.rs` for the compiled orders);
+//! * the **generic** kernel ([`point_kernel_generic`]), the textbook
+//!   B-matrix form with runtime loops, for any other order and as the
+//!   reference the generated one is tested against.
+//!
+//! Which one runs for an element is reported by [`ElementIntegration::kernel_path`].
+
+use crate::material::Law;
+use crate::quadrature::{Rule1d, gauss_legendre_unit};
+use crate::section::Section;
+use nalgebra::{SMatrix, Vector6};
+
+/// Element coordinates: [r_A, r_x^A, r_y^A, r_z^A, r_B, r_x^B, r_y^B, r_z^B], m and 1.
+pub type ElementVector = [f64; 24];
+/// A 24×24 element matrix, row-major.
+pub type ElementMatrix = [f64; 576];
+
+/// Signature of a whole-element kernel: adds the elastic force (N) to `q`
+/// and, when asked, its Jacobian (N/m) to `k`; returns the strain energy (J).
+pub type ElementKernelFn =
+    fn(&ElementIntegration, &ElementVector, &mut ElementVector, Option<&mut ElementMatrix>) -> f64;
+
+mod generated {
+    include!(concat!(env!("OUT_DIR"), "/generated_kernels.rs"));
+}
+pub use generated::{COMPILED_AXIAL_ORDERS, axial_rule_for as compiled_axial_rule};
+
+/// The axial factor of each shape function, N_i(ξ) (s_i = N_i · m_i(y, z)).
+pub fn axial_factors(xi: f64, l: f64) -> [f64; 8] {
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    [
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        l * (xi - 2.0 * x2 + x3),
+        1.0 - xi,
+        1.0 - xi,
+        3.0 * x2 - 2.0 * x3,
+        l * (-x2 + x3),
+        xi,
+        xi,
+    ]
+}
+
+/// Which section factor m ∈ {1, y, z} (index 0, 1, 2) multiplies N_i.
+pub const SECTION_FACTOR: [usize; 8] = [0, 0, 1, 2, 0, 0, 1, 2];
+
+/// Shape functions s_i(ξ, y, z) (SPEC §1).
+pub fn shape_functions(xi: f64, y: f64, z: f64, l: f64) -> [f64; 8] {
+    let n = axial_factors(xi, l);
+    let m = [1.0, y, z];
+    std::array::from_fn(|i| n[i] * m[SECTION_FACTOR[i]])
+}
+
+/// Gradients ∇s_i = (∂/∂x, ∂/∂y, ∂/∂z) at (ξ = x/l, y, z), in 1/m and 1.
+pub fn shape_gradients(xi: f64, y: f64, z: f64, l: f64) -> [[f64; 3]; 8] {
+    let d1 = (-6.0 * xi + 6.0 * xi * xi) / l;
+    [
+        [d1, 0.0, 0.0],
+        [1.0 - 4.0 * xi + 3.0 * xi * xi, 0.0, 0.0],
+        [-y / l, 1.0 - xi, 0.0],
+        [-z / l, 0.0, 1.0 - xi],
+        [-d1, 0.0, 0.0],
+        [-2.0 * xi + 3.0 * xi * xi, 0.0, 0.0],
+        [y / l, xi, 0.0],
+        [z / l, 0.0, xi],
+    ]
+}
+
+/// Position r = S e of a material point (m).
+pub fn position(e: &ElementVector, xi: f64, y: f64, z: f64, l: f64) -> [f64; 3] {
+    let s = shape_functions(xi, y, z, l);
+    std::array::from_fn(|k| (0..8).map(|i| s[i] * e[3 * i + k]).sum())
+}
+
+/// Deformation gradient F[k][a] = Σ_i e[3i+k] ∂s_i/∂x_a.
+pub fn deformation_gradient(e: &ElementVector, g: &[[f64; 3]; 8]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|k| std::array::from_fn(|a| (0..8).map(|i| e[3 * i + k] * g[i][a]).sum()))
+}
+
+/// Green–Lagrange strain (Voigt) from F.
+pub fn green_lagrange(f: &[[f64; 3]; 3]) -> Vector6<f64> {
+    let c = |p: usize, q: usize| (0..3).map(|k| f[k][p] * f[k][q]).sum::<f64>();
+    Vector6::new(
+        0.5 * (c(0, 0) - 1.0),
+        0.5 * (c(1, 1) - 1.0),
+        0.5 * (c(2, 2) - 1.0),
+        c(1, 2),
+        c(0, 2),
+        c(0, 1),
+    )
+}
+
+ancf_macros::structured_point_kernel! {
+    /// Generated point kernel: adds w·∂W/∂e to `q`, w·∂²W/∂e² to `k`,
+    /// returns w·W, for the gradient sparsity of the 3243 beam.
+    pub fn point_kernel;
+    gradient_sparsity = [[x], [x], [x, y], [x, z], [x], [x], [x, y], [x, z]];
+}
+
+/// Generic point kernel, the textbook form: B = ∂ε/∂e (6×24),
+/// q += w Bᵀσ, K += w (BᵀDB + geometric part).
+pub fn point_kernel_generic(
+    e: &ElementVector,
+    g: &[[f64; 3]; 8],
+    w: f64,
+    law: &Law,
+    q: &mut ElementVector,
+    k: Option<&mut ElementMatrix>,
+) -> f64 {
+    let f = deformation_gradient(e, g);
+    let eps = green_lagrange(&f);
+    let mut b = SMatrix::<f64, 6, 24>::zeros();
+    for i in 0..8 {
+        for kk in 0..3 {
+            let col = 3 * i + kk;
+            let (fk, gi) = (&f[kk], &g[i]);
+            b[(0, col)] = fk[0] * gi[0];
+            b[(1, col)] = fk[1] * gi[1];
+            b[(2, col)] = fk[2] * gi[2];
+            b[(3, col)] = fk[1] * gi[2] + fk[2] * gi[1];
+            b[(4, col)] = fk[0] * gi[2] + fk[2] * gi[0];
+            b[(5, col)] = fk[0] * gi[1] + fk[1] * gi[0];
+        }
+    }
+    let (sigma, tangent) = match k {
+        Some(_) => {
+            let st = law.stress_tangent(&eps);
+            (st.stress, Some(st.tangent))
+        }
+        None => (law.stress(&eps), None),
+    };
+    let force = b.transpose() * sigma;
+    for (qi, fi) in q.iter_mut().zip(force.iter()) {
+        *qi += w * fi;
+    }
+    if let (Some(k), Some(d)) = (k, tangent) {
+        let kmat = b.transpose() * d * b;
+        let s = crate::material::tensor_from_stress(&sigma);
+        for r in 0..24 {
+            for c in 0..24 {
+                let (i, kk, j, m) = (r / 3, r % 3, c / 3, c % 3);
+                let mut v = kmat[(r, c)];
+                if kk == m {
+                    for a in 0..3 {
+                        for bb in 0..3 {
+                            v += g[i][a] * s[(a, bb)] * g[j][bb];
+                        }
+                    }
+                }
+                k[r * 24 + c] += w * v;
+            }
+        }
+    }
+    w * law.energy(&eps)
+}
+
+/// Which element kernel a model runs: reported, never silent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KernelPath {
+    /// Unrolled kernel generated for this axial order at compile time.
+    Generated { axial_order: usize },
+    /// Loop-based kernel, any order.
+    Generic { axial_order: usize },
+}
+
+impl std::fmt::Display for KernelPath {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            KernelPath::Generated { axial_order } => {
+                write!(f, "generated kernel (axial order {axial_order})")
+            }
+            KernelPath::Generic { axial_order } => write!(
+                f,
+                "generic kernel (axial order {axial_order} not compiled; compiled: {:?}, set ANCF_KERNEL_ORDERS)",
+                COMPILED_AXIAL_ORDERS
+            ),
+        }
+    }
+}
+
+/// Everything needed to integrate one element: its length, the axial rule
+/// and the section (layers with their points and laws).
+#[derive(Clone, Debug)]
+pub struct ElementIntegration {
+    /// Element length l, m.
+    pub length: f64,
+    /// Axial Gauss–Legendre rule on ξ ∈ [0, 1] (weights sum to 1).
+    pub axial: Rule1d,
+    pub section: Section,
+    kernel: Option<ElementKernelFn>,
+}
+
+impl ElementIntegration {
+    pub fn new(length: f64, axial_order: usize, section: Section) -> Self {
+        ElementIntegration {
+            length,
+            axial: gauss_legendre_unit(axial_order),
+            section,
+            kernel: generated::element_kernel_for(axial_order),
+        }
+    }
+
+    /// Force the generic path (for comparisons and benchmarks).
+    pub fn with_generic_kernel(mut self) -> Self {
+        self.kernel = None;
+        self
+    }
+
+    pub fn kernel_path(&self) -> KernelPath {
+        let axial_order = self.axial.nodes.len();
+        match self.kernel {
+            Some(_) => KernelPath::Generated { axial_order },
+            None => KernelPath::Generic { axial_order },
+        }
+    }
+
+    /// Elastic force (added to `q`), Jacobian (added to `k` when given) and
+    /// strain energy of one element with coordinates `e`.
+    pub fn evaluate(
+        &self,
+        e: &ElementVector,
+        q: &mut ElementVector,
+        k: Option<&mut ElementMatrix>,
+    ) -> f64 {
+        match self.kernel {
+            Some(kernel) => kernel(self, e, q, k),
+            None => self.evaluate_generic(e, q, k),
+        }
+    }
+
+    /// Strain energy only (J).
+    pub fn energy(&self, e: &ElementVector) -> f64 {
+        self.evaluate(e, &mut [0.0; 24], None)
+    }
+
+    /// The generic loop-based path.
+    pub fn evaluate_generic(
+        &self,
+        e: &ElementVector,
+        q: &mut ElementVector,
+        mut k: Option<&mut ElementMatrix>,
+    ) -> f64 {
+        let l = self.length;
+        let mut energy = 0.0;
+        for (xi, wx) in self.axial.nodes.iter().zip(&self.axial.weights) {
+            let wx = wx * l;
+            for layer in &self.section.layers {
+                for p in &layer.points {
+                    let g = shape_gradients(*xi, p.y, p.z, l);
+                    energy += point_kernel_generic(
+                        e,
+                        &g,
+                        wx * p.weight,
+                        &layer.laws.section,
+                        q,
+                        k.as_deref_mut(),
+                    );
+                }
+                if let Some(cl) = &layer.laws.centerline {
+                    let g = shape_gradients(*xi, 0.0, 0.0, l);
+                    energy += point_kernel_generic(e, &g, wx * layer.area, cl, q, k.as_deref_mut());
+                }
+            }
+        }
+        energy
+    }
+
+    /// Element mass matrix (kg), row-major 24×24: M = Σ ρ ∫ SᵀS dV, exact
+    /// (5-point axial rule, degree 6 integrand; section moments in closed form).
+    pub fn mass_matrix(&self) -> ElementMatrix {
+        let l = self.length;
+        let mom = self.section.density_moments();
+        let rule = gauss_legendre_unit(5);
+        let mut m = [0.0; 576];
+        for (xi, w) in rule.nodes.iter().zip(&rule.weights) {
+            let n = axial_factors(*xi, l);
+            for i in 0..8 {
+                for j in 0..8 {
+                    let v = w * l * n[i] * n[j] * mom[SECTION_FACTOR[i]][SECTION_FACTOR[j]];
+                    for kk in 0..3 {
+                        m[(3 * i + kk) * 24 + 3 * j + kk] += v;
+                    }
+                }
+            }
+        }
+        m
+    }
+
+    /// Generalized gravity force (N) for the acceleration `g` (m/s²): Σ ρ ∫ Sᵀg dV.
+    pub fn gravity_force(&self, g: [f64; 3]) -> ElementVector {
+        let l = self.length;
+        let mom = self.section.density_moments();
+        let rule = gauss_legendre_unit(3);
+        let mut q = [0.0; 24];
+        for (xi, w) in rule.nodes.iter().zip(&rule.weights) {
+            let n = axial_factors(*xi, l);
+            for i in 0..8 {
+                // ∫ρ m_i dA: only m = 1 survives on symmetric sections.
+                let v = w * l * n[i] * mom[0][SECTION_FACTOR[i]];
+                for kk in 0..3 {
+                    q[3 * i + kk] += v * g[kk];
+                }
+            }
+        }
+        q
+    }
+}
+
+/// Whole-element kernel with the axial rule fixed at compile time (`N`
+/// points), calling the generated point kernel. `build.rs` instantiates it
+/// for each compiled order with the rule's nodes and weights as constants.
+pub fn structured_element<const N: usize>(
+    nodes: &[f64; N],
+    weights: &[f64; N],
+    ei: &ElementIntegration,
+    e: &ElementVector,
+    q: &mut ElementVector,
+    mut k: Option<&mut ElementMatrix>,
+) -> f64 {
+    let l = ei.length;
+    let mut energy = 0.0;
+    for a in 0..N {
+        let (xi, wx) = (nodes[a], weights[a] * l);
+        for layer in &ei.section.layers {
+            for p in &layer.points {
+                let g = shape_gradients(xi, p.y, p.z, l);
+                energy += point_kernel(
+                    e,
+                    &g,
+                    wx * p.weight,
+                    &layer.laws.section,
+                    q,
+                    k.as_deref_mut(),
+                );
+            }
+            if let Some(cl) = &layer.laws.centerline {
+                let g = shape_gradients(xi, 0.0, 0.0, l);
+                energy += point_kernel(e, &g, wx * layer.area, cl, q, k.as_deref_mut());
+            }
+        }
+    }
+    energy
+}
+
+/// Reference (undeformed) element coordinates of a straight element from
+/// `start` along the unit `axis`, with section directions `ny`, `nz`.
+pub fn reference_coordinates(
+    start: [f64; 3],
+    axis: [f64; 3],
+    ny: [f64; 3],
+    nz: [f64; 3],
+    l: f64,
+) -> ElementVector {
+    let mut e = [0.0; 24];
+    for k in 0..3 {
+        e[k] = start[k];
+        e[3 + k] = axis[k];
+        e[6 + k] = ny[k];
+        e[9 + k] = nz[k];
+        e[12 + k] = start[k] + l * axis[k];
+        e[15 + k] = axis[k];
+        e[18 + k] = ny[k];
+        e[21 + k] = nz[k];
+    }
+    e
+}

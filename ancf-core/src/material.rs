@@ -1,0 +1,336 @@
+//! Constitutive laws, written as energy → stress → tangent (each the
+//! derivative of the one before, and tested that way).
+//!
+//! Voigt convention used throughout the crate:
+//! strain ε = [E11, E22, E33, 2E23, 2E13, 2E12] (engineering shears),
+//! stress σ = [S11, S22, S33, S23, S13, S12] (second Piola–Kirchhoff, Pa),
+//! so that dW = σ · dε and the tangent D = ∂σ/∂ε is symmetric.
+
+use nalgebra::{Matrix3, Matrix6, Vector6};
+
+/// Voigt index pairs (a, b) of the six strain/stress components.
+pub const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
+
+/// Green–Lagrange strain in Voigt form from the symmetric tensor E.
+pub fn voigt_strain(e: &Matrix3<f64>) -> Vector6<f64> {
+    Vector6::new(
+        e[(0, 0)],
+        e[(1, 1)],
+        e[(2, 2)],
+        2.0 * e[(1, 2)],
+        2.0 * e[(0, 2)],
+        2.0 * e[(0, 1)],
+    )
+}
+
+/// Symmetric tensor from Voigt stress components.
+pub fn tensor_from_stress(s: &Vector6<f64>) -> Matrix3<f64> {
+    Matrix3::new(s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2])
+}
+
+/// Symmetric tensor E from Voigt strain components (shears halved).
+pub fn tensor_from_strain(e: &Vector6<f64>) -> Matrix3<f64> {
+    Matrix3::new(
+        e[0],
+        0.5 * e[5],
+        0.5 * e[4],
+        0.5 * e[5],
+        e[1],
+        0.5 * e[3],
+        0.5 * e[4],
+        0.5 * e[3],
+        e[2],
+    )
+}
+
+/// Lamé parameters (λ, μ) in Pa from Young's modulus (Pa) and Poisson's ratio.
+pub fn lame(youngs_modulus: f64, poisson_ratio: f64) -> (f64, f64) {
+    let (e, nu) = (youngs_modulus, poisson_ratio);
+    (
+        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        e / (2.0 * (1.0 + nu)),
+    )
+}
+
+/// Isotropic St. Venant–Kirchhoff elasticity matrix D (Pa) in Voigt form.
+pub fn isotropic_elasticity(youngs_modulus: f64, poisson_ratio: f64) -> Matrix6<f64> {
+    let (lambda, mu) = lame(youngs_modulus, poisson_ratio);
+    let mut d = Matrix6::zeros();
+    for a in 0..3 {
+        for b in 0..3 {
+            d[(a, b)] = lambda;
+        }
+        d[(a, a)] += 2.0 * mu;
+        d[(a + 3, a + 3)] = mu;
+    }
+    d
+}
+
+/// A pointwise hyperelastic law: strain energy density W(ε) in J/m³.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Law {
+    /// W = ½ εᵀ D ε with a constant symmetric D (Pa): St. Venant–Kirchhoff
+    /// and its parts (the weakened-bending split).
+    Linear(Matrix6<f64>),
+    /// Nearly incompressible Mooney–Rivlin (SPEC §3.2), all in Pa:
+    /// W = μ10 (I1 − 3) + μ01 (I2 − 3) + k1 (I3 − 1) + k2 (I3 − 1)².
+    MooneyRivlin {
+        mu10: f64,
+        mu01: f64,
+        k1: f64,
+        k2: f64,
+    },
+}
+
+/// Stress and tangent of a law at one strain.
+#[derive(Clone, Copy, Debug)]
+pub struct StressTangent {
+    pub stress: Vector6<f64>,
+    pub tangent: Matrix6<f64>,
+}
+
+/// Invariants of C (I1, I2, I3) and its cofactor matrix (= I3 C⁻¹, defined
+/// without an inverse, so an inverted element gives numbers, not NaN).
+fn invariants_and_cofactor(c: &Matrix3<f64>) -> (f64, f64, f64, Matrix3<f64>) {
+    let i1 = c.trace();
+    let c2 = c * c;
+    let i2 = 0.5 * (i1 * i1 - c2.trace());
+    // Cayley–Hamilton: adj(C) = C² − I1 C + I2 I (= cof(C) for symmetric C).
+    let cof = c2 - c * i1 + Matrix3::identity() * i2;
+    let i3 = (c * cof).trace() / 3.0;
+    (i1, i2, i3, cof)
+}
+
+impl Law {
+    /// Mooney–Rivlin with k1 = −(μ10 + 2μ01) (stress-free reference) and
+    /// k2 = κ · max(μ10, μ01).
+    pub fn mooney_rivlin(mu10: f64, mu01: f64, penalty: f64) -> Self {
+        Law::MooneyRivlin {
+            mu10,
+            mu01,
+            k1: -(mu10 + 2.0 * mu01),
+            k2: penalty * mu10.max(mu01),
+        }
+    }
+
+    /// Whether this law is the Mooney–Rivlin kernel (used to prove that an
+    /// all-SVK model never evaluates it).
+    pub fn is_mooney_rivlin(&self) -> bool {
+        matches!(self, Law::MooneyRivlin { .. })
+    }
+
+    /// Strain energy density W (J/m³).
+    pub fn energy(&self, eps: &Vector6<f64>) -> f64 {
+        match self {
+            Law::Linear(d) => 0.5 * eps.dot(&(d * eps)),
+            Law::MooneyRivlin { mu10, mu01, k1, k2 } => {
+                let c = Matrix3::identity() + tensor_from_strain(eps) * 2.0;
+                let (i1, i2, i3, _) = invariants_and_cofactor(&c);
+                mu10 * (i1 - 3.0) + mu01 * (i2 - 3.0) + k1 * (i3 - 1.0) + k2 * (i3 - 1.0).powi(2)
+            }
+        }
+    }
+
+    /// Second Piola–Kirchhoff stress σ = ∂W/∂ε (Pa).
+    pub fn stress(&self, eps: &Vector6<f64>) -> Vector6<f64> {
+        match self {
+            Law::Linear(d) => d * eps,
+            Law::MooneyRivlin { .. } => self.stress_tangent(eps).stress,
+        }
+    }
+
+    /// Stress and tangent D = ∂σ/∂ε (Pa).
+    pub fn stress_tangent(&self, eps: &Vector6<f64>) -> StressTangent {
+        match self {
+            Law::Linear(d) => StressTangent {
+                stress: d * eps,
+                tangent: *d,
+            },
+            Law::MooneyRivlin { mu10, mu01, k1, k2 } => {
+                let id = Matrix3::identity();
+                let c = id + tensor_from_strain(eps) * 2.0;
+                let (i1, _i2, i3, cof) = invariants_and_cofactor(&c);
+                let p = k1 + 2.0 * k2 * (i3 - 1.0);
+                // S = 2 [μ10 I + μ01 (I1 I − C) + p cof(C)]
+                let s = (id * *mu10 + (id * i1 - c) * *mu01 + cof * p) * 2.0;
+                let stress = Vector6::from_fn(|r, _| s[VOIGT[r]]);
+                // dS = 2 [μ01 (tr H I − H) + 2 k2 (cof : H) cof + p dcof[H]], H = dC = 2 dE,
+                // dcof[H] = CH + HC − tr H C − tr C H + (tr C tr H − tr(CH)) I.
+                let mut tangent = Matrix6::zeros();
+                for col in 0..6 {
+                    let mut de = Vector6::zeros();
+                    de[col] = 1.0;
+                    let h = tensor_from_strain(&de) * 2.0;
+                    let trh = h.trace();
+                    let ch = c * h;
+                    let dcof = ch + h * c - c * trh - h * i1 + id * (i1 * trh - ch.trace());
+                    let cof_h = cof.component_mul(&h).sum();
+                    let ds = ((id * trh - h) * *mu01 + cof * (2.0 * k2 * cof_h) + dcof * p) * 2.0;
+                    for r in 0..6 {
+                        tangent[(r, col)] = ds[VOIGT[r]];
+                    }
+                }
+                StressTangent { stress, tangent }
+            }
+        }
+    }
+}
+
+/// A material as a user describes it (one per layer), with its density.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Mass density, kg/m³.
+    pub density: f64,
+    pub model: MaterialModel,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialModel {
+    /// St. Venant–Kirchhoff: Young's modulus (Pa), Poisson's ratio, and the
+    /// weakened-bending coefficient ω ∈ [0, 1] (fraction of the continuum
+    /// bending stiffness kept; 1 = plain continuum).
+    StVenantKirchhoff {
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        bending_factor: f64,
+    },
+    /// Nearly incompressible Mooney–Rivlin: μ10, μ01 (Pa) and the
+    /// dimensionless volume penalty κ (k2 = κ max(μ10, μ01)).
+    MooneyRivlin { mu10: f64, mu01: f64, penalty: f64 },
+}
+
+/// How one layer's energy is integrated: a law over the section points and,
+/// only when the layer needs it, a law on the centerline weighted by the
+/// layer's area.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerLaws {
+    pub section: Law,
+    pub centerline: Option<Law>,
+}
+
+impl MaterialModel {
+    /// The split of SPEC §3.1: with ω < 1 the axial term ½(λ+2μ)E_xx² is
+    /// integrated with weight ω over the section and (1 − ω) on the
+    /// centerline. With ω = 1 there is no centerline term at all.
+    pub fn layer_laws(&self) -> LayerLaws {
+        match *self {
+            MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                bending_factor,
+            } => {
+                let mut d = isotropic_elasticity(youngs_modulus, poisson_ratio);
+                if bending_factor == 1.0 {
+                    return LayerLaws {
+                        section: Law::Linear(d),
+                        centerline: None,
+                    };
+                }
+                let axial = d[(0, 0)];
+                d[(0, 0)] = bending_factor * axial;
+                let mut dc = Matrix6::zeros();
+                dc[(0, 0)] = (1.0 - bending_factor) * axial;
+                LayerLaws {
+                    section: Law::Linear(d),
+                    centerline: Some(Law::Linear(dc)),
+                }
+            }
+            MaterialModel::MooneyRivlin {
+                mu10,
+                mu01,
+                penalty,
+            } => LayerLaws {
+                section: Law::mooney_rivlin(mu10, mu01, penalty),
+                centerline: None,
+            },
+        }
+    }
+
+    /// Small-strain Young's modulus (Pa): E for SVK, 6(μ10 + μ01) for Mooney–Rivlin.
+    pub fn small_strain_youngs_modulus(&self) -> f64 {
+        match *self {
+            MaterialModel::StVenantKirchhoff { youngs_modulus, .. } => youngs_modulus,
+            MaterialModel::MooneyRivlin { mu10, mu01, .. } => 6.0 * (mu10 + mu01),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample_strain() -> Vector6<f64> {
+        Vector6::new(0.12, -0.05, 0.08, 0.07, -0.11, 0.04)
+    }
+
+    fn laws() -> Vec<Law> {
+        vec![
+            Law::Linear(isotropic_elasticity(2e9, 0.3)),
+            Law::mooney_rivlin(5e5, 1e5, 1e3),
+            Law::mooney_rivlin(3e5, 4e5, 10.0),
+        ]
+    }
+
+    #[test]
+    fn stress_is_derivative_of_energy_and_tangent_of_stress() {
+        let eps = sample_strain();
+        for law in laws() {
+            let st = law.stress_tangent(&eps);
+            let h = 1e-6;
+            for j in 0..6 {
+                let mut ep = eps;
+                let mut em = eps;
+                ep[j] += h;
+                em[j] -= h;
+                let fd = (law.energy(&ep) - law.energy(&em)) / (2.0 * h);
+                let scale = st.stress.norm();
+                assert!(
+                    (fd - st.stress[j]).abs() < 1e-7 * scale,
+                    "{law:?} stress {j}: {fd} vs {}",
+                    st.stress[j]
+                );
+                let dfd = (law.stress(&ep) - law.stress(&em)) / (2.0 * h);
+                let scale = st.tangent.norm();
+                for i in 0..6 {
+                    assert!(
+                        (dfd[i] - st.tangent[(i, j)]).abs() < 1e-7 * scale,
+                        "{law:?} tangent ({i},{j}): {} vs {}",
+                        dfd[i],
+                        st.tangent[(i, j)]
+                    );
+                }
+            }
+            assert!((st.tangent - st.tangent.transpose()).norm() < 1e-12 * st.tangent.norm());
+        }
+    }
+
+    #[test]
+    fn mooney_rivlin_reference_is_stress_free_with_small_strain_modulus() {
+        let law = Law::mooney_rivlin(5e5, 1e5, 1e3);
+        let st = law.stress_tangent(&Vector6::zeros());
+        assert!(st.stress.norm() < 1e-6);
+        assert_eq!(law.energy(&Vector6::zeros()), 0.0);
+        // Shear modulus 2(μ10 + μ01): D_44 (S23 per engineering γ23) = μ.
+        assert!((st.tangent[(3, 3)] - 2.0 * (5e5 + 1e5)).abs() < 1e-6 * 1.2e6);
+    }
+
+    #[test]
+    fn weakened_bending_split_sums_to_the_continuum_law() {
+        let m = MaterialModel::StVenantKirchhoff {
+            youngs_modulus: 1e9,
+            poisson_ratio: 0.25,
+            bending_factor: 0.3,
+        };
+        let laws = m.layer_laws();
+        let (Law::Linear(ds), Some(Law::Linear(dc))) = (&laws.section, &laws.centerline) else {
+            panic!("expected a linear section law and a centerline law")
+        };
+        assert!((ds + dc - isotropic_elasticity(1e9, 0.25)).norm() < 1e-3);
+        let plain = MaterialModel::StVenantKirchhoff {
+            youngs_modulus: 1e9,
+            poisson_ratio: 0.25,
+            bending_factor: 1.0,
+        };
+        assert!(plain.layer_laws().centerline.is_none());
+    }
+}

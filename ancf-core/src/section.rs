@@ -1,0 +1,136 @@
+//! Cross sections: concentric circular layers (solid core and rings), each
+//! with its own material, or the classical rectangle. A section owns its
+//! quadrature points, the laws each layer integrates, and the density
+//! moments the mass matrix needs.
+
+use crate::material::{LayerLaws, Material};
+use crate::quadrature::{SectionPoint, rectangle_rule, ring_rule};
+use std::f64::consts::PI;
+
+/// One layer of a section, ready for integration.
+#[derive(Clone, Debug)]
+pub struct SectionLayer {
+    /// Quadrature points of this layer (m, m²).
+    pub points: Vec<SectionPoint>,
+    /// Area of the layer, m².
+    pub area: f64,
+    /// ∫ y² dA and ∫ z² dA over the layer, m⁴.
+    pub second_moments: [f64; 2],
+    pub material: Material,
+    pub laws: LayerLaws,
+}
+
+/// Shape of a section, as given by the user.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SectionShape {
+    /// Concentric layers listed from the centre out: (inner radius, outer
+    /// radius) in m; the first inner radius is 0 for a solid core.
+    Circular { radii: Vec<(f64, f64)> },
+    /// Width (along y) and height (along z), m.
+    Rectangular { width: f64, height: f64 },
+}
+
+/// A cross section with its quadrature.
+#[derive(Clone, Debug)]
+pub struct Section {
+    pub shape: SectionShape,
+    pub layers: Vec<SectionLayer>,
+    /// Ring-rule order n per layer (circular) or points per direction (rectangular).
+    pub order: usize,
+}
+
+/// Density moments of a section, the mass matrix's section factors:
+/// `m[a][b] = Σ ρ_k ∫ m_a m_b dA` with m = (1, y, z), in kg/m, kg, kg·m.
+pub type DensityMoments = [[f64; 3]; 3];
+
+impl Section {
+    /// Concentric circular layers, each `(inner, outer, material)`, integrated
+    /// with the ring rule of order `order` (exact to degree 2·order − 1).
+    pub fn circular(layers: &[(f64, f64, Material)], order: usize) -> Self {
+        let layers_out = layers
+            .iter()
+            .map(|(r1, r2, m)| {
+                let i = PI * (r2.powi(4) - r1.powi(4)) / 4.0;
+                SectionLayer {
+                    points: ring_rule(order, *r1, *r2),
+                    area: PI * (r2 * r2 - r1 * r1),
+                    second_moments: [i, i],
+                    laws: m.model.layer_laws(),
+                    material: m.clone(),
+                }
+            })
+            .collect();
+        Section {
+            shape: SectionShape::Circular {
+                radii: layers.iter().map(|(a, b, _)| (*a, *b)).collect(),
+            },
+            layers: layers_out,
+            order,
+        }
+    }
+
+    /// A rectangle of one material with `order × order` Gauss–Legendre points.
+    pub fn rectangular(width: f64, height: f64, material: Material, order: usize) -> Self {
+        let layer = SectionLayer {
+            points: rectangle_rule(order, order, width, height),
+            area: width * height,
+            second_moments: [height * width.powi(3) / 12.0, width * height.powi(3) / 12.0],
+            laws: material.model.layer_laws(),
+            material,
+        };
+        Section {
+            shape: SectionShape::Rectangular { width, height },
+            layers: vec![layer],
+            order,
+        }
+    }
+
+    /// Outer radius (circular) or half diagonal (rectangular), m.
+    pub fn outer_radius(&self) -> f64 {
+        match &self.shape {
+            SectionShape::Circular { radii } => radii.last().map_or(0.0, |r| r.1),
+            SectionShape::Rectangular { width, height } => 0.5 * width.hypot(*height),
+        }
+    }
+
+    /// Σ ρ_k ∫ m_a m_b dA with m = (1, y, z). Both shapes are symmetric about
+    /// y and z, so only the diagonal remains.
+    pub fn density_moments(&self) -> DensityMoments {
+        let mut m = [[0.0; 3]; 3];
+        for l in &self.layers {
+            let rho = l.material.density;
+            m[0][0] += rho * l.area;
+            m[1][1] += rho * l.second_moments[0];
+            m[2][2] += rho * l.second_moments[1];
+        }
+        m
+    }
+
+    /// Axial stiffness EA = Σ E_k A_k (N), small-strain.
+    pub fn axial_stiffness(&self) -> f64 {
+        self.layers
+            .iter()
+            .map(|l| l.material.model.small_strain_youngs_modulus() * l.area)
+            .sum()
+    }
+
+    /// Bending stiffness about y: EI = Σ E_k ∫z² dA (N m²), small-strain.
+    pub fn bending_stiffness(&self) -> f64 {
+        self.layers
+            .iter()
+            .map(|l| l.material.model.small_strain_youngs_modulus() * l.second_moments[1])
+            .sum()
+    }
+
+    /// Mass per unit length, kg/m.
+    pub fn mass_per_length(&self) -> f64 {
+        self.density_moments()[0][0]
+    }
+
+    /// Whether any layer uses the Mooney–Rivlin law.
+    pub fn has_mooney_rivlin(&self) -> bool {
+        self.layers
+            .iter()
+            .any(|l| l.laws.section.is_mooney_rivlin())
+    }
+}

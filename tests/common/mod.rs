@@ -1,0 +1,106 @@
+//! Shared helpers for the integration tests.
+#![allow(dead_code)]
+
+use ancf_core::element::{ElementIntegration, ElementVector, reference_coordinates};
+use ancf_core::material::{Material, MaterialModel};
+use ancf_core::section::Section;
+
+/// A small deterministic generator (xorshift64*), so tests need no extra crate.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.wrapping_mul(0x9E3779B97F4A7C15) | 1)
+    }
+    /// Uniform in [-1, 1).
+    pub fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let v = self.0.wrapping_mul(0x2545F4914F6CDD1D) >> 11;
+        2.0 * (v as f64 / (1u64 << 53) as f64) - 1.0
+    }
+}
+
+pub fn svk(e: f64, nu: f64, omega: f64) -> Material {
+    Material {
+        density: 7200.0,
+        model: MaterialModel::StVenantKirchhoff {
+            youngs_modulus: e,
+            poisson_ratio: nu,
+            bending_factor: omega,
+        },
+    }
+}
+
+pub fn mooney_rivlin(penalty: f64) -> Material {
+    Material {
+        density: 1100.0,
+        model: MaterialModel::MooneyRivlin {
+            mu10: 5e5,
+            mu01: 1e5,
+            penalty,
+        },
+    }
+}
+
+/// Two concentric layers: core 0–0.01 m and ring 0.01–0.02 m.
+pub fn two_layer(core: Material, cover: Material, order: usize) -> Section {
+    Section::circular(&[(0.0, 0.01, core), (0.01, 0.02, cover)], order)
+}
+
+/// A straight reference element of length `l` along x.
+pub fn reference(l: f64) -> ElementVector {
+    reference_coordinates(
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        l,
+    )
+}
+
+/// A random large deformation of the reference: every coordinate moved by
+/// up to `amplitude` (positions scaled by the length).
+pub fn deformed(rng: &mut Rng, l: f64, amplitude: f64) -> ElementVector {
+    let mut e = reference(l);
+    for (i, v) in e.iter_mut().enumerate() {
+        let scale = if (i / 3) % 4 == 0 { l } else { 1.0 };
+        *v += amplitude * scale * rng.uniform();
+    }
+    e
+}
+
+/// Rotation matrix from a rotation vector (Rodrigues).
+pub fn rotation(v: [f64; 3]) -> [[f64; 3]; 3] {
+    let th = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let k = [v[0] / th, v[1] / th, v[2] / th];
+    let (s, c) = th.sin_cos();
+    let mut r = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            let kk = [[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]];
+            let k2: f64 = (0..3).map(|m| kk[i][m] * kk[m][j]).sum();
+            r[i][j] = if i == j { 1.0 } else { 0.0 } + s * kk[i][j] + (1.0 - c) * k2;
+        }
+    }
+    r
+}
+
+/// Apply x → R x (+ t for the position entries) to an element vector.
+pub fn rigid_motion(e: &ElementVector, r: &[[f64; 3]; 3], t: [f64; 3]) -> ElementVector {
+    let mut out = [0.0; 24];
+    for blk in 0..8 {
+        for i in 0..3 {
+            out[3 * blk + i] = (0..3).map(|j| r[i][j] * e[3 * blk + j]).sum::<f64>();
+            if blk % 4 == 0 {
+                out[3 * blk + i] += t[i];
+            }
+        }
+    }
+    out
+}
+
+pub fn element(section: Section, l: f64, axial_order: usize) -> ElementIntegration {
+    ElementIntegration::new(l, axial_order, section)
+}

@@ -7,7 +7,12 @@
 //!
 //! Units are SI throughout (m, kg, s, N, Pa).
 
+pub mod assembly;
+pub mod dynamics;
 pub mod element;
+pub mod linear_solver;
 pub mod material;
+pub mod model;
 pub mod quadrature;
 pub mod section;
+pub mod statics;

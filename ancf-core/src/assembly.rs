@@ -1,0 +1,119 @@
+//! Global assembly, split as in fenris/diffsol: the sparsity pattern and
+//! the map from element entries to value slots are computed once per model
+//! ([`Pattern::new`]); each Newton iteration only refills values in place
+//! ([`assemble`]).
+
+use crate::model::{Model, NODE_DOFS};
+use faer::sparse::SymbolicSparseColMat;
+
+/// Marks an element entry that touches an eliminated coordinate.
+const NO_SLOT: u32 = u32::MAX;
+
+/// The global matrix pattern over the unknowns (both triangles stored).
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    pub symbolic: SymbolicSparseColMat<usize>,
+    /// For element `el`, local entry (i, j): `slots[el * 576 + i * 24 + j]`
+    /// is the index into the value array, or `NO_SLOT`.
+    slots: Vec<u32>,
+}
+
+impl Pattern {
+    pub fn new(model: &Model) -> Self {
+        let n = model.n_unknowns;
+        // Column lists: for every element, the free coordinates it couples.
+        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for el in 0..model.n_elements {
+            let free: Vec<usize> = (0..24)
+                .filter_map(|i| model.dof_map[NODE_DOFS * el + i])
+                .collect();
+            for &c in &free {
+                cols[c].extend_from_slice(&free);
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for c in cols.iter_mut() {
+            c.sort_unstable();
+            c.dedup();
+            row_idx.extend_from_slice(c);
+            col_ptr.push(row_idx.len());
+        }
+        let mut slots = vec![NO_SLOT; model.n_elements * 576];
+        for el in 0..model.n_elements {
+            for i in 0..24 {
+                let Some(r) = model.dof_map[NODE_DOFS * el + i] else {
+                    continue;
+                };
+                for j in 0..24 {
+                    let Some(c) = model.dof_map[NODE_DOFS * el + j] else {
+                        continue;
+                    };
+                    let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+                    let pos = rows.binary_search(&r).expect("entry in pattern");
+                    slots[el * 576 + i * 24 + j] = (col_ptr[c] + pos) as u32;
+                }
+            }
+        }
+        let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        Pattern { symbolic, slots }
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.symbolic.row_idx().len()
+    }
+
+    pub fn zeros(&self) -> Vec<f64> {
+        vec![0.0; self.nnz()]
+    }
+
+    /// Add an element matrix (row-major 24×24) of element `el`, times `scale`.
+    pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576], scale: f64) {
+        let slots = &self.slots[el * 576..(el + 1) * 576];
+        for (s, v) in slots.iter().zip(m.iter()) {
+            if *s != NO_SLOT {
+                values[*s as usize] += scale * v;
+            }
+        }
+    }
+}
+
+/// Elastic force (full coordinates), optionally its Jacobian (values in the
+/// pattern's slots, added to `jacobian`), and the strain energy.
+pub fn assemble(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    mut jacobian: Option<&mut [f64]>,
+) -> (Vec<f64>, f64) {
+    let mut force = vec![0.0; q.len()];
+    let mut energy = 0.0;
+    let mut ke = [0.0; 576];
+    for el in 0..model.n_elements {
+        let e = model.element_coordinates(q, el);
+        let mut qe = [0.0; 24];
+        match jacobian.as_deref_mut() {
+            Some(values) => {
+                ke.fill(0.0);
+                energy += model.element.evaluate(&e, &mut qe, Some(&mut ke));
+                pattern.add_element(values, el, &ke, 1.0);
+            }
+            None => energy += model.element.evaluate(&e, &mut qe, None),
+        }
+        let base = NODE_DOFS * el;
+        for i in 0..24 {
+            force[base + i] += qe[i];
+        }
+    }
+    (force, energy)
+}
+
+/// The mass matrix values in the pattern's slots.
+pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
+    let mut v = pattern.zeros();
+    for el in 0..model.n_elements {
+        pattern.add_element(&mut v, el, &model.element_mass, 1.0);
+    }
+    v
+}

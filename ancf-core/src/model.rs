@@ -1,0 +1,336 @@
+//! The assembled model of one wire: its elements, supports (eliminated
+//! coordinates), loads and the list of effects it contains. Built from a
+//! scene (or by hand); read by assembly and the solvers, never mutated by them.
+
+use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
+
+/// Coordinates per node: r, r_x, r_y, r_z.
+pub const NODE_DOFS: usize = 12;
+
+/// How a node is held (SPEC §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SupportKind {
+    /// r, r_y, r_z and the two components of r_x normal to the wire axis
+    /// fixed; the axial component of r_x is free, so the root section may
+    /// stretch. Needs a wire axis along a coordinate direction.
+    Clamp,
+    /// All 12 coordinates fixed (zero axial strain at the node).
+    Fixed,
+    /// r fixed only: a spherical joint.
+    Pin,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Support {
+    pub node: usize,
+    pub kind: SupportKind,
+}
+
+/// A constant force (N) at a node's position r.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLoad {
+    pub node: usize,
+    pub force: [f64; 3],
+}
+
+/// A force contribution the model evaluates. The model holds exactly the
+/// effects its scene names; code for an absent effect never runs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Effect {
+    /// Elastic forces of the layers (always present).
+    Elasticity {
+        mooney_rivlin: bool,
+        centerline: bool,
+    },
+    /// Gravity: constant generalized force, full coordinates (N).
+    Gravity {
+        acceleration: [f64; 3],
+        force: Vec<f64>,
+    },
+    /// Point loads.
+    PointLoads(Vec<PointLoad>),
+}
+
+/// A straight wire of `n_elements` equal elements.
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub element: ElementIntegration,
+    pub n_elements: usize,
+    /// Reference coordinates, 12 per node.
+    pub reference: Vec<f64>,
+    /// For each coordinate, its unknown index, or `None` when eliminated.
+    pub dof_map: Vec<Option<usize>>,
+    pub n_unknowns: usize,
+    pub supports: Vec<Support>,
+    pub effects: Vec<Effect>,
+    /// Element mass matrix (kg), the same for every element.
+    pub element_mass: ElementMatrix,
+    /// Unit wire axis and section directions.
+    pub axis: [f64; 3],
+    pub section_y: [f64; 3],
+    pub section_z: [f64; 3],
+}
+
+/// Error in building a model (a scene with inconsistent data).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelError(pub String);
+
+impl std::fmt::Display for ModelError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+impl std::error::Error for ModelError {}
+
+/// Two unit vectors completing `axis` to a right-handed frame; for the
+/// default axis x they are y and z.
+pub fn section_frame(axis: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let norm = |a: [f64; 3]| {
+        let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        [a[0] / n, a[1] / n, a[2] / n]
+    };
+    // z-direction of the section: global z projected off the axis, unless the axis is vertical.
+    let up = if axis[2].abs() < 0.9 {
+        [0.0, 0.0, 1.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    let ny = norm(cross(up, axis));
+    let nz = cross(axis, ny);
+    (ny, nz)
+}
+
+impl Model {
+    /// A straight wire from `origin` along `direction` (normalised here).
+    pub fn new(
+        element: ElementIntegration,
+        n_elements: usize,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        supports: Vec<Support>,
+        gravity: Option<[f64; 3]>,
+        loads: Vec<PointLoad>,
+    ) -> Result<Self, ModelError> {
+        if n_elements == 0 {
+            return Err(ModelError(
+                "wire.elements: need at least one element".into(),
+            ));
+        }
+        let dn = (direction.iter().map(|v| v * v).sum::<f64>()).sqrt();
+        if !(dn > 0.0 && dn.is_finite()) {
+            return Err(ModelError(
+                "wire.direction: must be a non-zero finite vector".into(),
+            ));
+        }
+        let axis = direction.map(|v| v / dn);
+        let (ny, nz) = section_frame(axis);
+        let l = element.length;
+        let n_nodes = n_elements + 1;
+        let mut reference = vec![0.0; NODE_DOFS * n_nodes];
+        for el in 0..n_elements {
+            let start = std::array::from_fn(|k| origin[k] + axis[k] * l * el as f64);
+            let e = reference_coordinates(start, axis, ny, nz, l);
+            reference[NODE_DOFS * el..NODE_DOFS * el + 24].copy_from_slice(&e);
+        }
+        let mut fixed = vec![false; reference.len()];
+        for (i, s) in supports.iter().enumerate() {
+            if s.node >= n_nodes {
+                return Err(ModelError(format!(
+                    "support[{i}].node: node {} does not exist (the wire has nodes 0..={})",
+                    s.node,
+                    n_nodes - 1
+                )));
+            }
+            let base = NODE_DOFS * s.node;
+            let mut fix = |c: usize| fixed[base + c] = true;
+            match s.kind {
+                SupportKind::Fixed => (0..12).for_each(&mut fix),
+                SupportKind::Pin => (0..3).for_each(&mut fix),
+                SupportKind::Clamp => {
+                    let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
+                        return Err(ModelError(format!(
+                            "support[{i}].kind: a clamp needs wire.direction along a coordinate axis (got {axis:?}); use \"fixed\""
+                        )));
+                    };
+                    (0..3).chain(6..12).for_each(&mut fix);
+                    (0..3).filter(|&k| k != along).for_each(|k| fix(3 + k));
+                }
+            }
+        }
+        let mut dof_map = vec![None; reference.len()];
+        let mut n_unknowns = 0;
+        for (c, f) in fixed.iter().enumerate() {
+            if !f {
+                dof_map[c] = Some(n_unknowns);
+                n_unknowns += 1;
+            }
+        }
+        for (i, ld) in loads.iter().enumerate() {
+            if ld.node >= n_nodes {
+                return Err(ModelError(format!(
+                    "load[{i}].node: node {} does not exist",
+                    ld.node
+                )));
+            }
+        }
+        let mut effects = vec![Effect::Elasticity {
+            mooney_rivlin: element.section.has_mooney_rivlin(),
+            centerline: element
+                .section
+                .layers
+                .iter()
+                .any(|l| l.laws.centerline.is_some()),
+        }];
+        if let Some(g) = gravity {
+            let qe = element.gravity_force(g);
+            let mut force = vec![0.0; reference.len()];
+            for el in 0..n_elements {
+                for (i, v) in qe.iter().enumerate() {
+                    force[NODE_DOFS * el + i] += v;
+                }
+            }
+            effects.push(Effect::Gravity {
+                acceleration: g,
+                force,
+            });
+        }
+        if !loads.is_empty() {
+            effects.push(Effect::PointLoads(loads));
+        }
+        let element_mass = element.mass_matrix();
+        Ok(Model {
+            element,
+            n_elements,
+            reference,
+            dof_map,
+            n_unknowns,
+            supports,
+            effects,
+            element_mass,
+            axis,
+            section_y: ny,
+            section_z: nz,
+        })
+    }
+
+    pub fn n_nodes(&self) -> usize {
+        self.n_elements + 1
+    }
+
+    /// Coordinates of element `el` out of a full coordinate vector.
+    pub fn element_coordinates(&self, q: &[f64], el: usize) -> ElementVector {
+        q[NODE_DOFS * el..NODE_DOFS * el + 24].try_into().unwrap()
+    }
+
+    /// The gravity force (full coordinates), when the model has gravity.
+    pub fn gravity_force(&self) -> Option<&[f64]> {
+        self.effects.iter().find_map(|e| match e {
+            Effect::Gravity { force, .. } => Some(force.as_slice()),
+            _ => None,
+        })
+    }
+
+    pub fn point_loads(&self) -> &[PointLoad] {
+        self.effects
+            .iter()
+            .find_map(|e| match e {
+                Effect::PointLoads(l) => Some(l.as_slice()),
+                _ => None,
+            })
+            .unwrap_or(&[])
+    }
+
+    /// Constant external force (gravity + point loads), full coordinates, scaled by `factor`.
+    pub fn external_force(&self, factor: f64) -> Vec<f64> {
+        let mut f = vec![0.0; self.reference.len()];
+        for effect in &self.effects {
+            match effect {
+                Effect::Gravity { force, .. } => {
+                    f.iter_mut().zip(force).for_each(|(a, b)| *a += factor * b)
+                }
+                Effect::PointLoads(loads) => {
+                    for ld in loads {
+                        for k in 0..3 {
+                            f[NODE_DOFS * ld.node + k] += factor * ld.force[k];
+                        }
+                    }
+                }
+                Effect::Elasticity { .. } => {}
+            }
+        }
+        f
+    }
+
+    /// Potential energy of the external forces, −Q_extᵀ (q − q_ref) (J).
+    pub fn external_potential(&self, q: &[f64]) -> (f64, f64) {
+        let mut gravity = 0.0;
+        let mut loads = 0.0;
+        if let Some(g) = self.gravity_force() {
+            gravity = -g
+                .iter()
+                .zip(q.iter().zip(&self.reference))
+                .map(|(f, (a, b))| f * (a - b))
+                .sum::<f64>();
+        }
+        for ld in self.point_loads() {
+            for k in 0..3 {
+                let c = NODE_DOFS * ld.node + k;
+                loads -= ld.force[k] * (q[c] - self.reference[c]);
+            }
+        }
+        (gravity, loads)
+    }
+
+    /// M x for a full coordinate vector x (fixed entries included as given).
+    pub fn mass_times(&self, x: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        for el in 0..self.n_elements {
+            let base = NODE_DOFS * el;
+            for i in 0..24 {
+                let mut s = 0.0;
+                for j in 0..24 {
+                    s += self.element_mass[i * 24 + j] * x[base + j];
+                }
+                out[base + i] += s;
+            }
+        }
+        out
+    }
+
+    /// Gather the unknowns out of a full vector.
+    pub fn gather(&self, full: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n_unknowns];
+        for (c, m) in self.dof_map.iter().enumerate() {
+            if let Some(u) = m {
+                out[*u] = full[c];
+            }
+        }
+        out
+    }
+
+    /// Add `scale · x` (unknowns) into a full vector.
+    pub fn scatter_add(&self, x: &[f64], scale: f64, full: &mut [f64]) {
+        for (c, m) in self.dof_map.iter().enumerate() {
+            if let Some(u) = m {
+                full[c] += scale * x[*u];
+            }
+        }
+    }
+
+    /// Position of node `n` in a full coordinate vector.
+    pub fn node_position(&self, q: &[f64], n: usize) -> [f64; 3] {
+        std::array::from_fn(|k| q[NODE_DOFS * n + k])
+    }
+
+    /// Total mass (kg).
+    pub fn total_mass(&self) -> f64 {
+        self.element.section.mass_per_length() * self.element.length * self.n_elements as f64
+    }
+}

@@ -1,0 +1,192 @@
+//! Static equilibrium Q_e(q) = λ Q_ext by Newton–Raphson with load
+//! increments and a backtracking line search (SPEC §5).
+
+use crate::assembly::{Pattern, assemble};
+use crate::linear_solver::SparseSolver;
+use crate::model::Model;
+
+/// Settings of the static solver.
+#[derive(Clone, Debug)]
+pub struct StaticSettings {
+    /// Number of equal load increments (≥ 1). Default 1.
+    pub load_steps: usize,
+    /// Newton iterations allowed per increment. Default 50.
+    pub max_iterations: usize,
+    /// Relative residual tolerance, ‖R‖ / ‖Q_ext‖. Default 1e-10.
+    pub residual_tolerance: f64,
+    /// Relative increment tolerance, ‖Δq‖ / ‖q − q_ref‖. Default 1e-10.
+    pub increment_tolerance: f64,
+}
+
+impl Default for StaticSettings {
+    fn default() -> Self {
+        StaticSettings {
+            load_steps: 1,
+            max_iterations: 50,
+            residual_tolerance: 1e-10,
+            increment_tolerance: 1e-10,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct StaticResult {
+    /// Full coordinates at equilibrium.
+    pub q: Vec<f64>,
+    /// Newton iterations per load increment.
+    pub iterations: Vec<usize>,
+    pub strain_energy: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct StaticError {
+    pub message: String,
+    /// The last converged state (the reference if none).
+    pub last_converged: Vec<f64>,
+    pub iterations: Vec<usize>,
+}
+
+impl std::fmt::Display for StaticError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Residual on the unknowns, R = Q_e(q) − λ Q_ext, and a scale for it: the
+/// largest of ‖λQ_ext‖ and ‖Q_e‖ (so round-off in large opposing element
+/// forces is judged relative to their size).
+fn residual(
+    model: &Model,
+    q: &[f64],
+    ext: &[f64],
+    pattern: &Pattern,
+    k: Option<&mut [f64]>,
+) -> (Vec<f64>, f64, f64) {
+    let (qe, energy) = assemble(model, pattern, q, k);
+    let full: Vec<f64> = qe.iter().zip(ext).map(|(a, b)| a - b).collect();
+    let r = model.gather(&full);
+    let scale = norm(&model.gather(ext)).max(norm(&model.gather(&qe)));
+    (r, scale, energy)
+}
+
+/// Solve for static equilibrium from the reference configuration.
+pub fn solve_static(model: &Model, settings: &StaticSettings) -> Result<StaticResult, StaticError> {
+    solve_static_from(model, settings, model.reference.clone())
+}
+
+/// Solve for static equilibrium starting from the coordinates `q0`.
+pub fn solve_static_from(
+    model: &Model,
+    settings: &StaticSettings,
+    q0: Vec<f64>,
+) -> Result<StaticResult, StaticError> {
+    let pattern = Pattern::new(model);
+    let mut solver = SparseSolver::new(&pattern).map_err(|e| StaticError {
+        message: e.0,
+        last_converged: q0.clone(),
+        iterations: vec![],
+    })?;
+    let mut q = q0;
+    let mut iterations = Vec::new();
+    let steps = settings.load_steps.max(1);
+    let mut energy = 0.0;
+    for step in 1..=steps {
+        let lambda = step as f64 / steps as f64;
+        let ext = model.external_force(lambda);
+        let converged = q.clone();
+        let fail = |msg: String, its: &Vec<usize>| StaticError {
+            message: format!("static load step {step}/{steps} (load factor {lambda:.3}): {msg}"),
+            last_converged: converged.clone(),
+            iterations: its.clone(),
+        };
+        let mut it = 0;
+        loop {
+            let mut kv = pattern.zeros();
+            let (r, scale, u) = residual(model, &q, &ext, &pattern, Some(&mut kv));
+            energy = u;
+            let rn = norm(&r);
+            if !rn.is_finite() {
+                return Err(fail(
+                    "the residual is not finite (NaN or overflow in the element forces)".into(),
+                    &iterations,
+                ));
+            }
+            // Round-off floor: the residual cannot drop below ~ε · √n · scale.
+            let floor = 1e3 * f64::EPSILON * (model.n_unknowns as f64).sqrt() * scale;
+            if it > 0 && (rn <= settings.residual_tolerance * scale || rn <= floor) {
+                break;
+            }
+            if it >= settings.max_iterations {
+                return Err(fail(
+                    format!(
+                        "Newton did not converge in {it} iterations (relative residual {:.2e}); \
+                         try more load_steps",
+                        rn / scale.max(f64::MIN_POSITIVE)
+                    ),
+                    &iterations,
+                ));
+            }
+            solver.factorize(&kv).map_err(|e| fail(e.0, &iterations))?;
+            let mut dq = r.clone();
+            solver.solve_in_place(&mut dq);
+            dq.iter_mut().for_each(|v| *v = -*v);
+            // Backtracking line search on the total potential energy
+            // Π = U − Q_extᵀ(q − q_ref): a full Newton step on a stiff beam can
+            // raise ‖R‖ (a linearized rotation stretches r_x) while Π falls, so
+            // the residual norm is the wrong merit function here.
+            let potential = |q: &[f64], u: f64| -> f64 {
+                u - ext
+                    .iter()
+                    .zip(q.iter().zip(&model.reference))
+                    .map(|(f, (a, b))| f * (a - b))
+                    .sum::<f64>()
+            };
+            let pi0 = potential(&q, u);
+            let slope: f64 = r.iter().zip(&dq).map(|(a, b)| a * b).sum();
+            let mut alpha = 1.0;
+            let mut trial = q.clone();
+            for _ in 0..12 {
+                trial.copy_from_slice(&q);
+                model.scatter_add(&dq, alpha, &mut trial);
+                let (rt, _, ut) = residual(model, &trial, &ext, &pattern, None);
+                let pit = potential(&trial, ut);
+                let ok_energy = pit.is_finite()
+                    && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
+                if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) {
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            q = trial;
+            it += 1;
+            let dn = alpha * norm(&dq);
+            let qn = norm(
+                &model.gather(
+                    &q.iter()
+                        .zip(&model.reference)
+                        .map(|(a, b)| a - b)
+                        .collect::<Vec<_>>(),
+                ),
+            );
+            if dn <= settings.increment_tolerance * qn.max(1e-300)
+                && rn <= settings.residual_tolerance.sqrt() * scale
+            {
+                let (r, scale, u) = residual(model, &q, &ext, &pattern, None);
+                energy = u;
+                if norm(&r) <= settings.residual_tolerance.sqrt() * scale {
+                    break;
+                }
+            }
+        }
+        iterations.push(it);
+    }
+    Ok(StaticResult {
+        q,
+        iterations,
+        strain_energy: energy,
+    })
+}

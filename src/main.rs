@@ -1,1 +1,167 @@
-fn main() {}
+//! `ancf`: run, check and inspect ANCF wire simulations.
+
+use ancf::run::{RunOptions, run_scene};
+use ancf_core::quadrature::ring_rule;
+use ancf_core::scene::Scene;
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "ancf",
+    version,
+    about = "ANCF beam simulator for electrical wires and cables"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Format {
+    Csv,
+    Table,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene and write its outputs (summary.json, timeseries.csv, plots) into --out.
+    Run {
+        scene: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Validate a scene without running it.
+    Check { scene: PathBuf },
+    /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2).
+    Quadrature {
+        /// Inner radius, m (0 for a disk).
+        #[arg(long, default_value_t = 0.0)]
+        inner: f64,
+        /// Outer radius, m.
+        #[arg(long, default_value_t = 1.0)]
+        outer: f64,
+        /// Order n (exact for polynomials of degree ≤ 2n − 1).
+        #[arg(long, default_value_t = 3)]
+        order: usize,
+        #[arg(long, value_enum, default_value = "table")]
+        format: Format,
+    },
+}
+
+fn load(path: &PathBuf) -> Result<Scene, ExitCode> {
+    Scene::load(path).map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check { scene } => match load(&scene) {
+            Ok(s) => {
+                println!(
+                    "{}: valid ({} elements, {} unknowns, {})",
+                    scene.display(),
+                    s.model.n_elements,
+                    s.model.n_unknowns,
+                    s.model.element.kernel_path()
+                );
+                ExitCode::SUCCESS
+            }
+            Err(code) => code,
+        },
+        Command::Run { scene, out, quiet } => {
+            let s = match load(&scene) {
+                Ok(s) => s,
+                Err(code) => return code,
+            };
+            if !quiet {
+                eprintln!(
+                    "ancf: {} — {}",
+                    scene.display(),
+                    s.model.element.kernel_path()
+                );
+            }
+            match run_scene(
+                &s,
+                &RunOptions {
+                    out: out.clone(),
+                    quiet,
+                },
+            ) {
+                Ok(summary) if summary.status == "completed" => {
+                    println!(
+                        "completed: {} steps, {} Newton iterations, {:.2} s wall; outputs in {}",
+                        summary.steps,
+                        summary.newton_iterations,
+                        summary.wall_time_s,
+                        out.display()
+                    );
+                    ExitCode::SUCCESS
+                }
+                Ok(summary) => {
+                    eprintln!("error: run {}: {}", summary.status, summary.message);
+                    eprintln!("outputs so far are in {}", out.display());
+                    ExitCode::from(1)
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
+        Command::Quadrature {
+            inner,
+            outer,
+            order,
+            format,
+        } => {
+            if !(inner >= 0.0 && outer > inner && outer.is_finite()) {
+                eprintln!("error: --inner/--outer: need 0 ≤ inner < outer, got {inner}, {outer}");
+                return ExitCode::from(2);
+            }
+            if !(1..=64).contains(&order) {
+                eprintln!("error: --order: must be 1..=64, got {order}");
+                return ExitCode::from(2);
+            }
+            let points = ring_rule(order, inner, outer);
+            match format {
+                Format::Csv => {
+                    println!("y,z,weight");
+                    for p in &points {
+                        println!("{:.16e},{:.16e},{:.16e}", p.y, p.z, p.weight);
+                    }
+                }
+                Format::Table => {
+                    println!(
+                        "ring rule, order {order}, {inner} ≤ ρ ≤ {outer}: {} points",
+                        points.len()
+                    );
+                    println!("{:>4} {:>22} {:>22} {:>22}", "k", "y", "z", "weight");
+                    for (k, p) in points.iter().enumerate() {
+                        println!(
+                            "{:>4} {:>22.15} {:>22.15} {:>22.15}",
+                            k + 1,
+                            p.y,
+                            p.z,
+                            p.weight
+                        );
+                    }
+                    let area: f64 = points.iter().map(|p| p.weight).sum();
+                    println!(
+                        "sum of weights {area:.15} (area π(R2² − R1²) = {:.15})",
+                        std::f64::consts::PI * (outer * outer - inner * inner)
+                    );
+                }
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}

@@ -18,7 +18,10 @@ fn pendulum(n: usize) -> Model {
         n,
         [0.0; 3],
         [1.0, 0.0, 0.0],
-        vec![Support { node: 0, kind: SupportKind::Pin }],
+        vec![Support {
+            node: 0,
+            kind: SupportKind::Pin,
+        }],
         Some([0.0, 0.0, -G]),
         vec![],
     )
@@ -27,9 +30,17 @@ fn pendulum(n: usize) -> Model {
 
 /// Runs to `end`, returns the tip trajectory sampled every `sample` s, and the max energy drift.
 fn run(model: &Model, h: f64, end: f64, sample: f64, newton: NewtonKind) -> (Vec<[f64; 3]>, f64) {
-    let settings = DynamicSettings { time_step: h, end_time: end, spectral_radius: 1.0, newton, ..Default::default() };
+    let settings = DynamicSettings {
+        time_step: h,
+        end_time: end,
+        spectral_radius: 1.0,
+        newton,
+        ..Default::default()
+    };
     let mut integ = Integrator::new(model, settings).unwrap();
-    let mut s = integ.initial_state(model.reference.clone(), vec![0.0; model.reference.len()]).unwrap();
+    let mut s = integ
+        .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
+        .unwrap();
     let e0 = integ.energies(&s).total();
     let steps = (end / h).round() as usize;
     let every = (sample / h).round() as usize;
@@ -51,7 +62,10 @@ fn energy_is_conserved_with_rho_one() {
     let (_, drift) = run(&model, 1e-3, 1.0, 0.1, NewtonKind::Modified);
     let bound = 1e-4 * model.total_mass() * G * LENGTH / 2.0;
     println!("pendulum max |ΔE| = {drift:e} J (bound {bound:e} J)");
-    assert!(drift < bound, "energy drift {drift:e} J exceeds {bound:e} J");
+    assert!(
+        drift < bound,
+        "energy drift {drift:e} J exceeds {bound:e} J"
+    );
 }
 
 #[test]
@@ -79,11 +93,16 @@ fn tip_trajectory_converges_at_second_order() {
         let (tips, _) = run(&model, h, end, 0.05, NewtonKind::Modified);
         tips.iter()
             .zip(&reference)
-            .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
+            .map(|(a, b)| {
+                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+            })
             .fold(0.0, f64::max)
     };
     let (e1, e2, e3) = (err(2.5e-4), err(1.25e-4), err(6.25e-5));
     let (r1, r2) = (e1 / e2, e2 / e3);
     println!("tip errors {e1:.3e} {e2:.3e} {e3:.3e}; ratios {r1:.2} {r2:.2} (second order: 4)");
-    assert!(r1 > 3.5 && r1 < 4.5 && r2 > 3.7 && r2 < 4.3, "ratios {r1} {r2}");
+    assert!(
+        r1 > 3.5 && r1 < 4.5 && r2 > 3.7 && r2 < 4.3,
+        "ratios {r1} {r2}"
+    );
 }

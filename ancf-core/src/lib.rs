@@ -14,5 +14,6 @@ pub mod linear_solver;
 pub mod material;
 pub mod model;
 pub mod quadrature;
+pub mod scene;
 pub mod section;
 pub mod statics;

@@ -1,0 +1,659 @@
+//! Scene files (TOML): the public contract of what a simulation contains.
+//! Parsing is strict (unknown keys are errors); validation names the field
+//! at fault and runs before any work starts. Every key, its unit and its
+//! default is documented in `docs/scene.md`.
+
+use crate::element::ElementIntegration;
+use crate::material::{Material, MaterialModel};
+use crate::model::{Model, PointLoad, Support, SupportKind};
+use crate::section::Section;
+use serde::Deserialize;
+use serde::de::{self, Deserializer, Visitor};
+
+/// A node given as an index or as `"last"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NodeRef {
+    Index(usize),
+    Last,
+}
+
+impl<'de> Deserialize<'de> for NodeRef {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = NodeRef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a node index (0, 1, …) or \"last\"")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<NodeRef, E> {
+                usize::try_from(v)
+                    .map(NodeRef::Index)
+                    .map_err(|_| E::custom(format!("node index {v} is negative")))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<NodeRef, E> {
+                Ok(NodeRef::Index(v as usize))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<NodeRef, E> {
+                if v == "last" {
+                    Ok(NodeRef::Last)
+                } else {
+                    Err(E::custom(format!(
+                        "unknown node \"{v}\" (use an index or \"last\")"
+                    )))
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum AnalysisKind {
+    Static,
+    Dynamic,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum NewtonSpec {
+    Full,
+    Modified,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSpec {
+    pub kind: AnalysisKind,
+    pub end_time: Option<f64>,
+    pub time_step: Option<f64>,
+    pub spectral_radius: Option<f64>,
+    pub load_steps: Option<usize>,
+    pub newton: Option<NewtonSpec>,
+    pub tolerance: Option<f64>,
+    pub max_iterations: Option<usize>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GravitySpec {
+    pub acceleration: [f64; 3],
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub name: String,
+    pub model: String,
+    pub density: f64,
+    pub youngs_modulus: Option<f64>,
+    pub poisson_ratio: Option<f64>,
+    pub bending_factor: Option<f64>,
+    pub mu10: Option<f64>,
+    pub mu01: Option<f64>,
+    pub penalty: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerSpec {
+    pub material: String,
+    pub outer_radius: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RectangleSpec {
+    pub material: String,
+    pub width: f64,
+    pub height: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuadratureSpec {
+    pub axial: Option<usize>,
+    pub section: Option<usize>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WireSpec {
+    pub length: f64,
+    pub elements: usize,
+    pub origin: Option<[f64; 3]>,
+    pub direction: Option<[f64; 3]>,
+    pub layers: Option<Vec<LayerSpec>>,
+    pub rectangle: Option<RectangleSpec>,
+    pub quadrature: Option<QuadratureSpec>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SupportKindSpec {
+    Clamp,
+    Fixed,
+    Pin,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpec {
+    pub node: NodeRef,
+    pub kind: SupportKindSpec,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    pub node: NodeRef,
+    pub force: [f64; 3],
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    pub every: Option<usize>,
+    pub vtk: Option<bool>,
+    pub plots: Option<bool>,
+}
+
+/// The scene file as written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub analysis: AnalysisSpec,
+    pub gravity: Option<GravitySpec>,
+    #[serde(default)]
+    pub material: Vec<MaterialSpec>,
+    pub wire: WireSpec,
+    #[serde(default)]
+    pub support: Vec<SupportSpec>,
+    #[serde(default)]
+    pub load: Vec<LoadSpec>,
+    pub output: Option<OutputSpec>,
+}
+
+/// Defaults, documented in docs/scene.md.
+pub mod defaults {
+    /// Axial Gauss points: 5 integrates an SVK element's energy exactly (degree 8 in ξ).
+    pub const AXIAL_ORDER: usize = 5;
+    /// Ring-rule order: 3 integrates an SVK layer exactly (degree 4 in y, z).
+    pub const SECTION_ORDER: usize = 3;
+    /// ρ∞ = 0.9: damps the unresolved axial modes of a stiff wire a little;
+    /// set 1 to conserve energy (the verification scenes do).
+    pub const SPECTRAL_RADIUS: f64 = 0.9;
+    pub const TOLERANCE: f64 = 1e-10;
+    pub const OUTPUT_EVERY: usize = 1;
+}
+
+/// What a run does, after validation.
+#[derive(Clone, Debug)]
+pub enum Analysis {
+    Static {
+        load_steps: usize,
+        tolerance: f64,
+        max_iterations: usize,
+    },
+    Dynamic(crate::dynamics::DynamicSettings),
+}
+
+#[derive(Clone, Debug)]
+pub struct OutputSettings {
+    /// Write every N-th step (≥ 1).
+    pub every: usize,
+    pub vtk: bool,
+    pub plots: bool,
+}
+
+/// A validated scene, ready to run.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub model: Model,
+    pub analysis: Analysis,
+    pub output: OutputSettings,
+}
+
+/// A scene that cannot be run, with the field at fault.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// Dotted path of the field, e.g. `material[1].poisson_ratio` (empty for syntax errors).
+    pub field: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.field.is_empty() {
+            write!(f, "{}", self.message)
+        } else {
+            write!(f, "{}: {}", self.field, self.message)
+        }
+    }
+}
+impl std::error::Error for SceneError {}
+
+fn err(field: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+fn finite(field: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(field, format!("must be a finite number, got {v}")))
+    }
+}
+
+fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
+    finite(field, v)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(err(field, format!("must be > 0, got {v}")))
+    }
+}
+
+fn finite3(field: &str, v: [f64; 3]) -> Result<[f64; 3], SceneError> {
+    for (i, x) in v.iter().enumerate() {
+        finite(&format!("{field}[{i}]"), *x)?;
+    }
+    Ok(v)
+}
+
+impl Scene {
+    /// Parse and validate a scene from TOML text.
+    pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text).map_err(|e| {
+            let msg = e.to_string();
+            SceneError {
+                field: String::new(),
+                message: msg.trim_end().to_string(),
+            }
+        })?;
+        Scene::from_file(&file)
+    }
+
+    /// Read, parse and validate a scene file.
+    pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| err("", format!("cannot read {}: {e}", path.display())))?;
+        Scene::from_toml(&text).map_err(|mut e| {
+            e.message = format!("{} (in {})", e.message, path.display());
+            e
+        })
+    }
+
+    /// Validate a parsed scene and build its model.
+    pub fn from_file(f: &SceneFile) -> Result<Scene, SceneError> {
+        let materials = validate_materials(&f.material)?;
+        let find = |field: &str, name: &str| -> Result<Material, SceneError> {
+            materials
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, m)| m.clone())
+                .ok_or_else(|| {
+                    let known: Vec<&str> = materials.iter().map(|(n, _)| n.as_str()).collect();
+                    err(
+                        field,
+                        format!("unknown material \"{name}\" (defined: {known:?})"),
+                    )
+                })
+        };
+
+        let w = &f.wire;
+        let length = positive("wire.length", w.length)?;
+        if w.elements == 0 {
+            return Err(err("wire.elements", "must be at least 1"));
+        }
+        if w.elements > 1_000_000 {
+            return Err(err(
+                "wire.elements",
+                format!(
+                    "{} elements is more than this code is meant for (≤ 1e6)",
+                    w.elements
+                ),
+            ));
+        }
+        let origin = finite3("wire.origin", w.origin.unwrap_or([0.0; 3]))?;
+        let direction = finite3("wire.direction", w.direction.unwrap_or([1.0, 0.0, 0.0]))?;
+        if direction.iter().all(|v| *v == 0.0) {
+            return Err(err("wire.direction", "must not be the zero vector"));
+        }
+        let q = w.quadrature.clone().unwrap_or(QuadratureSpec {
+            axial: None,
+            section: None,
+        });
+        let axial = q.axial.unwrap_or(defaults::AXIAL_ORDER);
+        let section_order = q.section.unwrap_or(defaults::SECTION_ORDER);
+        if !(1..=16).contains(&axial) {
+            return Err(err(
+                "wire.quadrature.axial",
+                format!("must be 1..=16, got {axial}"),
+            ));
+        }
+        if !(1..=16).contains(&section_order) {
+            return Err(err(
+                "wire.quadrature.section",
+                format!("must be 1..=16, got {section_order}"),
+            ));
+        }
+        let section = match (&w.layers, &w.rectangle) {
+            (Some(_), Some(_)) => {
+                return Err(err("wire", "give either `layers` or `rectangle`, not both"));
+            }
+            (None, None) => {
+                return Err(err(
+                    "wire.layers",
+                    "missing: the cross section (layers or rectangle)",
+                ));
+            }
+            (Some(layers), None) => {
+                if layers.is_empty() {
+                    return Err(err("wire.layers", "needs at least one layer"));
+                }
+                let mut inner = 0.0;
+                let mut out = Vec::new();
+                for (i, l) in layers.iter().enumerate() {
+                    let field = format!("wire.layers[{i}].outer_radius");
+                    let r = positive(&field, l.outer_radius)?;
+                    if r <= inner {
+                        return Err(err(
+                            field,
+                            format!(
+                                "{r} m must exceed the layer's inner radius {inner} m (the previous outer radius)"
+                            ),
+                        ));
+                    }
+                    out.push((
+                        inner,
+                        r,
+                        find(&format!("wire.layers[{i}].material"), &l.material)?,
+                    ));
+                    inner = r;
+                }
+                Section::circular(&out, section_order)
+            }
+            (None, Some(r)) => {
+                let width = positive("wire.rectangle.width", r.width)?;
+                let height = positive("wire.rectangle.height", r.height)?;
+                Section::rectangular(
+                    width,
+                    height,
+                    find("wire.rectangle.material", &r.material)?,
+                    section_order,
+                )
+            }
+        };
+        let n_nodes = w.elements + 1;
+        let node = |field: String, n: NodeRef| -> Result<usize, SceneError> {
+            match n {
+                NodeRef::Last => Ok(n_nodes - 1),
+                NodeRef::Index(i) if i < n_nodes => Ok(i),
+                NodeRef::Index(i) => Err(err(
+                    field,
+                    format!(
+                        "node {i} does not exist (the wire has nodes 0..={}, or \"last\")",
+                        n_nodes - 1
+                    ),
+                )),
+            }
+        };
+        let mut supports = Vec::new();
+        for (i, s) in f.support.iter().enumerate() {
+            let kind = match s.kind {
+                SupportKindSpec::Clamp => SupportKind::Clamp,
+                SupportKindSpec::Fixed => SupportKind::Fixed,
+                SupportKindSpec::Pin => SupportKind::Pin,
+            };
+            supports.push(Support {
+                node: node(format!("support[{i}].node"), s.node)?,
+                kind,
+            });
+        }
+        let mut loads = Vec::new();
+        for (i, l) in f.load.iter().enumerate() {
+            let force = finite3(&format!("load[{i}].force"), l.force)?;
+            loads.push(PointLoad {
+                node: node(format!("load[{i}].node"), l.node)?,
+                force,
+            });
+        }
+        let gravity = match &f.gravity {
+            Some(g) => Some(finite3("gravity.acceleration", g.acceleration)?),
+            None => None,
+        };
+
+        let a = &f.analysis;
+        let analysis = match a.kind {
+            AnalysisKind::Static => {
+                for (name, given) in [
+                    ("end_time", a.end_time.is_some()),
+                    ("time_step", a.time_step.is_some()),
+                    ("spectral_radius", a.spectral_radius.is_some()),
+                    ("newton", a.newton.is_some()),
+                ] {
+                    if given {
+                        return Err(err(
+                            format!("analysis.{name}"),
+                            "only for kind = \"dynamic\"",
+                        ));
+                    }
+                }
+                let load_steps = a.load_steps.unwrap_or(1);
+                if load_steps == 0 {
+                    return Err(err("analysis.load_steps", "must be at least 1"));
+                }
+                Analysis::Static {
+                    load_steps,
+                    tolerance: tolerance(a)?,
+                    max_iterations: a.max_iterations.unwrap_or(50).max(1),
+                }
+            }
+            AnalysisKind::Dynamic => {
+                if a.load_steps.is_some() {
+                    return Err(err("analysis.load_steps", "only for kind = \"static\""));
+                }
+                let end_time = a.end_time.ok_or_else(|| {
+                    err(
+                        "analysis.end_time",
+                        "missing (s), required for a dynamic run",
+                    )
+                })?;
+                let end_time = positive("analysis.end_time", end_time)?;
+                let h = a.time_step.ok_or_else(|| {
+                    err(
+                        "analysis.time_step",
+                        "missing (s), required for a dynamic run",
+                    )
+                })?;
+                let h = positive("analysis.time_step", h)?;
+                if h > end_time {
+                    return Err(err(
+                        "analysis.time_step",
+                        format!("{h} s is longer than end_time {end_time} s"),
+                    ));
+                }
+                let rho = finite(
+                    "analysis.spectral_radius",
+                    a.spectral_radius.unwrap_or(defaults::SPECTRAL_RADIUS),
+                )?;
+                if !(0.0..=1.0).contains(&rho) {
+                    return Err(err(
+                        "analysis.spectral_radius",
+                        format!("must be in [0, 1], got {rho}"),
+                    ));
+                }
+                Analysis::Dynamic(crate::dynamics::DynamicSettings {
+                    time_step: h,
+                    end_time,
+                    spectral_radius: rho,
+                    newton: match a.newton.unwrap_or(NewtonSpec::Modified) {
+                        NewtonSpec::Full => crate::dynamics::NewtonKind::Full,
+                        NewtonSpec::Modified => crate::dynamics::NewtonKind::Modified,
+                    },
+                    tolerance: tolerance(a)?,
+                    max_iterations: a.max_iterations.unwrap_or(25).max(1),
+                    ..Default::default()
+                })
+            }
+        };
+        let output = match &f.output {
+            Some(o) => {
+                let every = o.every.unwrap_or(defaults::OUTPUT_EVERY);
+                if every == 0 {
+                    return Err(err("output.every", "must be at least 1"));
+                }
+                OutputSettings {
+                    every,
+                    vtk: o.vtk.unwrap_or(true),
+                    plots: o.plots.unwrap_or(true),
+                }
+            }
+            None => OutputSettings {
+                every: defaults::OUTPUT_EVERY,
+                vtk: true,
+                plots: true,
+            },
+        };
+
+        let element = ElementIntegration::new(length / w.elements as f64, axial, section);
+        let model = Model::new(
+            element, w.elements, origin, direction, supports, gravity, loads,
+        )
+        .map_err(|e| SceneError {
+            field: String::new(),
+            message: e.0,
+        })?;
+        if model.n_unknowns == 0 {
+            return Err(err(
+                "support",
+                "every coordinate is fixed: nothing to solve",
+            ));
+        }
+        Ok(Scene {
+            model,
+            analysis,
+            output,
+        })
+    }
+}
+
+fn tolerance(a: &AnalysisSpec) -> Result<f64, SceneError> {
+    let t = positive(
+        "analysis.tolerance",
+        a.tolerance.unwrap_or(defaults::TOLERANCE),
+    )?;
+    if t >= 1.0 {
+        return Err(err(
+            "analysis.tolerance",
+            format!("a relative tolerance must be < 1, got {t}"),
+        ));
+    }
+    Ok(t)
+}
+
+fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>, SceneError> {
+    let mut out: Vec<(String, Material)> = Vec::new();
+    for (i, m) in specs.iter().enumerate() {
+        let at = |k: &str| format!("material[{i}].{k}");
+        if m.name.trim().is_empty() {
+            return Err(err(at("name"), "must not be empty"));
+        }
+        if out.iter().any(|(n, _)| *n == m.name) {
+            return Err(err(at("name"), format!("\"{}\" is defined twice", m.name)));
+        }
+        let density = positive(&at("density"), m.density)?;
+        let reject = |pairs: &[(&str, bool)], model: &str| -> Result<(), SceneError> {
+            for (k, given) in pairs {
+                if *given {
+                    return Err(err(at(k), format!("not a parameter of model \"{model}\"")));
+                }
+            }
+            Ok(())
+        };
+        let model = match m.model.as_str() {
+            "st-venant-kirchhoff" => {
+                reject(
+                    &[
+                        ("mu10", m.mu10.is_some()),
+                        ("mu01", m.mu01.is_some()),
+                        ("penalty", m.penalty.is_some()),
+                    ],
+                    &m.model,
+                )?;
+                let e = positive(
+                    &at("youngs_modulus"),
+                    m.youngs_modulus
+                        .ok_or_else(|| err(at("youngs_modulus"), "missing (Pa)"))?,
+                )?;
+                let nu = finite(&at("poisson_ratio"), m.poisson_ratio.unwrap_or(0.0))?;
+                if !(nu > -1.0 && nu < 0.5) {
+                    return Err(err(
+                        at("poisson_ratio"),
+                        format!("must lie in (−1, 0.5), got {nu}"),
+                    ));
+                }
+                let omega = finite(&at("bending_factor"), m.bending_factor.unwrap_or(1.0))?;
+                if !(0.0..=1.0).contains(&omega) {
+                    return Err(err(
+                        at("bending_factor"),
+                        format!("ω must lie in [0, 1], got {omega}"),
+                    ));
+                }
+                MaterialModel::StVenantKirchhoff {
+                    youngs_modulus: e,
+                    poisson_ratio: nu,
+                    bending_factor: omega,
+                }
+            }
+            "mooney-rivlin" => {
+                reject(
+                    &[
+                        ("youngs_modulus", m.youngs_modulus.is_some()),
+                        ("poisson_ratio", m.poisson_ratio.is_some()),
+                        ("bending_factor", m.bending_factor.is_some()),
+                    ],
+                    &m.model,
+                )?;
+                let mu10 = finite(
+                    &at("mu10"),
+                    m.mu10.ok_or_else(|| err(at("mu10"), "missing (Pa)"))?,
+                )?;
+                let mu01 = finite(
+                    &at("mu01"),
+                    m.mu01.ok_or_else(|| err(at("mu01"), "missing (Pa)"))?,
+                )?;
+                if mu10 < 0.0 || mu01 < 0.0 || mu10 + mu01 <= 0.0 {
+                    return Err(err(
+                        at("mu10"),
+                        format!("need μ10 ≥ 0, μ01 ≥ 0 and μ10 + μ01 > 0, got {mu10}, {mu01}"),
+                    ));
+                }
+                let penalty = positive(
+                    &at("penalty"),
+                    m.penalty
+                        .ok_or_else(|| err(at("penalty"), "missing (κ, e.g. 1e3)"))?,
+                )?;
+                MaterialModel::MooneyRivlin {
+                    mu10,
+                    mu01,
+                    penalty,
+                }
+            }
+            other => {
+                return Err(err(
+                    at("model"),
+                    format!(
+                        "unknown model \"{other}\" (use \"st-venant-kirchhoff\" or \"mooney-rivlin\")"
+                    ),
+                ));
+            }
+        };
+        out.push((m.name.clone(), Material { density, model }));
+    }
+    Ok(out)
+}

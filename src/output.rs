@@ -1,0 +1,93 @@
+//! Output files of a run. Each is written as the run goes (time series
+//! rows are flushed as they are produced), so a failed run keeps what it
+//! computed.
+
+use serde::Serialize;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+/// Energies reported in the summary (J).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct EnergySummary {
+    pub kinetic: f64,
+    pub strain: f64,
+    pub gravity: f64,
+    pub loads: f64,
+    pub total: f64,
+    /// Largest |E(t) − E(0)| over the run, J.
+    pub max_drift: f64,
+}
+
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TipSummary {
+    /// Last node's position r, m.
+    pub position: [f64; 3],
+    /// Last node's displacement from the reference, m.
+    pub displacement: [f64; 3],
+}
+
+/// `summary.json`.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Summary {
+    /// "completed" or "failed".
+    pub status: String,
+    pub message: String,
+    /// "static" or "dynamic".
+    pub analysis: String,
+    pub elements: usize,
+    pub unknowns: usize,
+    /// Final simulated time, s (static: 0).
+    pub time: f64,
+    /// Time steps (dynamic) or load steps (static) completed.
+    pub steps: usize,
+    pub newton_iterations: usize,
+    pub factorizations: usize,
+    pub wall_time_s: f64,
+    /// Which element kernel ran.
+    pub kernel: String,
+    pub tip: TipSummary,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy: Option<EnergySummary>,
+    /// The model's effects, by name.
+    pub effects: Vec<String>,
+}
+
+impl Summary {
+    pub fn write(&self, dir: &Path) -> std::io::Result<()> {
+        let text = serde_json::to_string_pretty(self).expect("summary serializes");
+        std::fs::write(dir.join("summary.json"), text + "\n")
+    }
+}
+
+/// `timeseries.csv`, one row per written step, flushed row by row.
+pub struct TimeSeries {
+    file: BufWriter<File>,
+}
+
+pub const TIMESERIES_HEADER: &str =
+    "time,tip_x,tip_y,tip_z,kinetic,strain,gravity,total,loads,newton_iterations";
+
+impl TimeSeries {
+    pub fn create(dir: &Path) -> std::io::Result<Self> {
+        let mut file = BufWriter::new(File::create(dir.join("timeseries.csv"))?);
+        writeln!(file, "{TIMESERIES_HEADER}")?;
+        Ok(TimeSeries { file })
+    }
+
+    pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
+        let line: Vec<String> = values.iter().map(|v| format!("{v:.12e}")).collect();
+        writeln!(self.file, "{}", line.join(","))?;
+        self.file.flush()
+    }
+}
+
+/// `final_nodes.csv`: node positions at the end of the run.
+pub fn write_final_nodes(dir: &Path, positions: &[[f64; 3]]) -> std::io::Result<()> {
+    let mut f = BufWriter::new(File::create(dir.join("final_nodes.csv"))?);
+    writeln!(f, "node,x,y,z")?;
+    for (i, p) in positions.iter().enumerate() {
+        writeln!(f, "{i},{:.12e},{:.12e},{:.12e}", p[0], p[1], p[2])?;
+    }
+    f.flush()
+}

@@ -1,0 +1,94 @@
+//! The command line as a user runs it: quadrature tables, check, run and its outputs.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn ancf() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_ancf"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ancf-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn quadrature_csv_prints_one_row_per_point() {
+    for (inner, outer, order, rows) in [("0", "1", "3", 7), ("0.5", "1", "3", 7), ("0", "1", "4", 16), ("0.01", "0.02", "2", 4)] {
+        let out = ancf().args(["quadrature", "--inner", inner, "--outer", outer, "--order", order, "--format", "csv"]).output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next(), Some("y,z,weight"));
+        let pts: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+        assert_eq!(pts.len(), rows, "{inner}..{outer} order {order}");
+        let (r1, r2): (f64, f64) = (inner.parse().unwrap(), outer.parse().unwrap());
+        let area: f64 = pts.iter().map(|p| p[2]).sum();
+        assert!((area - std::f64::consts::PI * (r2 * r2 - r1 * r1)).abs() < 1e-12 * r2 * r2);
+    }
+}
+
+#[test]
+fn quadrature_refuses_bad_radii() {
+    let out = ancf().args(["quadrature", "--inner", "1", "--outer", "0.5"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--inner"));
+}
+
+#[test]
+fn check_accepts_the_shipped_scenes() {
+    for scene in ["scenes/pendulum.toml", "scenes/two_layer_cantilever.toml"] {
+        let out = ancf().args(["check", scene]).output().unwrap();
+        assert!(out.status.success(), "{scene}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(String::from_utf8_lossy(&out.stdout).contains("valid"));
+    }
+}
+
+#[test]
+fn dynamic_run_writes_summary_timeseries_and_plot() {
+    let dir = tmp("dyn");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/pendulum.toml").unwrap().replace("end_time = 1.0", "end_time = 0.05");
+    let path = dir.join("short.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out_dir = dir.join("out");
+    let out = ancf().args(["run", path.to_str().unwrap(), "--out", out_dir.to_str().unwrap(), "--quiet"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "completed");
+    assert_eq!(summary["analysis"], "dynamic");
+    assert_eq!(summary["elements"], 4);
+    assert_eq!(summary["steps"], 50);
+    assert!((summary["time"].as_f64().unwrap() - 0.05).abs() < 1e-12);
+    for key in ["unknowns", "newton_iterations", "wall_time_s", "message"] {
+        assert!(!summary[key].is_null(), "summary lacks {key}");
+    }
+    assert_eq!(summary["tip"]["position"].as_array().unwrap().len(), 3);
+    assert_eq!(summary["tip"]["displacement"].as_array().unwrap().len(), 3);
+    for key in ["kinetic", "strain", "gravity", "total", "max_drift"] {
+        assert!(summary["energy"][key].is_f64(), "energy.{key}");
+    }
+    let ts = std::fs::read_to_string(out_dir.join("timeseries.csv")).unwrap();
+    assert!(ts.starts_with("time,tip_x,tip_y,tip_z,kinetic,strain,gravity,total"));
+    assert_eq!(ts.lines().count(), 52, "header + t=0 + 50 steps");
+    assert!(out_dir.join("energy.png").metadata().unwrap().len() > 1000);
+    assert!(out_dir.join("final_nodes.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn static_run_reports_the_tip() {
+    let dir = tmp("static");
+    let out = ancf().args(["run", "scenes/two_layer_cantilever.toml", "--out", dir.to_str().unwrap(), "--quiet"]).output().unwrap();
+    assert!(out.status.success());
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "completed");
+    let dz = summary["tip"]["displacement"][2].as_f64().unwrap();
+    let theory = 1.0 / (3.0 * 2e9 * std::f64::consts::PI * 0.02f64.powi(4) / 4.0);
+    assert!(((-dz - theory) / theory).abs() < 5e-3, "{dz} vs {theory}");
+    let nodes = std::fs::read_to_string(dir.join("final_nodes.csv")).unwrap();
+    assert!(nodes.starts_with("node,x,y,z"));
+    assert_eq!(nodes.lines().count(), 1 + 9);
+    let _ = std::fs::remove_dir_all(&dir);
+}

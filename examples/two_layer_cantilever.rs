@@ -16,7 +16,11 @@ const L: f64 = 1.0;
 fn svk(e: f64) -> Material {
     Material {
         density: 7200.0,
-        model: MaterialModel::StVenantKirchhoff { youngs_modulus: e, poisson_ratio: 0.0, bending_factor: 1.0 },
+        model: MaterialModel::StVenantKirchhoff {
+            youngs_modulus: e,
+            poisson_ratio: 0.0,
+            bending_factor: 1.0,
+        },
     }
 }
 
@@ -26,9 +30,16 @@ fn section(e1: f64, e2: f64) -> Section {
 
 fn tip(section: &Section, n: usize, kind: SupportKind, force: [f64; 3]) -> [f64; 3] {
     let el = ElementIntegration::new(L / n as f64, 5, section.clone());
-    let model =
-        Model::new(el, n, [0.0; 3], [1.0, 0.0, 0.0], vec![Support { node: 0, kind }], None, vec![PointLoad { node: n, force }])
-            .expect("valid model");
+    let model = Model::new(
+        el,
+        n,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        vec![Support { node: 0, kind }],
+        None,
+        vec![PointLoad { node: n, force }],
+    )
+    .expect("valid model");
     let res = solve_static(&model, &StaticSettings::default()).expect("converges");
     let p = model.node_position(&res.q, n);
     let p0 = model.node_position(&model.reference, n);
@@ -47,15 +58,26 @@ fn svk_bar(ea: f64, f: f64) -> f64 {
 fn table(title: &str, theory: f64, values: impl Fn(usize) -> f64) {
     println!("\n{title}");
     println!("  theory: {theory:.6e} m");
-    println!("  {:>8} {:>16} {:>14}", "elements", "value (m)", "rel. error");
+    println!(
+        "  {:>8} {:>16} {:>14}",
+        "elements", "value (m)", "rel. error"
+    );
     for n in [1, 2, 4, 8, 16] {
         let v = values(n);
-        println!("  {:>8} {:>16.6e} {:>13.4}%", n, v, 100.0 * (v - theory) / theory);
+        println!(
+            "  {:>8} {:>16.6e} {:>13.4}%",
+            n,
+            v,
+            100.0 * (v - theory) / theory
+        );
     }
 }
 
 fn main() {
-    for (label, e1, e2) in [("E = 2e9 Pa in both layers", 2e9, 2e9), ("core E = 2e9 Pa, ring E = 5e8 Pa", 2e9, 5e8)] {
+    for (label, e1, e2) in [
+        ("E = 2e9 Pa in both layers", 2e9, 2e9),
+        ("core E = 2e9 Pa, ring E = 5e8 Pa", 2e9, 5e8),
+    ] {
         let s = section(e1, e2);
         let (ea, ei) = (s.axial_stiffness(), s.bending_stiffness());
         println!("\n=== {label}: EA = Σ E_k A_k = {ea:.6e} N, EI = Σ E_k I_k = {ei:.6e} N m² ===");
@@ -66,9 +88,11 @@ fn main() {
         table(&title, svk_bar(ea, 1000.0), |n| {
             tip(&s, n, SupportKind::Clamp, [1000.0, 0.0, 0.0])[0]
         });
-        table("Transverse tip force 1 N (clamp), theory F L³ / (3 E I)", L.powi(3) / (3.0 * ei), |n| {
-            -tip(&s, n, SupportKind::Clamp, [0.0, 0.0, -1.0])[2]
-        });
+        table(
+            "Transverse tip force 1 N (clamp), theory F L³ / (3 E I)",
+            L.powi(3) / (3.0 * ei),
+            |n| -tip(&s, n, SupportKind::Clamp, [0.0, 0.0, -1.0])[2],
+        );
     }
     let s = section(2e9, 2e9);
     table(

@@ -15,13 +15,33 @@ fn tmp(name: &str) -> PathBuf {
 
 #[test]
 fn quadrature_csv_prints_one_row_per_point() {
-    for (inner, outer, order, rows) in [("0", "1", "3", 7), ("0.5", "1", "3", 7), ("0", "1", "4", 16), ("0.01", "0.02", "2", 4)] {
-        let out = ancf().args(["quadrature", "--inner", inner, "--outer", outer, "--order", order, "--format", "csv"]).output().unwrap();
+    for (inner, outer, order, rows) in [
+        ("0", "1", "3", 7),
+        ("0.5", "1", "3", 7),
+        ("0", "1", "4", 16),
+        ("0.01", "0.02", "2", 4),
+    ] {
+        let out = ancf()
+            .args([
+                "quadrature",
+                "--inner",
+                inner,
+                "--outer",
+                outer,
+                "--order",
+                order,
+                "--format",
+                "csv",
+            ])
+            .output()
+            .unwrap();
         assert!(out.status.success());
         let text = String::from_utf8(out.stdout).unwrap();
         let mut lines = text.lines();
         assert_eq!(lines.next(), Some("y,z,weight"));
-        let pts: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+        let pts: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
         assert_eq!(pts.len(), rows, "{inner}..{outer} order {order}");
         let (r1, r2): (f64, f64) = (inner.parse().unwrap(), outer.parse().unwrap());
         let area: f64 = pts.iter().map(|p| p[2]).sum();
@@ -31,7 +51,10 @@ fn quadrature_csv_prints_one_row_per_point() {
 
 #[test]
 fn quadrature_refuses_bad_radii() {
-    let out = ancf().args(["quadrature", "--inner", "1", "--outer", "0.5"]).output().unwrap();
+    let out = ancf()
+        .args(["quadrature", "--inner", "1", "--outer", "0.5"])
+        .output()
+        .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--inner"));
 }
@@ -40,7 +63,11 @@ fn quadrature_refuses_bad_radii() {
 fn check_accepts_the_shipped_scenes() {
     for scene in ["scenes/pendulum.toml", "scenes/two_layer_cantilever.toml"] {
         let out = ancf().args(["check", scene]).output().unwrap();
-        assert!(out.status.success(), "{scene}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{scene}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         assert!(String::from_utf8_lossy(&out.stdout).contains("valid"));
     }
 }
@@ -49,13 +76,30 @@ fn check_accepts_the_shipped_scenes() {
 fn dynamic_run_writes_summary_timeseries_and_plot() {
     let dir = tmp("dyn");
     std::fs::create_dir_all(&dir).unwrap();
-    let scene = std::fs::read_to_string("scenes/pendulum.toml").unwrap().replace("end_time = 1.0", "end_time = 0.05");
+    let scene = std::fs::read_to_string("scenes/pendulum.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.05");
     let path = dir.join("short.toml");
     std::fs::write(&path, scene).unwrap();
     let out_dir = dir.join("out");
-    let out = ancf().args(["run", path.to_str().unwrap(), "--out", out_dir.to_str().unwrap(), "--quiet"]).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+    let out = ancf()
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .unwrap();
     assert_eq!(summary["status"], "completed");
     assert_eq!(summary["analysis"], "dynamic");
     assert_eq!(summary["elements"], 4);
@@ -80,9 +124,19 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
 #[test]
 fn static_run_reports_the_tip() {
     let dir = tmp("static");
-    let out = ancf().args(["run", "scenes/two_layer_cantilever.toml", "--out", dir.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let out = ancf()
+        .args([
+            "run",
+            "scenes/two_layer_cantilever.toml",
+            "--out",
+            dir.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
     assert!(out.status.success());
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["status"], "completed");
     let dz = summary["tip"]["displacement"][2].as_f64().unwrap();
     let theory = 1.0 / (3.0 * 2e9 * std::f64::consts::PI * 0.02f64.powi(4) / 4.0);

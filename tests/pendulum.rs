@@ -106,3 +106,38 @@ fn tip_trajectory_converges_at_second_order() {
         "ratios {r1} {r2}"
     );
 }
+
+/// Issue 3 regression: with fine meshes the residual's round-off floor
+/// (ε · EA / l_e) exceeds a tolerance relative to the force norms; Newton
+/// then stagnated, cut the step ten times and failed at 32 elements. The
+/// stiffness-scaled round-off test makes every step converge in a few
+/// iterations without cutting.
+#[test]
+fn issue3_fine_meshes_converge_without_step_cuts() {
+    for n in [32, 256] {
+        let model = pendulum(n);
+        for newton in [NewtonKind::Full, NewtonKind::Modified] {
+            let settings = DynamicSettings {
+                time_step: 1e-3,
+                end_time: 1.0,
+                spectral_radius: 1.0,
+                newton,
+                ..Default::default()
+            };
+            let mut integ = Integrator::new(&model, settings).unwrap();
+            let mut s = integ
+                .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
+                .unwrap();
+            for _ in 0..10 {
+                let (next, info) = integ.step(&s, 1e-3).expect("step converges");
+                assert_eq!(info.substeps, 1, "n={n} {newton:?}: step was cut");
+                assert!(
+                    info.iterations <= 8,
+                    "n={n} {newton:?}: {} iterations",
+                    info.iterations
+                );
+                s = next;
+            }
+        }
+    }
+}

@@ -48,37 +48,177 @@ force = [0.0, 0.0, -1.0]
 /// (what is wrong, replace this, with this, text the error must contain)
 const CASES: &[(&str, &str, &str, &str)] = &[
     ("missing analysis kind", "kind = \"dynamic\"\n", "", "kind"),
-    ("unknown key", "spectral_radius = 1.0", "spectral_radius = 1.0\nspectral_raduis = 0.5", "spectral_raduis"),
+    (
+        "unknown key",
+        "spectral_radius = 1.0",
+        "spectral_radius = 1.0\nspectral_raduis = 0.5",
+        "spectral_raduis",
+    ),
     ("unknown table", "[gravity]", "[gravty]", "gravty"),
-    ("wrong type", "elements = 4", "elements = \"four\"", "elements"),
-    ("negative radius", "outer_radius = 0.01 }", "outer_radius = -0.01 }", "wire.layers[0].outer_radius"),
-    ("zero radius", "outer_radius = 0.01 }", "outer_radius = 0.0 }", "wire.layers[0].outer_radius"),
-    ("inner radius ≥ outer", "outer_radius = 0.02 }", "outer_radius = 0.005 }", "wire.layers[1].outer_radius"),
+    (
+        "wrong type",
+        "elements = 4",
+        "elements = \"four\"",
+        "elements",
+    ),
+    (
+        "negative radius",
+        "outer_radius = 0.01 }",
+        "outer_radius = -0.01 }",
+        "wire.layers[0].outer_radius",
+    ),
+    (
+        "zero radius",
+        "outer_radius = 0.01 }",
+        "outer_radius = 0.0 }",
+        "wire.layers[0].outer_radius",
+    ),
+    (
+        "inner radius ≥ outer",
+        "outer_radius = 0.02 }",
+        "outer_radius = 0.005 }",
+        "wire.layers[1].outer_radius",
+    ),
     ("zero length", "length = 1.0", "length = 0.0", "wire.length"),
-    ("negative length", "length = 1.0", "length = -2.0", "wire.length"),
-    ("zero elements", "elements = 4", "elements = 0", "wire.elements"),
-    ("ω above 1", "bending_factor = 1.0", "bending_factor = 1.5", "material[0].bending_factor"),
-    ("ω below 0", "bending_factor = 1.0", "bending_factor = -0.1", "material[0].bending_factor"),
-    ("ν ≥ 0.5", "poisson_ratio = 0.0", "poisson_ratio = 0.5", "material[0].poisson_ratio"),
-    ("κ ≤ 0", "penalty = 1e3", "penalty = 0.0", "material[1].penalty"),
-    ("NaN modulus", "youngs_modulus = 2e9", "youngs_modulus = nan", "material[0].youngs_modulus"),
-    ("infinite density", "density = 7200.0", "density = inf", "material[0].density"),
-    ("unknown material name", "{ material = \"cover\"", "{ material = \"coverr\"", "wire.layers[1].material"),
-    ("support on a missing node", "node = 0\nkind = \"pin\"", "node = 9\nkind = \"pin\"", "support[0].node"),
-    ("unknown support kind", "kind = \"pin\"", "kind = \"hinge\"", "hinge"),
-    ("zero time step", "time_step = 1e-3", "time_step = 0.0", "analysis.time_step"),
-    ("negative time step", "time_step = 1e-3", "time_step = -1e-3", "analysis.time_step"),
-    ("negative end time", "end_time = 0.01", "end_time = -1.0", "analysis.end_time"),
-    ("spectral radius above 1", "spectral_radius = 1.0", "spectral_radius = 1.2", "analysis.spectral_radius"),
+    (
+        "negative length",
+        "length = 1.0",
+        "length = -2.0",
+        "wire.length",
+    ),
+    (
+        "zero elements",
+        "elements = 4",
+        "elements = 0",
+        "wire.elements",
+    ),
+    (
+        "ω above 1",
+        "bending_factor = 1.0",
+        "bending_factor = 1.5",
+        "material[0].bending_factor",
+    ),
+    (
+        "ω below 0",
+        "bending_factor = 1.0",
+        "bending_factor = -0.1",
+        "material[0].bending_factor",
+    ),
+    (
+        "ν ≥ 0.5",
+        "poisson_ratio = 0.0",
+        "poisson_ratio = 0.5",
+        "material[0].poisson_ratio",
+    ),
+    (
+        "κ ≤ 0",
+        "penalty = 1e3",
+        "penalty = 0.0",
+        "material[1].penalty",
+    ),
+    (
+        "NaN modulus",
+        "youngs_modulus = 2e9",
+        "youngs_modulus = nan",
+        "material[0].youngs_modulus",
+    ),
+    (
+        "infinite density",
+        "density = 7200.0",
+        "density = inf",
+        "material[0].density",
+    ),
+    (
+        "unknown material name",
+        "{ material = \"cover\"",
+        "{ material = \"coverr\"",
+        "wire.layers[1].material",
+    ),
+    (
+        "support on a missing node",
+        "node = 0\nkind = \"pin\"",
+        "node = 9\nkind = \"pin\"",
+        "support[0].node",
+    ),
+    (
+        "unknown support kind",
+        "kind = \"pin\"",
+        "kind = \"hinge\"",
+        "hinge",
+    ),
+    (
+        "zero time step",
+        "time_step = 1e-3",
+        "time_step = 0.0",
+        "analysis.time_step",
+    ),
+    (
+        "negative time step",
+        "time_step = 1e-3",
+        "time_step = -1e-3",
+        "analysis.time_step",
+    ),
+    (
+        "negative end time",
+        "end_time = 0.01",
+        "end_time = -1.0",
+        "analysis.end_time",
+    ),
+    (
+        "spectral radius above 1",
+        "spectral_radius = 1.0",
+        "spectral_radius = 1.2",
+        "analysis.spectral_radius",
+    ),
     ("malformed TOML", "[wire]", "[wire", "line"),
-    ("SVK key on Mooney-Rivlin", "mu01 = 1e5", "mu01 = 1e5\nyoungs_modulus = 1e6", "material[1].youngs_modulus"),
-    ("unknown material model", "model = \"mooney-rivlin\"", "model = \"neo-hookean\"", "material[1].model"),
-    ("infinite gravity", "[0.0, 0.0, -9.81]", "[0.0, 0.0, -inf]", "gravity.acceleration[2]"),
-    ("load on a missing node", "node = \"last\"", "node = 12", "load[0].node"),
-    ("unknown node name", "node = \"last\"", "node = \"first\"", "first"),
-    ("zero axial quadrature", "axial = 5", "axial = 0", "wire.quadrature.axial"),
-    ("duplicate material", "name = \"cover\"", "name = \"core\"", "material[1].name"),
-    ("static key in dynamic run", "spectral_radius = 1.0", "spectral_radius = 1.0\nload_steps = 3", "analysis.load_steps"),
+    (
+        "SVK key on Mooney-Rivlin",
+        "mu01 = 1e5",
+        "mu01 = 1e5\nyoungs_modulus = 1e6",
+        "material[1].youngs_modulus",
+    ),
+    (
+        "unknown material model",
+        "model = \"mooney-rivlin\"",
+        "model = \"neo-hookean\"",
+        "material[1].model",
+    ),
+    (
+        "infinite gravity",
+        "[0.0, 0.0, -9.81]",
+        "[0.0, 0.0, -inf]",
+        "gravity.acceleration[2]",
+    ),
+    (
+        "load on a missing node",
+        "node = \"last\"",
+        "node = 12",
+        "load[0].node",
+    ),
+    (
+        "unknown node name",
+        "node = \"last\"",
+        "node = \"first\"",
+        "first",
+    ),
+    (
+        "zero axial quadrature",
+        "axial = 5",
+        "axial = 0",
+        "wire.quadrature.axial",
+    ),
+    (
+        "duplicate material",
+        "name = \"cover\"",
+        "name = \"core\"",
+        "material[1].name",
+    ),
+    (
+        "static key in dynamic run",
+        "spectral_radius = 1.0",
+        "spectral_radius = 1.0\nload_steps = 3",
+        "analysis.load_steps",
+    ),
 ];
 
 #[test]
@@ -90,11 +230,19 @@ fn the_base_scene_is_valid() {
 fn malformed_scenes_are_refused_naming_the_field() {
     assert!(CASES.len() >= 20);
     for (what, from, to, expect) in CASES {
-        assert!(BASE.contains(from), "{what}: the base scene has no `{from}`");
+        assert!(
+            BASE.contains(from),
+            "{what}: the base scene has no `{from}`"
+        );
         let text = BASE.replacen(from, to, 1);
-        let err = Scene::from_toml(&text).err().unwrap_or_else(|| panic!("{what}: accepted"));
+        let err = Scene::from_toml(&text)
+            .err()
+            .unwrap_or_else(|| panic!("{what}: accepted"));
         let msg = err.to_string();
-        assert!(msg.contains(expect), "{what}: message `{msg}` does not mention `{expect}`");
+        assert!(
+            msg.contains(expect),
+            "{what}: message `{msg}` does not mention `{expect}`"
+        );
     }
 }
 
@@ -107,14 +255,26 @@ fn cli_refuses_bad_scenes_without_leaving_output() {
         std::fs::write(&path, BASE.replacen(from, to, 1)).unwrap();
         let out_dir = dir.join(format!("out{i}"));
         let out = Command::new(env!("CARGO_BIN_EXE_ancf"))
-            .args(["run", path.to_str().unwrap(), "--out", out_dir.to_str().unwrap(), "--quiet"])
+            .args([
+                "run",
+                path.to_str().unwrap(),
+                "--out",
+                out_dir.to_str().unwrap(),
+                "--quiet",
+            ])
             .output()
             .unwrap();
         assert_eq!(out.status.code(), Some(2), "{what}");
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(stderr.contains(expect), "{what}: {stderr}");
-        assert!(!out_dir.exists(), "{what}: output directory created for a refused scene");
-        let check = Command::new(env!("CARGO_BIN_EXE_ancf")).args(["check", path.to_str().unwrap()]).output().unwrap();
+        assert!(
+            !out_dir.exists(),
+            "{what}: output directory created for a refused scene"
+        );
+        let check = Command::new(env!("CARGO_BIN_EXE_ancf"))
+            .args(["check", path.to_str().unwrap()])
+            .output()
+            .unwrap();
         assert_eq!(check.status.code(), Some(2), "{what} (check)");
     }
     let _ = std::fs::remove_dir_all(&dir);

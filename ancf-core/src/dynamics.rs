@@ -123,10 +123,16 @@ pub struct Integrator<'m> {
     /// Step size of the current factorization, if it is valid for reuse.
     factored_for: Option<f64>,
     ext: Vec<f64>,
+    /// Residual entries below this are round-off (N), see [`Model::roundoff_force`].
+    roundoff: f64,
 }
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn norm_inf(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 impl<'m> Integrator<'m> {
@@ -142,6 +148,7 @@ impl<'m> Integrator<'m> {
             solver,
             factored_for: None,
             ext: model.external_force(1.0),
+            roundoff: model.roundoff_force(),
             pattern,
         })
     }
@@ -276,8 +283,7 @@ impl<'m> Integrator<'m> {
                     message: "non-finite residual (NaN or overflow)".into(),
                 });
             }
-            let floor = 1e3 * f64::EPSILON * (model.n_unknowns as f64).sqrt() * scale;
-            if it > 0 && (rn <= self.settings.tolerance * scale || rn <= floor) {
+            if it > 0 && (rn <= self.settings.tolerance * scale || norm_inf(&r) <= self.roundoff) {
                 info.iterations = it;
                 if self.settings.newton == NewtonKind::Modified && it > 6 {
                     self.factored_for = None;

@@ -90,6 +90,7 @@ pub fn solve_static_from(
         last_converged: q0.clone(),
         iterations: vec![],
     })?;
+    let roundoff = model.roundoff_force();
     let mut q = q0;
     let mut iterations = Vec::new();
     let steps = settings.load_steps.max(1);
@@ -115,9 +116,8 @@ pub fn solve_static_from(
                     &iterations,
                 ));
             }
-            // Round-off floor: the residual cannot drop below ~ε · √n · scale.
-            let floor = 1e3 * f64::EPSILON * (model.n_unknowns as f64).sqrt() * scale;
-            if it > 0 && (rn <= settings.residual_tolerance * scale || rn <= floor) {
+            let at_roundoff = r.iter().all(|v| v.abs() <= roundoff);
+            if it > 0 && (rn <= settings.residual_tolerance * scale || at_roundoff) {
                 break;
             }
             if it >= settings.max_iterations {
@@ -156,7 +156,7 @@ pub fn solve_static_from(
                 let pit = potential(&trial, ut);
                 let ok_energy = pit.is_finite()
                     && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
-                if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) {
+                if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {
                     break;
                 }
                 alpha *= 0.5;

@@ -4,3 +4,4 @@
 pub mod output;
 pub mod plot;
 pub mod run;
+pub mod vtk;

@@ -14,8 +14,13 @@ pub struct EnergySummary {
     pub strain: f64,
     pub gravity: f64,
     pub loads: f64,
+    /// Contact penalty energy.
+    pub contact: f64,
+    /// Dissipated by friction since t = 0 (not in `total`).
+    pub dissipated: f64,
+    /// Mechanical energy: kinetic + strain + gravity + loads + contact.
     pub total: f64,
-    /// Largest |E(t) − E(0)| over the run, J.
+    /// Largest |E(t) + dissipated(t) − E(0)| over the written steps, J.
     pub max_drift: f64,
 }
 
@@ -25,6 +30,17 @@ pub struct TipSummary {
     pub position: [f64; 3],
     /// Last node's displacement from the reference, m.
     pub displacement: [f64; 3],
+}
+
+/// Contact statistics of a run with rods.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ContactSummary {
+    /// Time of the first contact, s (null: never touched).
+    pub first_time: Option<f64>,
+    /// Largest total normal force, N.
+    pub max_normal_force: f64,
+    /// Largest penetration, m.
+    pub max_penetration: f64,
 }
 
 /// `summary.json`.
@@ -51,6 +67,8 @@ pub struct Summary {
     pub energy: Option<EnergySummary>,
     /// The model's effects, by name.
     pub effects: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSummary>,
 }
 
 impl Summary {
@@ -69,9 +87,14 @@ pub const TIMESERIES_HEADER: &str =
     "time,tip_x,tip_y,tip_z,kinetic,strain,gravity,total,loads,newton_iterations";
 
 impl TimeSeries {
-    pub fn create(dir: &Path) -> std::io::Result<Self> {
+    /// With rods, the columns `contact_force,penetration,contact_energy,dissipated` follow.
+    pub fn create(dir: &Path, contact: bool) -> std::io::Result<Self> {
         let mut file = BufWriter::new(File::create(dir.join("timeseries.csv"))?);
-        writeln!(file, "{TIMESERIES_HEADER}")?;
+        if contact {
+            writeln!(file, "{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated")?;
+        } else {
+            writeln!(file, "{TIMESERIES_HEADER}")?;
+        }
         Ok(TimeSeries { file })
     }
 

@@ -22,14 +22,31 @@ pub struct Series<'a> {
     pub points: Vec<(f64, f64)>,
 }
 
-const COLORS: [RGBColor; 6] = [
+const COLORS: [RGBColor; 9] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
     RGBColor(214, 39, 40),
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
+    RGBColor(0, 0, 0),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
 ];
+
+/// Tick labels readable at any scale: plain for ordinary magnitudes,
+/// scientific when the axis spans tiny or huge values.
+fn tick_label(v: &f64, lo: f64, hi: f64) -> String {
+    let m = lo.abs().max(hi.abs());
+    if *v == 0.0 {
+        "0".to_string()
+    } else if !(1e-2..1e4).contains(&m) || (hi - lo) < 1e-3 * m {
+        format!("{v:.2e}")
+    } else {
+        let digits = (-(hi - lo).log10().floor() + 1.0).clamp(0.0, 6.0) as usize;
+        format!("{v:.digits$}")
+    }
+}
 
 /// A line plot of several series with labelled axes and a legend.
 pub fn line_plot(
@@ -78,6 +95,8 @@ pub fn line_plot(
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
+        .y_label_formatter(&|v| tick_label(v, y0, y1))
+        .x_label_formatter(&|v| tick_label(v, x0, x1))
         .label_style(("sans-serif", 16))
         .axis_desc_style(("sans-serif", 18))
         .draw()
@@ -101,6 +120,157 @@ pub fn line_plot(
         .border_style(BLACK)
         .label_font(("sans-serif", 16))
         .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)?;
+    Ok(())
+}
+
+/// One chart of a multi-panel figure.
+pub struct Panel<'a> {
+    pub title: &'a str,
+    pub x_label: &'a str,
+    pub y_label: &'a str,
+    pub series: Vec<Series<'a>>,
+}
+
+fn bounds(series: &[Series]) -> Option<(f64, f64, f64, f64)> {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for s in series {
+        for &(x, y) in &s.points {
+            if x.is_finite() && y.is_finite() {
+                x0 = x0.min(x);
+                x1 = x1.max(x);
+                y0 = y0.min(y);
+                y1 = y1.max(y);
+            }
+        }
+    }
+    if !x0.is_finite() {
+        return None;
+    }
+    if x1 <= x0 {
+        x1 = x0 + 1.0;
+    }
+    let pad = 0.05 * (y1 - y0).abs().max(1e-12 * y1.abs().max(1e-30));
+    Some((x0, x1, y0 - pad, y1 + pad))
+}
+
+/// Several line charts on a grid of `rows × cols`.
+pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> Result<(), String> {
+    register_font();
+    let root = BitMapBackend::new(path, (560 * cols as u32, 420 * rows as u32)).into_drawing_area();
+    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+    root.fill(&WHITE).map_err(e)?;
+    for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {
+        let Some((x0, x1, y0, y1)) = bounds(&p.series) else { continue };
+        let mut chart = ChartBuilder::on(area)
+            .caption(p.title, ("sans-serif", 20))
+            .margin(10)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .x_desc(p.x_label)
+            .y_desc(p.y_label)
+            .y_label_formatter(&|v| tick_label(v, y0, y1))
+            .x_label_formatter(&|v| tick_label(v, x0, x1))
+            .label_style(("sans-serif", 14))
+            .axis_desc_style(("sans-serif", 15))
+            .draw()
+            .map_err(e)?;
+        for (i, s) in p.series.iter().enumerate() {
+            let color = COLORS[i % COLORS.len()];
+            chart
+                .draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(2)))
+                .map_err(e)?
+                .label(s.label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+        }
+        if p.series.len() > 1 {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()
+                .map_err(e)?;
+        }
+    }
+    root.present().map_err(e)?;
+    Ok(())
+}
+
+/// Wire shapes in the x–z plane at several instants, with rods seen end-on
+/// as circles (center x, center z, radius), equal scales on both axes.
+pub fn configurations_plot(path: &Path, shapes: &[(f64, Vec<(f64, f64)>)], rods: &[(f64, f64, f64)]) -> Result<(), String> {
+    register_font();
+    let mut all: Vec<(f64, f64)> = shapes.iter().flat_map(|(_, p)| p.iter().copied()).collect();
+    for &(x, z, r) in rods {
+        all.push((x - r, z - r));
+        all.push((x + r, z + r));
+    }
+    let (mut x0, mut x1, mut z0, mut z1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for (x, z) in &all {
+        x0 = x0.min(*x);
+        x1 = x1.max(*x);
+        z0 = z0.min(*z);
+        z1 = z1.max(*z);
+    }
+    if !x0.is_finite() {
+        return Err(format!("{}: nothing to plot", path.display()));
+    }
+    let pad = 0.05 * (x1 - x0).max(z1 - z0);
+    let (x0, x1, z0, z1) = (x0 - pad, x1 + pad, z0 - pad, z1 + pad);
+    let width = 1100u32;
+    let height = ((width as f64 - 100.0) * (z1 - z0) / (x1 - x0) + 120.0).clamp(300.0, 1400.0) as u32;
+    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Wire configurations (x–z plane)", ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, z0..z1)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("x (m)")
+        .y_desc("z (m)")
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()
+        .map_err(e)?;
+    for &(x, z, r) in rods {
+        let circle: Vec<(f64, f64)> = (0..=64)
+            .map(|k| {
+                let a = 2.0 * std::f64::consts::PI * k as f64 / 64.0;
+                (x + r * a.cos(), z + r * a.sin())
+            })
+            .collect();
+        chart.draw_series(std::iter::once(Polygon::new(circle, BLACK.mix(0.6).filled()))).map_err(e)?;
+    }
+    let n = shapes.len().max(2) as f64;
+    for (i, (t, pts)) in shapes.iter().enumerate() {
+        // Blue (early) to red (late).
+        let f = i as f64 / (n - 1.0);
+        let color = RGBColor((30.0 + 210.0 * f) as u8, 60, (240.0 - 210.0 * f) as u8);
+        let label = format!("t = {t:.3} s");
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
+            .map_err(e)?
+            .label(label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(SeriesLabelPosition::LowerLeft)
         .draw()
         .map_err(e)?;
     root.present().map_err(e)?;

@@ -3,9 +3,11 @@
 //! naming the step, the time and the likely cause; everything written up
 //! to the last converged step stays on disk.
 
-use crate::output::{EnergySummary, Summary, TimeSeries, TipSummary, write_final_nodes};
-use crate::plot::{Series, line_plot};
-use ancf_core::dynamics::{Energies, Integrator};
+use crate::output::{ContactSummary, EnergySummary, Summary, TimeSeries, TipSummary, write_final_nodes};
+use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
+use crate::vtk::VtkWriter;
+use ancf_core::dynamics::{Energies, Integrator, State};
+use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
 use ancf_core::model::{Effect, Model};
 use ancf_core::scene::{Analysis, Scene};
 use ancf_core::statics::{StaticSettings, solve_static};
@@ -33,6 +35,8 @@ fn effect_names(model: &Model) -> Vec<String> {
             Effect::Elasticity { .. } => "elasticity".to_string(),
             Effect::Gravity { .. } => "gravity".to_string(),
             Effect::PointLoads(l) => format!("point loads ({})", l.len()),
+            Effect::Contact(c) if c.has_friction() => format!("contact ({} rods, with friction)", c.rods.len()),
+            Effect::Contact(c) => format!("contact ({} rods, frictionless)", c.rods.len()),
         })
         .collect()
 }
@@ -135,11 +139,47 @@ fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
     bar
 }
 
+/// The material point that touched a rod first: element and (ξ, y, z).
+#[derive(Clone, Copy, Debug)]
+struct ContactPoint {
+    element: usize,
+    xi: f64,
+    y: f64,
+    z: f64,
+}
+
 /// History kept for the plots (written steps only).
 #[derive(Default)]
 struct History {
     time: Vec<f64>,
     energies: Vec<Energies>,
+    /// Time, vertical displacement and E_xx, E_yy, E_zz of the first contact point.
+    contact_point: Vec<[f64; 5]>,
+    /// Centerline shapes (time, x–z points) at a few instants.
+    shapes: Vec<(f64, Vec<(f64, f64)>)>,
+}
+
+/// Centerline in the x–z plane, 8 points per element.
+fn centerline(model: &Model, q: &[f64]) -> Vec<(f64, f64)> {
+    let l = model.element.length;
+    let mut pts = Vec::new();
+    for el in 0..model.n_elements {
+        let e = model.element_coordinates(q, el);
+        for k in usize::from(el > 0)..=8 {
+            let p = position(&e, k as f64 / 8.0, 0.0, 0.0, l);
+            pts.push((p[0], p[2]));
+        }
+    }
+    pts
+}
+
+/// Position and E_xx, E_yy, E_zz of a material point.
+fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 3]) {
+    let l = model.element.length;
+    let e = model.element_coordinates(q, cp.element);
+    let p = position(&e, cp.xi, cp.y, cp.z, l);
+    let eps = green_lagrange(&deformation_gradient(&e, &shape_gradients(cp.xi, cp.y, cp.z, l)));
+    (p, [eps[0], eps[1], eps[2]])
 }
 
 fn run_dynamic(
@@ -150,65 +190,85 @@ fn run_dynamic(
 ) -> Result<Vec<f64>, String> {
     let model = &scene.model;
     let out = &opts.out;
-    let mut series = TimeSeries::create(out).map_err(|e| io_err(out, e))?;
-    let fail_setup = |summary: &mut Summary, msg: String| {
-        summary.status = "failed".into();
-        summary.message = msg;
+    let contact = model.contact();
+    let mut series = TimeSeries::create(out, contact.is_some()).map_err(|e| io_err(out, e))?;
+    let mut vtk = if scene.output.vtk {
+        Some(VtkWriter::new(&out.join("vtk"), model).map_err(|e| io_err(out, e))?)
+    } else {
+        None
     };
     let mut integ = match Integrator::new(model, settings.clone()) {
         Ok(i) => i,
         Err(e) => {
-            fail_setup(summary, format!("setting up the solver: {}", e.message));
+            summary.status = "failed".into();
+            summary.message = format!("setting up the solver: {}", e.message);
             return Ok(model.reference.clone());
         }
     };
-    let mut state =
-        match integ.initial_state(model.reference.clone(), vec![0.0; model.reference.len()]) {
-            Ok(s) => s,
-            Err(e) => {
-                fail_setup(summary, format!("initial acceleration: {}", e.message));
-                return Ok(model.reference.clone());
-            }
-        };
+    let mut state = match integ.initial_state(model.reference.clone(), vec![0.0; model.reference.len()]) {
+        Ok(s) => s,
+        Err(e) => {
+            summary.status = "failed".into();
+            summary.message = format!("initial acceleration: {}", e.message);
+            return Ok(model.reference.clone());
+        }
+    };
     let h = settings.time_step;
     let n_steps = (settings.end_time / h - 1e-9).ceil() as usize;
     let bar = progress_bar(n_steps as u64, opts.quiet);
     let mut history = History::default();
     let e0 = integ.energies(&state);
-    let write_row = |series: &mut TimeSeries, t: f64, q: &[f64], e: &Energies, its: usize| {
-        let p = model.node_position(q, model.n_elements);
-        series.row(&[
-            t,
-            p[0],
-            p[1],
-            p[2],
-            e.kinetic,
-            e.strain,
-            e.gravity,
-            e.total(),
-            e.loads,
-            its as f64,
-        ])
+    let mut contact_summary = contact.map(|_| ContactSummary::default());
+    let mut first_point: Option<ContactPoint> = None;
+    let snapshot_every = (n_steps / 8).max(1);
+    let write = |series: &mut TimeSeries,
+                 vtk: &mut Option<VtkWriter>,
+                 history: &mut History,
+                 s: &State,
+                 e: &Energies,
+                 its: usize,
+                 c: Option<&ancf_core::contact::ContactSample>|
+     -> std::io::Result<()> {
+        let p = model.node_position(&s.q, model.n_elements);
+        let mut row = vec![s.time, p[0], p[1], p[2], e.kinetic, e.strain, e.gravity, e.total(), e.loads, its as f64];
+        if let Some(c) = c {
+            row.extend([c.normal_force, c.max_penetration, e.contact, e.dissipated]);
+        }
+        series.row(&row)?;
+        if let Some(v) = vtk.as_mut() {
+            v.frame(model, s.time, &s.q, &s.v)?;
+        }
+        history.time.push(s.time);
+        history.energies.push(*e);
+        Ok(())
     };
-    write_row(&mut series, 0.0, &state.q, &e0, 0).map_err(|e| io_err(out, e))?;
-    history.time.push(0.0);
-    history.energies.push(e0);
+    let no_contact = ancf_core::contact::ContactSample::default();
+    write(&mut series, &mut vtk, &mut history, &state, &e0, 0, contact.map(|_| &no_contact)).map_err(|e| io_err(out, e))?;
+    history.shapes.push((0.0, centerline(model, &state.q)));
     let mut max_drift: f64 = 0.0;
     let mut last = e0;
     summary.status = "completed".into();
     summary.message = format!("{n_steps} steps of {h} s");
     for k in 1..=n_steps {
-        let hk = if k == n_steps {
-            settings.end_time - state.time
-        } else {
-            h
-        };
+        let hk = if k == n_steps { settings.end_time - state.time } else { h };
         match integ.step(&state, hk) {
             Ok((next, info)) => {
                 state = next;
                 summary.steps = k;
                 summary.newton_iterations += info.iterations;
                 summary.factorizations += info.factorizations;
+                if let (Some(cs), Some(c)) = (contact_summary.as_mut(), contact) {
+                    let sample = &info.contact;
+                    if sample.active > 0 && cs.first_time.is_none() {
+                        cs.first_time = Some(state.time);
+                        if let Some((el, dp)) = info.deepest {
+                            let tp = &c.points[dp.point];
+                            first_point = Some(ContactPoint { element: el, xi: tp.xi, y: tp.y, z: tp.z });
+                        }
+                    }
+                    cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
+                    cs.max_penetration = cs.max_penetration.max(sample.max_penetration);
+                }
                 if k % scene.output.every == 0 || k == n_steps {
                     let e = integ.energies(&state);
                     if !e.total().is_finite() {
@@ -220,12 +280,18 @@ fn run_dynamic(
                         );
                         break;
                     }
-                    max_drift = max_drift.max((e.total() - e0.total()).abs());
+                    max_drift = max_drift.max((e.total() + e.dissipated - e0.total()).abs());
                     last = e;
-                    write_row(&mut series, state.time, &state.q, &e, info.iterations)
+                    write(&mut series, &mut vtk, &mut history, &state, &e, info.iterations, contact.map(|_| &info.contact))
                         .map_err(|e| io_err(out, e))?;
-                    history.time.push(state.time);
-                    history.energies.push(e);
+                    if let Some(cp) = &first_point {
+                        let (p, strains) = point_state(model, &state.q, cp);
+                        let (p0, _) = point_state(model, &model.reference, cp);
+                        history.contact_point.push([state.time, p[2] - p0[2], strains[0], strains[1], strains[2]]);
+                    }
+                }
+                if k % snapshot_every == 0 || k == n_steps {
+                    history.shapes.push((state.time, centerline(model, &state.q)));
                 }
                 bar.set_position(k as u64);
                 bar.set_message(format!("{:.4} s", state.time));
@@ -251,52 +317,68 @@ fn run_dynamic(
         strain: last.strain,
         gravity: last.gravity,
         loads: last.loads,
+        contact: last.contact,
+        dissipated: last.dissipated,
         total: last.total(),
         max_drift,
     });
+    summary.contact = contact_summary;
     if scene.output.plots {
-        plot_energies(out, &history)?;
+        plot_dynamic(out, model, &history)?;
+    }
+    if !history.contact_point.is_empty() {
+        write_contact_point(out, &history).map_err(|e| io_err(out, e))?;
     }
     Ok(state.q)
 }
 
-fn plot_energies(out: &Path, h: &History) -> Result<(), String> {
-    let pick = |f: fn(&Energies) -> f64| {
-        h.time
-            .iter()
-            .zip(&h.energies)
-            .map(|(t, e)| (*t, f(e)))
-            .collect::<Vec<_>>()
-    };
+fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {
+    let mut s = String::from("time,dz,exx,eyy,ezz\n");
+    for r in &h.contact_point {
+        s.push_str(&format!("{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n", r[0], r[1], r[2], r[3], r[4]));
+    }
+    std::fs::write(out.join("contact_point.csv"), s)
+}
+
+fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
+    let pick = |f: fn(&Energies) -> f64| h.time.iter().zip(&h.energies).map(|(t, e)| (*t, f(e))).collect::<Vec<_>>();
     let mut series = vec![
-        Series {
-            label: "kinetic",
-            points: pick(|e| e.kinetic),
-        },
-        Series {
-            label: "strain",
-            points: pick(|e| e.strain),
-        },
-        Series {
-            label: "gravity potential",
-            points: pick(|e| e.gravity),
-        },
+        Series { label: "kinetic", points: pick(|e| e.kinetic) },
+        Series { label: "strain", points: pick(|e| e.strain) },
+        Series { label: "gravity potential", points: pick(|e| e.gravity) },
     ];
     if h.energies.iter().any(|e| e.loads != 0.0) {
-        series.push(Series {
-            label: "load potential",
-            points: pick(|e| e.loads),
-        });
+        series.push(Series { label: "load potential", points: pick(|e| e.loads) });
     }
-    series.push(Series {
-        label: "total",
-        points: pick(|e| e.total()),
-    });
-    line_plot(
-        &out.join("energy.png"),
-        "Energy balance",
-        "time t (s)",
-        "energy (J)",
-        &series,
-    )
+    let contact = model.contact();
+    if contact.is_some() {
+        series.push(Series { label: "contact (penalty)", points: pick(|e| e.contact) });
+        series.push(Series { label: "friction dissipated", points: pick(|e| e.dissipated) });
+    }
+    series.push(Series { label: "total", points: pick(|e| e.total()) });
+    if contact.is_some_and(|c| c.has_friction()) {
+        series.push(Series { label: "total + dissipated", points: pick(|e| e.total() + e.dissipated) });
+    }
+    line_plot(&out.join("energy.png"), "Energy balance", "time t (s)", "energy (J)", &series)?;
+    let rods: Vec<(f64, f64, f64)> = contact
+        .map(|c| {
+            c.rods.iter().filter(|r| r.axis[1].abs() > 0.99).map(|r| (r.center[0], r.center[2], r.radius)).collect()
+        })
+        .unwrap_or_default();
+    configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
+    if !h.contact_point.is_empty() {
+        let col = |i: usize| h.contact_point.iter().map(|r| (r[0], r[i])).collect::<Vec<_>>();
+        panels_plot(
+            &out.join("contact_point.png"),
+            2,
+            2,
+            &[
+                Panel { title: "First contact point: vertical displacement", x_label: "t (s)", y_label: "Δz (m)", series: vec![Series { label: "Δz", points: col(1) }] },
+                Panel { title: "Normal strain E_xx", x_label: "t (s)", y_label: "E_xx (-)", series: vec![Series { label: "E_xx", points: col(2) }] },
+                Panel { title: "Normal strain E_yy", x_label: "t (s)", y_label: "E_yy (-)", series: vec![Series { label: "E_yy", points: col(3) }] },
+                Panel { title: "Normal strain E_zz", x_label: "t (s)", y_label: "E_zz (-)", series: vec![Series { label: "E_zz", points: col(4) }] },
+            ],
+        )?;
+    }
+    Ok(())
 }

@@ -117,3 +117,56 @@ pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
     }
     v
 }
+
+/// Contact forces of the whole wire at (q, v): the generalized force (full
+/// coordinates, N), −∂Q/∂q added to `jac_q` and −∂Q/∂v added to `jac_v`
+/// (pattern slots), the summed sample and the deepest point (element, point).
+pub fn assemble_contact(
+    model: &Model,
+    contact: &crate::contact::Contact,
+    pattern: &Pattern,
+    q: &[f64],
+    v: &[f64],
+    mut jac_q: Option<&mut [f64]>,
+    mut jac_v: Option<&mut [f64]>,
+) -> (Vec<f64>, crate::contact::ContactSample, Option<(usize, crate::contact::DeepestPoint)>) {
+    let mut force = vec![0.0; q.len()];
+    let mut total = crate::contact::ContactSample::default();
+    let mut deepest: Option<(usize, crate::contact::DeepestPoint)> = None;
+    let mut kq = [0.0; 576];
+    let mut kv = [0.0; 576];
+    for el in 0..model.n_elements {
+        let e = model.element_coordinates(q, el);
+        let ve = model.element_coordinates(v, el);
+        let mut qe = [0.0; 24];
+        kq.fill(0.0);
+        kv.fill(0.0);
+        let (sample, dp) = contact.element(
+            &e,
+            &ve,
+            &mut qe,
+            jac_q.is_some().then_some(&mut kq),
+            jac_v.is_some().then_some(&mut kv),
+        );
+        if sample.active == 0 {
+            continue;
+        }
+        total.accumulate(&sample);
+        if let Some(dp) = dp
+            && deepest.is_none_or(|(_, d)| dp.penetration > d.penetration)
+        {
+            deepest = Some((el, dp));
+        }
+        let base = NODE_DOFS * el;
+        for i in 0..24 {
+            force[base + i] += qe[i];
+        }
+        if let Some(values) = jac_q.as_deref_mut() {
+            pattern.add_element(values, el, &kq, 1.0);
+        }
+        if let Some(values) = jac_v.as_deref_mut() {
+            pattern.add_element(values, el, &kv, 1.0);
+        }
+    }
+    (force, total, deepest)
+}

@@ -17,3 +17,4 @@ pub mod quadrature;
 pub mod scene;
 pub mod section;
 pub mod statics;
+pub mod contact;

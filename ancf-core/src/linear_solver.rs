@@ -48,8 +48,10 @@ impl SparseSolver {
         })
     }
 
-    /// Numeric factorization of the matrix with the pattern's structure and `values`.
-    pub fn factorize(&mut self, values: &[f64]) -> Result<FactorKind, FactorError> {
+    /// Numeric factorization of the matrix with the pattern's structure and
+    /// `values`. A `symmetric` matrix tries LLᵀ first (it reads only the
+    /// lower triangle); a non-symmetric one (friction) goes straight to LU.
+    pub fn factorize(&mut self, values: &[f64], symmetric: bool) -> Result<FactorKind, FactorError> {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(FactorError(
                 "the Newton matrix has non-finite entries".into(),
@@ -57,7 +59,7 @@ impl SparseSolver {
         }
         self.factorizations += 1;
         let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
-        if !matches!(self.factor, Factor::Lu(_)) || self.symbolic_lu.is_none() {
+        if symmetric && (!matches!(self.factor, Factor::Lu(_)) || self.symbolic_lu.is_none()) {
             if let Ok(llt) = Llt::try_new_with_symbolic(self.symbolic_llt.clone(), mat, Side::Lower)
             {
                 self.factor = Factor::Llt(llt);

@@ -49,6 +49,8 @@ pub enum Effect {
     },
     /// Point loads.
     PointLoads(Vec<PointLoad>),
+    /// Penalty contact with rigid rods (friction only where a rod has μ > 0).
+    Contact(crate::contact::Contact),
 }
 
 /// A straight wire of `n_elements` equal elements.
@@ -237,6 +239,23 @@ impl Model {
         })
     }
 
+    /// The contact effect, when the scene has rods.
+    pub fn contact(&self) -> Option<&crate::contact::Contact> {
+        self.effects.iter().find_map(|e| match e {
+            Effect::Contact(c) => Some(c),
+            _ => None,
+        })
+    }
+
+    /// Add rods: contact becomes one of the model's effects.
+    pub fn with_rods(mut self, rods: Vec<crate::contact::Rod>, settings: crate::contact::ContactSettings) -> Self {
+        if !rods.is_empty() {
+            let c = crate::contact::Contact::new(rods, settings, self.element.section.outer_radius(), self.element.length);
+            self.effects.push(Effect::Contact(c));
+        }
+        self
+    }
+
     pub fn point_loads(&self) -> &[PointLoad] {
         self.effects
             .iter()
@@ -262,7 +281,7 @@ impl Model {
                         }
                     }
                 }
-                Effect::Elasticity { .. } => {}
+                Effect::Elasticity { .. } | Effect::Contact(_) => {}
             }
         }
         f

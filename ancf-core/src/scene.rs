@@ -152,6 +152,25 @@ pub struct LoadSpec {
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+pub struct RodSpec {
+    pub center: [f64; 3],
+    pub axis: [f64; 3],
+    pub radius: f64,
+    pub length: Option<f64>,
+    pub contact_stiffness: f64,
+    pub friction: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    pub stations: Option<usize>,
+    pub angles: Option<usize>,
+    pub slip_velocity: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     pub every: Option<usize>,
     pub vtk: Option<bool>,
@@ -171,6 +190,9 @@ pub struct SceneFile {
     pub support: Vec<SupportSpec>,
     #[serde(default)]
     pub load: Vec<LoadSpec>,
+    #[serde(default)]
+    pub rod: Vec<RodSpec>,
+    pub contact: Option<ContactSpec>,
     pub output: Option<OutputSpec>,
 }
 
@@ -521,13 +543,15 @@ impl Scene {
         };
 
         let element = ElementIntegration::new(length / w.elements as f64, axial, section);
+        let (rods, contact_settings) = validate_rods(&f.rod, f.contact.as_ref())?;
         let model = Model::new(
             element, w.elements, origin, direction, supports, gravity, loads,
         )
         .map_err(|e| SceneError {
             field: String::new(),
             message: e.0,
-        })?;
+        })?
+        .with_rods(rods, contact_settings);
         if model.n_unknowns == 0 {
             return Err(err(
                 "support",
@@ -554,6 +578,62 @@ fn tolerance(a: &AnalysisSpec) -> Result<f64, SceneError> {
         ));
     }
     Ok(t)
+}
+
+fn validate_rods(
+    specs: &[RodSpec],
+    contact: Option<&ContactSpec>,
+) -> Result<(Vec<crate::contact::Rod>, crate::contact::ContactSettings), SceneError> {
+    let mut rods = Vec::new();
+    for (i, r) in specs.iter().enumerate() {
+        let at = |k: &str| format!("rod[{i}].{k}");
+        let center = finite3(&at("center"), r.center)?;
+        let axis = finite3(&at("axis"), r.axis)?;
+        let n = axis.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if n == 0.0 {
+            return Err(err(at("axis"), "must not be the zero vector"));
+        }
+        let radius = positive(&at("radius"), r.radius)?;
+        let length = match r.length {
+            Some(l) => Some(positive(&at("length"), l)?),
+            None => None,
+        };
+        let contact_stiffness = positive(&at("contact_stiffness"), r.contact_stiffness)?;
+        let friction = finite(&at("friction"), r.friction.unwrap_or(0.0))?;
+        if friction < 0.0 {
+            return Err(err(at("friction"), format!("must be ≥ 0, got {friction}")));
+        }
+        rods.push(crate::contact::Rod {
+            center,
+            axis: axis.map(|v| v / n),
+            radius,
+            length,
+            contact_stiffness,
+            friction,
+        });
+    }
+    let mut settings = crate::contact::ContactSettings::default();
+    if let Some(c) = contact {
+        if rods.is_empty() {
+            return Err(err("contact", "contact settings without any [[rod]]"));
+        }
+        if let Some(s) = c.stations {
+            if !(1..=64).contains(&s) {
+                return Err(err("contact.stations", format!("must be 1..=64, got {s}")));
+            }
+            settings.stations = s;
+        }
+        if let Some(a) = c.angles {
+            if !(3..=256).contains(&a) {
+                return Err(err("contact.angles", format!("must be 3..=256, got {a}")));
+            }
+            settings.angles = a;
+        }
+        if let Some(v) = c.slip_velocity {
+            settings.slip_velocity = positive("contact.slip_velocity", v)?;
+        }
+    }
+    Ok((rods, settings))
 }
 
 fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>, SceneError> {

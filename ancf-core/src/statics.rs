@@ -66,7 +66,14 @@ fn residual(
     pattern: &Pattern,
     k: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64, f64) {
-    let (qe, energy) = assemble(model, pattern, q, k);
+    let mut k = k;
+    let (mut qe, energy) = assemble(model, pattern, q, k.as_deref_mut());
+    if let Some(c) = model.contact() {
+        // Statics: normal contact only (no velocities, no friction).
+        let v = vec![0.0; q.len()];
+        let (qc, _, _) = crate::assembly::assemble_contact(model, c, pattern, q, &v, k, None);
+        qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
+    }
     let full: Vec<f64> = qe.iter().zip(ext).map(|(a, b)| a - b).collect();
     let r = model.gather(&full);
     let scale = norm(&model.gather(ext)).max(norm(&model.gather(&qe)));
@@ -130,7 +137,7 @@ pub fn solve_static_from(
                     &iterations,
                 ));
             }
-            solver.factorize(&kv).map_err(|e| fail(e.0, &iterations))?;
+            solver.factorize(&kv, true).map_err(|e| fail(e.0, &iterations))?;
             let mut dq = r.clone();
             solver.solve_in_place(&mut dq);
             dq.iter_mut().for_each(|v| *v = -*v);

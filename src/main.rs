@@ -54,7 +54,7 @@ enum Command {
     },
 }
 
-fn load(path: &PathBuf) -> Result<Scene, ExitCode> {
+fn load(path: &std::path::Path) -> Result<Scene, ExitCode> {
     Scene::load(path).map_err(|e| {
         eprintln!("error: {e}");
         ExitCode::from(2)

@@ -91,7 +91,10 @@ impl TimeSeries {
     pub fn create(dir: &Path, contact: bool) -> std::io::Result<Self> {
         let mut file = BufWriter::new(File::create(dir.join("timeseries.csv"))?);
         if contact {
-            writeln!(file, "{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated")?;
+            writeln!(
+                file,
+                "{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated"
+            )?;
         } else {
             writeln!(file, "{TIMESERIES_HEADER}")?;
         }

@@ -135,7 +135,12 @@ pub struct Panel<'a> {
 }
 
 fn bounds(series: &[Series]) -> Option<(f64, f64, f64, f64)> {
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
     for s in series {
         for &(x, y) in &s.points {
             if x.is_finite() && y.is_finite() {
@@ -163,7 +168,9 @@ pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> R
     let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
     root.fill(&WHITE).map_err(e)?;
     for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {
-        let Some((x0, x1, y0, y1)) = bounds(&p.series) else { continue };
+        let Some((x0, x1, y0, y1)) = bounds(&p.series) else {
+            continue;
+        };
         let mut chart = ChartBuilder::on(area)
             .caption(p.title, ("sans-serif", 20))
             .margin(10)
@@ -184,10 +191,15 @@ pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> R
         for (i, s) in p.series.iter().enumerate() {
             let color = COLORS[i % COLORS.len()];
             chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(2)))
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    color.stroke_width(2),
+                ))
                 .map_err(e)?
                 .label(s.label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
         }
         if p.series.len() > 1 {
             chart
@@ -205,14 +217,23 @@ pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> R
 
 /// Wire shapes in the x–z plane at several instants, with rods seen end-on
 /// as circles (center x, center z, radius), equal scales on both axes.
-pub fn configurations_plot(path: &Path, shapes: &[(f64, Vec<(f64, f64)>)], rods: &[(f64, f64, f64)]) -> Result<(), String> {
+pub fn configurations_plot(
+    path: &Path,
+    shapes: &[(f64, Vec<(f64, f64)>)],
+    rods: &[(f64, f64, f64)],
+) -> Result<(), String> {
     register_font();
     let mut all: Vec<(f64, f64)> = shapes.iter().flat_map(|(_, p)| p.iter().copied()).collect();
     for &(x, z, r) in rods {
         all.push((x - r, z - r));
         all.push((x + r, z + r));
     }
-    let (mut x0, mut x1, mut z0, mut z1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut x0, mut x1, mut z0, mut z1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
     for (x, z) in &all {
         x0 = x0.min(*x);
         x1 = x1.max(*x);
@@ -225,7 +246,8 @@ pub fn configurations_plot(path: &Path, shapes: &[(f64, Vec<(f64, f64)>)], rods:
     let pad = 0.05 * (x1 - x0).max(z1 - z0);
     let (x0, x1, z0, z1) = (x0 - pad, x1 + pad, z0 - pad, z1 + pad);
     let width = 1100u32;
-    let height = ((width as f64 - 100.0) * (z1 - z0) / (x1 - x0) + 120.0).clamp(300.0, 1400.0) as u32;
+    let height =
+        ((width as f64 - 100.0) * (z1 - z0) / (x1 - x0) + 120.0).clamp(300.0, 1400.0) as u32;
     let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
     let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
     root.fill(&WHITE).map_err(e)?;
@@ -251,7 +273,12 @@ pub fn configurations_plot(path: &Path, shapes: &[(f64, Vec<(f64, f64)>)], rods:
                 (x + r * a.cos(), z + r * a.sin())
             })
             .collect();
-        chart.draw_series(std::iter::once(Polygon::new(circle, BLACK.mix(0.6).filled()))).map_err(e)?;
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                circle,
+                BLACK.mix(0.6).filled(),
+            )))
+            .map_err(e)?;
     }
     let n = shapes.len().max(2) as f64;
     for (i, (t, pts)) in shapes.iter().enumerate() {
@@ -263,7 +290,9 @@ pub fn configurations_plot(path: &Path, shapes: &[(f64, Vec<(f64, f64)>)], rods:
             .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
             .map_err(e)?
             .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
     }
     chart
         .configure_series_labels()

@@ -3,7 +3,9 @@
 //! naming the step, the time and the likely cause; everything written up
 //! to the last converged step stays on disk.
 
-use crate::output::{ContactSummary, EnergySummary, Summary, TimeSeries, TipSummary, write_final_nodes};
+use crate::output::{
+    ContactSummary, EnergySummary, Summary, TimeSeries, TipSummary, write_final_nodes,
+};
 use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
 use crate::vtk::VtkWriter;
 use ancf_core::dynamics::{Energies, Integrator, State};
@@ -35,7 +37,9 @@ fn effect_names(model: &Model) -> Vec<String> {
             Effect::Elasticity { .. } => "elasticity".to_string(),
             Effect::Gravity { .. } => "gravity".to_string(),
             Effect::PointLoads(l) => format!("point loads ({})", l.len()),
-            Effect::Contact(c) if c.has_friction() => format!("contact ({} rods, with friction)", c.rods.len()),
+            Effect::Contact(c) if c.has_friction() => {
+                format!("contact ({} rods, with friction)", c.rods.len())
+            }
             Effect::Contact(c) => format!("contact ({} rods, frictionless)", c.rods.len()),
         })
         .collect()
@@ -178,7 +182,10 @@ fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 
     let l = model.element.length;
     let e = model.element_coordinates(q, cp.element);
     let p = position(&e, cp.xi, cp.y, cp.z, l);
-    let eps = green_lagrange(&deformation_gradient(&e, &shape_gradients(cp.xi, cp.y, cp.z, l)));
+    let eps = green_lagrange(&deformation_gradient(
+        &e,
+        &shape_gradients(cp.xi, cp.y, cp.z, l),
+    ));
     (p, [eps[0], eps[1], eps[2]])
 }
 
@@ -205,14 +212,15 @@ fn run_dynamic(
             return Ok(model.reference.clone());
         }
     };
-    let mut state = match integ.initial_state(model.reference.clone(), vec![0.0; model.reference.len()]) {
-        Ok(s) => s,
-        Err(e) => {
-            summary.status = "failed".into();
-            summary.message = format!("initial acceleration: {}", e.message);
-            return Ok(model.reference.clone());
-        }
-    };
+    let mut state =
+        match integ.initial_state(model.reference.clone(), vec![0.0; model.reference.len()]) {
+            Ok(s) => s,
+            Err(e) => {
+                summary.status = "failed".into();
+                summary.message = format!("initial acceleration: {}", e.message);
+                return Ok(model.reference.clone());
+            }
+        };
     let h = settings.time_step;
     let n_steps = (settings.end_time / h - 1e-9).ceil() as usize;
     let bar = progress_bar(n_steps as u64, opts.quiet);
@@ -230,7 +238,18 @@ fn run_dynamic(
                  c: Option<&ancf_core::contact::ContactSample>|
      -> std::io::Result<()> {
         let p = model.node_position(&s.q, model.n_elements);
-        let mut row = vec![s.time, p[0], p[1], p[2], e.kinetic, e.strain, e.gravity, e.total(), e.loads, its as f64];
+        let mut row = vec![
+            s.time,
+            p[0],
+            p[1],
+            p[2],
+            e.kinetic,
+            e.strain,
+            e.gravity,
+            e.total(),
+            e.loads,
+            its as f64,
+        ];
         if let Some(c) = c {
             row.extend([c.normal_force, c.max_penetration, e.contact, e.dissipated]);
         }
@@ -243,14 +262,27 @@ fn run_dynamic(
         Ok(())
     };
     let no_contact = ancf_core::contact::ContactSample::default();
-    write(&mut series, &mut vtk, &mut history, &state, &e0, 0, contact.map(|_| &no_contact)).map_err(|e| io_err(out, e))?;
+    write(
+        &mut series,
+        &mut vtk,
+        &mut history,
+        &state,
+        &e0,
+        0,
+        contact.map(|_| &no_contact),
+    )
+    .map_err(|e| io_err(out, e))?;
     history.shapes.push((0.0, centerline(model, &state.q)));
     let mut max_drift: f64 = 0.0;
     let mut last = e0;
     summary.status = "completed".into();
     summary.message = format!("{n_steps} steps of {h} s");
     for k in 1..=n_steps {
-        let hk = if k == n_steps { settings.end_time - state.time } else { h };
+        let hk = if k == n_steps {
+            settings.end_time - state.time
+        } else {
+            h
+        };
         match integ.step(&state, hk) {
             Ok((next, info)) => {
                 state = next;
@@ -263,7 +295,12 @@ fn run_dynamic(
                         cs.first_time = Some(state.time);
                         if let Some((el, dp)) = info.deepest {
                             let tp = &c.points[dp.point];
-                            first_point = Some(ContactPoint { element: el, xi: tp.xi, y: tp.y, z: tp.z });
+                            first_point = Some(ContactPoint {
+                                element: el,
+                                xi: tp.xi,
+                                y: tp.y,
+                                z: tp.z,
+                            });
                         }
                     }
                     cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
@@ -282,16 +319,32 @@ fn run_dynamic(
                     }
                     max_drift = max_drift.max((e.total() + e.dissipated - e0.total()).abs());
                     last = e;
-                    write(&mut series, &mut vtk, &mut history, &state, &e, info.iterations, contact.map(|_| &info.contact))
-                        .map_err(|e| io_err(out, e))?;
+                    write(
+                        &mut series,
+                        &mut vtk,
+                        &mut history,
+                        &state,
+                        &e,
+                        info.iterations,
+                        contact.map(|_| &info.contact),
+                    )
+                    .map_err(|e| io_err(out, e))?;
                     if let Some(cp) = &first_point {
                         let (p, strains) = point_state(model, &state.q, cp);
                         let (p0, _) = point_state(model, &model.reference, cp);
-                        history.contact_point.push([state.time, p[2] - p0[2], strains[0], strains[1], strains[2]]);
+                        history.contact_point.push([
+                            state.time,
+                            p[2] - p0[2],
+                            strains[0],
+                            strains[1],
+                            strains[2],
+                        ]);
                     }
                 }
                 if k % snapshot_every == 0 || k == n_steps {
-                    history.shapes.push((state.time, centerline(model, &state.q)));
+                    history
+                        .shapes
+                        .push((state.time, centerline(model, &state.q)));
                 }
                 bar.set_position(k as u64);
                 bar.set_message(format!("{:.4} s", state.time));
@@ -335,48 +388,128 @@ fn run_dynamic(
 fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {
     let mut s = String::from("time,dz,exx,eyy,ezz\n");
     for r in &h.contact_point {
-        s.push_str(&format!("{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n", r[0], r[1], r[2], r[3], r[4]));
+        s.push_str(&format!(
+            "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n",
+            r[0], r[1], r[2], r[3], r[4]
+        ));
     }
     std::fs::write(out.join("contact_point.csv"), s)
 }
 
 fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
-    let pick = |f: fn(&Energies) -> f64| h.time.iter().zip(&h.energies).map(|(t, e)| (*t, f(e))).collect::<Vec<_>>();
+    let pick = |f: fn(&Energies) -> f64| {
+        h.time
+            .iter()
+            .zip(&h.energies)
+            .map(|(t, e)| (*t, f(e)))
+            .collect::<Vec<_>>()
+    };
     let mut series = vec![
-        Series { label: "kinetic", points: pick(|e| e.kinetic) },
-        Series { label: "strain", points: pick(|e| e.strain) },
-        Series { label: "gravity potential", points: pick(|e| e.gravity) },
+        Series {
+            label: "kinetic",
+            points: pick(|e| e.kinetic),
+        },
+        Series {
+            label: "strain",
+            points: pick(|e| e.strain),
+        },
+        Series {
+            label: "gravity potential",
+            points: pick(|e| e.gravity),
+        },
     ];
     if h.energies.iter().any(|e| e.loads != 0.0) {
-        series.push(Series { label: "load potential", points: pick(|e| e.loads) });
+        series.push(Series {
+            label: "load potential",
+            points: pick(|e| e.loads),
+        });
     }
     let contact = model.contact();
     if contact.is_some() {
-        series.push(Series { label: "contact (penalty)", points: pick(|e| e.contact) });
-        series.push(Series { label: "friction dissipated", points: pick(|e| e.dissipated) });
+        series.push(Series {
+            label: "contact (penalty)",
+            points: pick(|e| e.contact),
+        });
+        series.push(Series {
+            label: "friction dissipated",
+            points: pick(|e| e.dissipated),
+        });
     }
-    series.push(Series { label: "total", points: pick(|e| e.total()) });
+    series.push(Series {
+        label: "total",
+        points: pick(|e| e.total()),
+    });
     if contact.is_some_and(|c| c.has_friction()) {
-        series.push(Series { label: "total + dissipated", points: pick(|e| e.total() + e.dissipated) });
+        series.push(Series {
+            label: "total + dissipated",
+            points: pick(|e| e.total() + e.dissipated),
+        });
     }
-    line_plot(&out.join("energy.png"), "Energy balance", "time t (s)", "energy (J)", &series)?;
+    line_plot(
+        &out.join("energy.png"),
+        "Energy balance",
+        "time t (s)",
+        "energy (J)",
+        &series,
+    )?;
     let rods: Vec<(f64, f64, f64)> = contact
         .map(|c| {
-            c.rods.iter().filter(|r| r.axis[1].abs() > 0.99).map(|r| (r.center[0], r.center[2], r.radius)).collect()
+            c.rods
+                .iter()
+                .filter(|r| r.axis[1].abs() > 0.99)
+                .map(|r| (r.center[0], r.center[2], r.radius))
+                .collect()
         })
         .unwrap_or_default();
     configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
     if !h.contact_point.is_empty() {
-        let col = |i: usize| h.contact_point.iter().map(|r| (r[0], r[i])).collect::<Vec<_>>();
+        let col = |i: usize| {
+            h.contact_point
+                .iter()
+                .map(|r| (r[0], r[i]))
+                .collect::<Vec<_>>()
+        };
         panels_plot(
             &out.join("contact_point.png"),
             2,
             2,
             &[
-                Panel { title: "First contact point: vertical displacement", x_label: "t (s)", y_label: "Δz (m)", series: vec![Series { label: "Δz", points: col(1) }] },
-                Panel { title: "Normal strain E_xx", x_label: "t (s)", y_label: "E_xx (-)", series: vec![Series { label: "E_xx", points: col(2) }] },
-                Panel { title: "Normal strain E_yy", x_label: "t (s)", y_label: "E_yy (-)", series: vec![Series { label: "E_yy", points: col(3) }] },
-                Panel { title: "Normal strain E_zz", x_label: "t (s)", y_label: "E_zz (-)", series: vec![Series { label: "E_zz", points: col(4) }] },
+                Panel {
+                    title: "First contact point: vertical displacement",
+                    x_label: "t (s)",
+                    y_label: "Δz (m)",
+                    series: vec![Series {
+                        label: "Δz",
+                        points: col(1),
+                    }],
+                },
+                Panel {
+                    title: "Normal strain E_xx",
+                    x_label: "t (s)",
+                    y_label: "E_xx (-)",
+                    series: vec![Series {
+                        label: "E_xx",
+                        points: col(2),
+                    }],
+                },
+                Panel {
+                    title: "Normal strain E_yy",
+                    x_label: "t (s)",
+                    y_label: "E_yy (-)",
+                    series: vec![Series {
+                        label: "E_yy",
+                        points: col(3),
+                    }],
+                },
+                Panel {
+                    title: "Normal strain E_zz",
+                    x_label: "t (s)",
+                    y_label: "E_zz (-)",
+                    series: vec![Series {
+                        label: "E_zz",
+                        points: col(4),
+                    }],
+                },
             ],
         )?;
     }

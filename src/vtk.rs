@@ -25,7 +25,10 @@ pub struct VtkWriter {
 }
 
 fn data_array(out: &mut String, name: &str, components: usize, values: &[f64]) {
-    let _ = writeln!(out, "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">");
+    let _ = writeln!(
+        out,
+        "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">"
+    );
     for chunk in values.chunks(components) {
         let line: Vec<String> = chunk.iter().map(|v| format!("{v:.9e}")).collect();
         let _ = writeln!(out, "          {}", line.join(" "));
@@ -34,12 +37,25 @@ fn data_array(out: &mut String, name: &str, components: usize, values: &[f64]) {
 }
 
 /// A quad surface as an unstructured grid.
-fn write_vtu(path: &Path, points: &[[f64; 3]], quads: &[[usize; 4]], point_data: &[(&str, usize, Vec<f64>)]) -> std::io::Result<()> {
+fn write_vtu(
+    path: &Path,
+    points: &[[f64; 3]],
+    quads: &[[usize; 4]],
+    point_data: &[(&str, usize, Vec<f64>)],
+) -> std::io::Result<()> {
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
-    let _ = writeln!(s, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">");
+    let _ = writeln!(
+        s,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">"
+    );
     let _ = writeln!(s, "  <UnstructuredGrid>");
-    let _ = writeln!(s, "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", points.len(), quads.len());
+    let _ = writeln!(
+        s,
+        "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        quads.len()
+    );
     let _ = writeln!(s, "      <PointData>");
     for (name, comps, values) in point_data {
         data_array(&mut s, name, *comps, values);
@@ -50,16 +66,25 @@ fn write_vtu(path: &Path, points: &[[f64; 3]], quads: &[[usize; 4]], point_data:
     data_array(&mut s, "position", 3, &flat);
     let _ = writeln!(s, "      </Points>");
     let _ = writeln!(s, "      <Cells>");
-    let _ = writeln!(s, "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
+    );
     for q in quads {
         let _ = writeln!(s, "          {} {} {} {}", q[0], q[1], q[2], q[3]);
     }
     let _ = writeln!(s, "        </DataArray>");
-    let _ = writeln!(s, "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
+    );
     let offsets: Vec<String> = (1..=quads.len()).map(|i| (4 * i).to_string()).collect();
     let _ = writeln!(s, "          {}", offsets.join(" "));
     let _ = writeln!(s, "        </DataArray>");
-    let _ = writeln!(s, "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">"
+    );
     let _ = writeln!(s, "          {}", vec!["9"; quads.len()].join(" "));
     let _ = writeln!(s, "        </DataArray>");
     let _ = writeln!(s, "      </Cells>");
@@ -75,7 +100,12 @@ fn tube_quads(rings: usize, angles: usize) -> Vec<[usize; 4]> {
     for r in 0..rings.saturating_sub(1) {
         for a in 0..angles {
             let b = (a + 1) % angles;
-            quads.push([r * angles + a, r * angles + b, (r + 1) * angles + b, (r + 1) * angles + a]);
+            quads.push([
+                r * angles + a,
+                r * angles + b,
+                (r + 1) * angles + b,
+                (r + 1) * angles + a,
+            ]);
         }
     }
     quads
@@ -113,7 +143,11 @@ impl VtkWriter {
                 rods.push(name);
             }
         }
-        Ok(VtkWriter { dir: dir.to_path_buf(), frames: Vec::new(), rods })
+        Ok(VtkWriter {
+            dir: dir.to_path_buf(),
+            frames: Vec::new(),
+            rods,
+        })
     }
 
     /// Writes the wire at time `t` with coordinates `q` and velocities `v`.
@@ -132,14 +166,24 @@ impl VtkWriter {
                     let phi = 2.0 * std::f64::consts::PI * a as f64 / ANGLES as f64;
                     let (y, z) = (radius * phi.cos(), radius * phi.sin());
                     let s = shape_functions(xi, y, z, l);
-                    let at = |x: &[f64; 24]| -> [f64; 3] { std::array::from_fn(|c| (0..8).map(|i| s[i] * x[3 * i + c]).sum()) };
+                    let at = |x: &[f64; 24]| -> [f64; 3] {
+                        std::array::from_fn(|c| (0..8).map(|i| s[i] * x[3 * i + c]).sum())
+                    };
                     let (p, p0, pv) = (at(&e), at(&e0), at(&ev));
                     points.push(p);
                     disp.extend((0..3).map(|c| p[c] - p0[c]));
                     vel.extend(pv);
-                    let eps = green_lagrange(&deformation_gradient(&e, &shape_gradients(xi, y, z, l)));
+                    let eps =
+                        green_lagrange(&deformation_gradient(&e, &shape_gradients(xi, y, z, l)));
                     // VTK symmetric tensor order: xx, yy, zz, xy, yz, xz (shears as tensor components).
-                    strain.extend([eps[0], eps[1], eps[2], 0.5 * eps[5], 0.5 * eps[3], 0.5 * eps[4]]);
+                    strain.extend([
+                        eps[0],
+                        eps[1],
+                        eps[2],
+                        0.5 * eps[5],
+                        0.5 * eps[3],
+                        0.5 * eps[4],
+                    ]);
                 }
             }
         }
@@ -149,7 +193,11 @@ impl VtkWriter {
             &self.dir.join(&name),
             &points,
             &tube_quads(rings, ANGLES),
-            &[("displacement", 3, disp), ("velocity", 3, vel), ("green_lagrange_strain", 6, strain)],
+            &[
+                ("displacement", 3, disp),
+                ("velocity", 3, vel),
+                ("green_lagrange_strain", 6, strain),
+            ],
         )?;
         self.frames.push((t, name));
         self.write_pvd()
@@ -161,9 +209,16 @@ impl VtkWriter {
         let _ = writeln!(s, "<VTKFile type=\"Collection\" version=\"0.1\">");
         let _ = writeln!(s, "  <Collection>");
         for (t, f) in &self.frames {
-            let _ = writeln!(s, "    <DataSet timestep=\"{t:.9e}\" part=\"0\" file=\"{f}\"/>");
+            let _ = writeln!(
+                s,
+                "    <DataSet timestep=\"{t:.9e}\" part=\"0\" file=\"{f}\"/>"
+            );
             for (i, r) in self.rods.iter().enumerate() {
-                let _ = writeln!(s, "    <DataSet timestep=\"{t:.9e}\" part=\"{}\" file=\"{r}\"/>", i + 1);
+                let _ = writeln!(
+                    s,
+                    "    <DataSet timestep=\"{t:.9e}\" part=\"{}\" file=\"{r}\"/>",
+                    i + 1
+                );
             }
         }
         let _ = writeln!(s, "  </Collection>");

@@ -146,3 +146,76 @@ fn static_run_reports_the_tip() {
     assert_eq!(nodes.lines().count(), 1 + 9);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn impact_run_writes_contact_outputs_vtk_and_plots() {
+    let dir = tmp("impact");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.3")
+        .replace("every = 50", "every = 100");
+    let path = dir.join("impact.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out_dir = dir.join("out");
+    let out = ancf()
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .unwrap();
+    let contact = &summary["contact"];
+    let first = contact["first_time"]
+        .as_f64()
+        .expect("the wire hits the rod before 0.3 s");
+    assert!(first > 0.2 && first < 0.3, "{first}");
+    assert!(contact["max_normal_force"].as_f64().unwrap() > 0.0);
+    assert!(contact["max_penetration"].as_f64().unwrap() > 0.0);
+    let ts = std::fs::read_to_string(out_dir.join("timeseries.csv")).unwrap();
+    let header = ts.lines().next().unwrap();
+    for col in [
+        "contact_force",
+        "penetration",
+        "contact_energy",
+        "dissipated",
+    ] {
+        assert!(
+            header.split(',').any(|c| c == col),
+            "timeseries lacks {col}"
+        );
+    }
+    let pvd = std::fs::read_to_string(out_dir.join("vtk/wire.pvd")).unwrap();
+    assert_eq!(
+        pvd.matches("part=\"0\"").count(),
+        31,
+        "frames at t = 0 and every 100 steps"
+    );
+    assert_eq!(pvd.matches("rod_0.vtu").count(), 31);
+    let vtu = std::fs::read_to_string(out_dir.join("vtk/wire_000003.vtu")).unwrap();
+    for name in ["displacement", "velocity", "green_lagrange_strain"] {
+        assert!(
+            vtu.contains(&format!("Name=\"{name}\"")),
+            "vtu lacks {name}"
+        );
+    }
+    // 16 elements × 4 stations + 1 rings of 16 points.
+    assert!(vtu.contains("NumberOfPoints=\"1040\""));
+    for png in ["energy.png", "configurations.png", "contact_point.png"] {
+        assert!(out_dir.join(png).metadata().unwrap().len() > 5000, "{png}");
+    }
+    let cp = std::fs::read_to_string(out_dir.join("contact_point.csv")).unwrap();
+    assert!(cp.starts_with("time,dz,exx,eyy,ezz"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

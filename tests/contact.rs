@@ -22,7 +22,16 @@ fn rod(friction: f64) -> Rod {
 }
 
 fn setup(friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
-    let c = Contact::new(vec![rod(friction)], ContactSettings { stations: 6, angles: 12, slip_velocity: 1e-2 }, RW, L);
+    let c = Contact::new(
+        vec![rod(friction)],
+        ContactSettings {
+            stations: 6,
+            angles: 12,
+            slip_velocity: 1e-2,
+        },
+        RW,
+        L,
+    );
     let mut rng = Rng::new(21);
     let mut e = reference(L);
     for v in e.iter_mut() {
@@ -39,7 +48,12 @@ fn eval(c: &Contact, e: &[f64; 24], v: &[f64; 24]) -> ([f64; 24], [f64; 576], [f
 }
 
 fn rel(a: &[f64], b: &[f64]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let d: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt();
     d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
 }
 
@@ -101,7 +115,10 @@ fn jacobians_match_finite_differences_with_and_without_friction() {
             let ev = rel(&fv, &kv);
             assert!(ev < 1e-6, "μ = {mu}: −∂Q/∂v vs FD {ev:e}");
         } else {
-            assert!(kv.iter().all(|x| *x == 0.0), "frictionless contact has no velocity Jacobian");
+            assert!(
+                kv.iter().all(|x| *x == 0.0),
+                "frictionless contact has no velocity Jacobian"
+            );
         }
     }
 }

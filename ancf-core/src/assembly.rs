@@ -129,7 +129,11 @@ pub fn assemble_contact(
     v: &[f64],
     mut jac_q: Option<&mut [f64]>,
     mut jac_v: Option<&mut [f64]>,
-) -> (Vec<f64>, crate::contact::ContactSample, Option<(usize, crate::contact::DeepestPoint)>) {
+) -> (
+    Vec<f64>,
+    crate::contact::ContactSample,
+    Option<(usize, crate::contact::DeepestPoint)>,
+) {
     let mut force = vec![0.0; q.len()];
     let mut total = crate::contact::ContactSample::default();
     let mut deepest: Option<(usize, crate::contact::DeepestPoint)> = None;

@@ -45,7 +45,11 @@ pub struct ContactSettings {
 
 impl Default for ContactSettings {
     fn default() -> Self {
-        ContactSettings { stations: 8, angles: 16, slip_velocity: 1e-3 }
+        ContactSettings {
+            stations: 8,
+            angles: 16,
+            slip_velocity: 1e-3,
+        }
     }
 }
 
@@ -100,7 +104,12 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 }
 
 impl Contact {
-    pub fn new(rods: Vec<Rod>, settings: ContactSettings, wire_radius: f64, element_length: f64) -> Self {
+    pub fn new(
+        rods: Vec<Rod>,
+        settings: ContactSettings,
+        wire_radius: f64,
+        element_length: f64,
+    ) -> Self {
         let rule = gauss_legendre_unit(settings.stations);
         let dphi = 2.0 * std::f64::consts::PI / settings.angles as f64;
         let mut points = Vec::new();
@@ -117,7 +126,13 @@ impl Contact {
                 });
             }
         }
-        Contact { rods, settings, points, wire_radius, element_length }
+        Contact {
+            rods,
+            settings,
+            points,
+            wire_radius,
+            element_length,
+        }
     }
 
     pub fn has_friction(&self) -> bool {
@@ -135,14 +150,22 @@ impl Contact {
             let xi = k as f64 / 8.0;
             let s = shape_functions(xi, 0.0, 0.0, l);
             let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| s[i] * e[3 * i + c]).sum());
-            let rel = [p[0] - rod.center[0], p[1] - rod.center[1], p[2] - rod.center[2]];
+            let rel = [
+                p[0] - rod.center[0],
+                p[1] - rod.center[1],
+                p[2] - rod.center[2],
+            ];
             let along = dot(&rel, &rod.axis);
             if let Some(len) = rod.length
                 && along.abs() > 0.5 * len + reach
             {
                 return false;
             }
-            let perp = [rel[0] - along * rod.axis[0], rel[1] - along * rod.axis[1], rel[2] - along * rod.axis[2]];
+            let perp = [
+                rel[0] - along * rod.axis[0],
+                rel[1] - along * rod.axis[1],
+                rel[2] - along * rod.axis[2],
+            ];
             dot(&perp, &perp).sqrt() < reach
         })
     }
@@ -166,15 +189,24 @@ impl Contact {
             }
             let d = rod.axis;
             for (pi, tp) in self.points.iter().enumerate() {
-                let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * e[3 * i + c]).sum());
-                let rel = [p[0] - rod.center[0], p[1] - rod.center[1], p[2] - rod.center[2]];
+                let p: [f64; 3] =
+                    std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * e[3 * i + c]).sum());
+                let rel = [
+                    p[0] - rod.center[0],
+                    p[1] - rod.center[1],
+                    p[2] - rod.center[2],
+                ];
                 let along = dot(&rel, &d);
                 if let Some(len) = rod.length
                     && along.abs() > 0.5 * len
                 {
                     continue;
                 }
-                let perp = [rel[0] - along * d[0], rel[1] - along * d[1], rel[2] - along * d[2]];
+                let perp = [
+                    rel[0] - along * d[0],
+                    rel[1] - along * d[1],
+                    rel[2] - along * d[2],
+                ];
                 let dist = dot(&perp, &perp).sqrt();
                 let g = dist - rod.radius;
                 if g >= 0.0 || dist == 0.0 {
@@ -188,13 +220,16 @@ impl Contact {
                 sample.normal_force += fnorm;
                 sample.active += 1;
                 if deepest.is_none_or(|dp| -g > dp.penetration) {
-                    deepest = Some(DeepestPoint { point: pi, rod: ri, penetration: -g });
+                    deepest = Some(DeepestPoint {
+                        point: pi,
+                        rod: ri,
+                        penetration: -g,
+                    });
                 }
                 let mut f = [fnorm * n[0], fnorm * n[1], fnorm * n[2]];
                 // ∂n/∂p = (I − n nᵀ − d dᵀ) / |p⊥|
-                let nmat = |a: usize, b: usize| {
-                    ((a == b) as u8 as f64 - n[a] * n[b] - d[a] * d[b]) / dist
-                };
+                let nmat =
+                    |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - d[a] * d[b]) / dist;
                 // −∂f_n/∂p = kn (n nᵀ − (−g) ∂n/∂p)
                 let mut dfdp = [[0.0; 3]; 3]; // ∂f/∂p
                 for a in 0..3 {
@@ -204,7 +239,8 @@ impl Contact {
                 }
                 let mut dfdv = [[0.0; 3]; 3];
                 if rod.friction > 0.0 {
-                    let vp: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * v[3 * i + c]).sum());
+                    let vp: [f64; 3] =
+                        std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * v[3 * i + c]).sum());
                     let vn = dot(&vp, &n);
                     let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
                     let eps = self.settings.slip_velocity;
@@ -216,12 +252,17 @@ impl Contact {
                     }
                     sample.friction_power += mu * fnorm * dot(&vt, &vt) / s;
                     // A = ∂t/∂v_t = (I − v_t v_tᵀ / s²) / s
-                    let amat = |a: usize, b: usize| ((a == b) as u8 as f64 - vt[a] * vt[b] / (s * s)) / s;
+                    let amat =
+                        |a: usize, b: usize| ((a == b) as u8 as f64 - vt[a] * vt[b] / (s * s)) / s;
                     // ∂t/∂n = −A (n v_pᵀ + (v_p·n) I)
                     let mut dtdn = [[0.0; 3]; 3];
                     for a in 0..3 {
                         for b in 0..3 {
-                            dtdn[a][b] = -(0..3).map(|c| amat(a, c) * (n[c] * vp[b] + if c == b { vn } else { 0.0 })).sum::<f64>();
+                            dtdn[a][b] = -(0..3)
+                                .map(|c| {
+                                    amat(a, c) * (n[c] * vp[b] + if c == b { vn } else { 0.0 })
+                                })
+                                .sum::<f64>();
                         }
                     }
                     for a in 0..3 {
@@ -230,7 +271,9 @@ impl Contact {
                             let dtdp: f64 = (0..3).map(|c| dtdn[a][c] * nmat(c, b)).sum();
                             dfdp[a][b] += -mu * (t[a] * (-kn * n[b]) + fnorm * dtdp);
                             // ∂f_t/∂v_p = −μ F_n A P, P = I − n nᵀ
-                            let ap: f64 = (0..3).map(|c| amat(a, c) * ((c == b) as u8 as f64 - n[c] * n[b])).sum();
+                            let ap: f64 = (0..3)
+                                .map(|c| amat(a, c) * ((c == b) as u8 as f64 - n[c] * n[b]))
+                                .sum();
                             dfdv[a][b] = -mu * fnorm * ap;
                         }
                     }

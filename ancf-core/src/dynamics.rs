@@ -176,9 +176,11 @@ impl<'m> Integrator<'m> {
         }
         let mut a = self.model.gather(&rhs_full);
         // Subtract the mass coupling to prescribed velocities' rates (zero: supports are fixed).
-        self.solver.factorize(&self.mass, true).map_err(|e| StepError {
-            message: format!("mass matrix: {}", e.0),
-        })?;
+        self.solver
+            .factorize(&self.mass, true)
+            .map_err(|e| StepError {
+                message: format!("mass matrix: {}", e.0),
+            })?;
         self.factored_for = None;
         self.solver.solve_in_place(&mut a);
         let mut a_full = vec![0.0; q0.len()];
@@ -268,7 +270,12 @@ impl<'m> Integrator<'m> {
         jac: Option<(&mut [f64], &mut [f64])>,
         info: &mut StepInfo,
     ) -> (Vec<f64>, f64, Vec<f64>, Vec<f64>) {
-        let AlphaParameters { alpha_m, alpha_f, beta, gamma } = self.params;
+        let AlphaParameters {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.params;
         let model = self.model;
         let n = s.q.len();
         let mut q1 = vec![0.0; n];
@@ -277,9 +284,15 @@ impl<'m> Integrator<'m> {
             q1[c] = s.q[c] + h * s.v[c] + h * h * ((0.5 - beta) * s.a[c] + beta * a1[c]);
             v1[c] = s.v[c] + h * ((1.0 - gamma) * s.a[c] + gamma * a1[c]);
         }
-        let qm: Vec<f64> = (0..n).map(|c| (1.0 - alpha_f) * q1[c] + alpha_f * s.q[c]).collect();
-        let vm: Vec<f64> = (0..n).map(|c| (1.0 - alpha_f) * v1[c] + alpha_f * s.v[c]).collect();
-        let am: Vec<f64> = (0..n).map(|c| (1.0 - alpha_m) * a1[c] + alpha_m * s.a[c]).collect();
+        let qm: Vec<f64> = (0..n)
+            .map(|c| (1.0 - alpha_f) * q1[c] + alpha_f * s.q[c])
+            .collect();
+        let vm: Vec<f64> = (0..n)
+            .map(|c| (1.0 - alpha_f) * v1[c] + alpha_f * s.v[c])
+            .collect();
+        let am: Vec<f64> = (0..n)
+            .map(|c| (1.0 - alpha_m) * a1[c] + alpha_m * s.a[c])
+            .collect();
         let (kq, kv) = match jac {
             Some((kq, kv)) => (Some(kq), Some(kv)),
             None => (None, None),
@@ -295,7 +308,9 @@ impl<'m> Integrator<'m> {
         }
         let ma = model.mass_times(&am);
         let r_full: Vec<f64> = (0..n).map(|c| ma[c] + qe[c] - self.ext[c]).collect();
-        let scale = norm(&model.gather(&ma)).max(norm(&model.gather(&self.ext))).max(norm(&model.gather(&qe)));
+        let scale = norm(&model.gather(&ma))
+            .max(norm(&model.gather(&self.ext)))
+            .max(norm(&model.gather(&qe)));
         (model.gather(&r_full), scale, q1, v1)
     }
 
@@ -306,7 +321,12 @@ impl<'m> Integrator<'m> {
     /// stick (measured on the impact scene: ‖R‖ alternating 1.074e3 ↔
     /// 1.075e3 N for 25 iterations at h = 8e-6 s).
     fn try_step(&mut self, s: &State, h: f64) -> Result<(State, StepInfo), StepError> {
-        let AlphaParameters { alpha_m, alpha_f, beta, gamma } = self.params;
+        let AlphaParameters {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.params;
         let model = self.model;
         let friction = model.contact().is_some_and(|c| c.has_friction());
         let c_k = (1.0 - alpha_f) * beta * h * h;
@@ -331,17 +351,38 @@ impl<'m> Integrator<'m> {
                 kq.fill(0.0);
                 kv.fill(0.0);
             }
-            let (r, scale, q1, v1) =
-                self.residual(s, h, &a1, if need_k { Some((&mut kq, &mut kv)) } else { None }, &mut info);
+            let (r, scale, q1, v1) = self.residual(
+                s,
+                h,
+                &a1,
+                if need_k {
+                    Some((&mut kq, &mut kv))
+                } else {
+                    None
+                },
+                &mut info,
+            );
             evaluations += 1;
             let rn = norm(&r);
-            if iterations > 0 && rn.is_finite() && (rn <= self.settings.tolerance * scale || norm_inf(&r) <= self.roundoff) {
+            if iterations > 0
+                && rn.is_finite()
+                && (rn <= self.settings.tolerance * scale || norm_inf(&r) <= self.roundoff)
+            {
                 info.iterations = iterations;
                 if self.settings.newton == NewtonKind::Modified && iterations > 6 {
                     self.factored_for = None;
                 }
                 let dissipated = s.dissipated + h * info.contact.friction_power;
-                return Ok((State { time: s.time + h, q: q1, v: v1, a: a1, dissipated }, info));
+                return Ok((
+                    State {
+                        time: s.time + h,
+                        q: q1,
+                        v: v1,
+                        a: a1,
+                        dissipated,
+                    },
+                    info,
+                ));
             }
             if evaluations >= max_evaluations || iterations >= self.settings.max_iterations {
                 break;
@@ -358,9 +399,7 @@ impl<'m> Integrator<'m> {
                 }
                 if alpha > 1.0 / 64.0 {
                     alpha *= 0.5;
-                    for c in 0..a1.len() {
-                        a1[c] = base_a1[c];
-                    }
+                    a1.copy_from_slice(&base_a1);
                     model.scatter_add(&da, -alpha, &mut a1);
                     continue;
                 }
@@ -368,7 +407,9 @@ impl<'m> Integrator<'m> {
             }
             if !rn.is_finite() {
                 self.factored_for = None;
-                return Err(StepError { message: "non-finite residual (NaN or overflow)".into() });
+                return Err(StepError {
+                    message: "non-finite residual (NaN or overflow)".into(),
+                });
             }
             // Modified Newton contracting slowly (< 4× per iteration): refresh here.
             if !need_k && iterations > 0 && rn > 0.25 * base_rn {
@@ -377,12 +418,18 @@ impl<'m> Integrator<'m> {
             }
             // Accept the iterate and take a new Newton direction from it.
             if need_k {
-                let mut a_mat: Vec<f64> =
-                    self.mass.iter().zip(&kq).map(|(m, k)| (1.0 - alpha_m) * m + c_k * k).collect();
+                let mut a_mat: Vec<f64> = self
+                    .mass
+                    .iter()
+                    .zip(&kq)
+                    .map(|(m, k)| (1.0 - alpha_m) * m + c_k * k)
+                    .collect();
                 if friction {
                     a_mat.iter_mut().zip(&kv).for_each(|(a, d)| *a += c_d * d);
                 }
-                self.solver.factorize(&a_mat, !friction).map_err(|e| StepError { message: e.0 })?;
+                self.solver
+                    .factorize(&a_mat, !friction)
+                    .map_err(|e| StepError { message: e.0 })?;
                 info.factorizations += 1;
                 self.factored_for = Some(h);
                 fresh = true;

@@ -7,7 +7,12 @@
 //!
 //! Units are SI throughout (m, kg, s, N, Pa).
 
+// Index loops over nodes, directions and Voigt components read like the
+// formulas they implement (Σ_i e[3i+k] g[i][a]); iterator chains would not.
+#![allow(clippy::needless_range_loop)]
+
 pub mod assembly;
+pub mod contact;
 pub mod dynamics;
 pub mod element;
 pub mod linear_solver;
@@ -17,4 +22,3 @@ pub mod quadrature;
 pub mod scene;
 pub mod section;
 pub mod statics;
-pub mod contact;

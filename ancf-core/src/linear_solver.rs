@@ -13,7 +13,7 @@ use faer::{ColMut, Side, linalg::solvers::Solve};
 enum Factor {
     None,
     Llt(Llt<usize, f64>),
-    Lu(Lu<usize, f64>),
+    Lu(Box<Lu<usize, f64>>),
 }
 
 /// Which factorization the last `factorize` used.
@@ -51,7 +51,11 @@ impl SparseSolver {
     /// Numeric factorization of the matrix with the pattern's structure and
     /// `values`. A `symmetric` matrix tries LLᵀ first (it reads only the
     /// lower triangle); a non-symmetric one (friction) goes straight to LU.
-    pub fn factorize(&mut self, values: &[f64], symmetric: bool) -> Result<FactorKind, FactorError> {
+    pub fn factorize(
+        &mut self,
+        values: &[f64],
+        symmetric: bool,
+    ) -> Result<FactorKind, FactorError> {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(FactorError(
                 "the Newton matrix has non-finite entries".into(),
@@ -59,12 +63,13 @@ impl SparseSolver {
         }
         self.factorizations += 1;
         let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
-        if symmetric && (!matches!(self.factor, Factor::Lu(_)) || self.symbolic_lu.is_none()) {
-            if let Ok(llt) = Llt::try_new_with_symbolic(self.symbolic_llt.clone(), mat, Side::Lower)
-            {
-                self.factor = Factor::Llt(llt);
-                return Ok(FactorKind::Cholesky);
-            }
+        // A symmetric matrix that is not positive definite (buckling) fails
+        // LLᵀ and falls through to LU.
+        if symmetric
+            && let Ok(llt) = Llt::try_new_with_symbolic(self.symbolic_llt.clone(), mat, Side::Lower)
+        {
+            self.factor = Factor::Llt(llt);
+            return Ok(FactorKind::Cholesky);
         }
         if self.symbolic_lu.is_none() {
             self.symbolic_lu = Some(
@@ -78,7 +83,7 @@ impl SparseSolver {
                     "LU factorization failed (singular Newton matrix?): {e:?}"
                 ))
             })?;
-        self.factor = Factor::Lu(lu);
+        self.factor = Factor::Lu(Box::new(lu));
         Ok(FactorKind::Lu)
     }
 

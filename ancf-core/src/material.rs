@@ -67,6 +67,8 @@ pub fn isotropic_elasticity(youngs_modulus: f64, poisson_ratio: f64) -> Matrix6<
 }
 
 /// A pointwise hyperelastic law: strain energy density W(ε) in J/m³.
+/// (A few per model, read in the hot loop: kept inline, not boxed.)
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Law {
     /// W = ½ εᵀ D ε with a constant symmetric D (Pa): St. Venant–Kirchhoff

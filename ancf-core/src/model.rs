@@ -248,9 +248,18 @@ impl Model {
     }
 
     /// Add rods: contact becomes one of the model's effects.
-    pub fn with_rods(mut self, rods: Vec<crate::contact::Rod>, settings: crate::contact::ContactSettings) -> Self {
+    pub fn with_rods(
+        mut self,
+        rods: Vec<crate::contact::Rod>,
+        settings: crate::contact::ContactSettings,
+    ) -> Self {
         if !rods.is_empty() {
-            let c = crate::contact::Contact::new(rods, settings, self.element.section.outer_radius(), self.element.length);
+            let c = crate::contact::Contact::new(
+                rods,
+                settings,
+                self.element.section.outer_radius(),
+                self.element.length,
+            );
             self.effects.push(Effect::Contact(c));
         }
         self

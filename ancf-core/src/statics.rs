@@ -137,7 +137,9 @@ pub fn solve_static_from(
                     &iterations,
                 ));
             }
-            solver.factorize(&kv, true).map_err(|e| fail(e.0, &iterations))?;
+            solver
+                .factorize(&kv, true)
+                .map_err(|e| fail(e.0, &iterations))?;
             let mut dq = r.clone();
             solver.solve_in_place(&mut dq);
             dq.iter_mut().for_each(|v| *v = -*v);

@@ -1,0 +1,168 @@
+//! Issue 4: the wire–rod impact conserves energy (with friction: total +
+//! dissipated), a stiff wire first touches the rod when a rigid pendulum
+//! would, and penetration falls as the contact stiffness rises.
+
+use ancf_core::dynamics::{Energies, Integrator};
+use ancf_core::scene::{Analysis, Scene};
+
+fn scene(edit: impl Fn(String) -> String) -> Scene {
+    let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
+    Scene::from_toml(&edit(text)).expect("edited impact scene is valid")
+}
+
+struct Run {
+    energies: Vec<(f64, Energies)>,
+    first_contact: Option<f64>,
+    max_penetration: f64,
+}
+
+fn run(scene: &Scene, end: f64) -> Run {
+    let Analysis::Dynamic(settings) = &scene.analysis else {
+        panic!("dynamic scene")
+    };
+    let model = &scene.model;
+    let mut integ = Integrator::new(model, settings.clone()).unwrap();
+    let mut s = integ
+        .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
+        .unwrap();
+    let h = settings.time_step;
+    let mut out = Run {
+        energies: vec![(0.0, integ.energies(&s))],
+        first_contact: None,
+        max_penetration: 0.0,
+    };
+    let steps = (end / h).round() as usize;
+    for k in 1..=steps {
+        let (next, info) = integ
+            .step(&s, h)
+            .unwrap_or_else(|e| panic!("step {k}: {}", e.message));
+        s = next;
+        if info.contact.active > 0 && out.first_contact.is_none() {
+            out.first_contact = Some(s.time);
+        }
+        out.max_penetration = out.max_penetration.max(info.contact.max_penetration);
+        if k % 10 == 0 {
+            let e = integ.energies(&s);
+            assert!(e.total().is_finite(), "non-finite energy at step {k}");
+            out.energies.push((s.time, e));
+        }
+    }
+    out
+}
+
+/// Largest |E + dissipated − E(0)| relative to the energy exchanged (max |gravity potential|).
+fn relative_drift(r: &Run) -> f64 {
+    let e0 = r.energies[0].1.total();
+    let scale = r
+        .energies
+        .iter()
+        .map(|(_, e)| e.gravity.abs())
+        .fold(0.0, f64::max);
+    r.energies
+        .iter()
+        .map(|(_, e)| (e.total() + e.dissipated - e0).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+#[test]
+fn frictionless_impact_conserves_energy_with_rho_one() {
+    let s = scene(|t| t.replace("friction = 0.3", "friction = 0.0"));
+    let r = run(&s, 0.45);
+    let t = r.first_contact.expect("the wire reaches the rod");
+    assert!(t < 0.35, "first contact at {t}");
+    assert!(r.energies.iter().all(|(_, e)| e.dissipated == 0.0));
+    let d = relative_drift(&r);
+    println!("frictionless: first contact {t:.4} s, relative drift {d:.2e}");
+    assert!(d < 0.01, "energy drift {d:.3e} of the exchanged energy");
+}
+
+#[test]
+fn frictional_impact_conserves_total_plus_dissipated() {
+    let s = scene(|t| t);
+    let r = run(&s, 0.45);
+    let last = r.energies.last().unwrap().1;
+    assert!(last.dissipated > 0.0, "friction must dissipate");
+    let d = relative_drift(&r);
+    println!(
+        "friction: dissipated {:.3} J, relative drift of total + dissipated {d:.2e}",
+        last.dissipated
+    );
+    assert!(d < 0.01, "drift {d:.3e}");
+}
+
+/// Time for a rigid uniform bar pinned at one end, released horizontally,
+/// to turn to `theta`: θ'' = 3g cos θ / (2L), integrated with RK4.
+fn rigid_pendulum_time(theta: f64, length: f64, g: f64) -> f64 {
+    let (mut t, mut th, mut w) = (0.0, 0.0, 0.0);
+    let h = 1e-6;
+    let acc = |th: f64| 1.5 * g * th.cos() / length;
+    while th < theta {
+        let (k1t, k1w) = (w, acc(th));
+        let (k2t, k2w) = (w + 0.5 * h * k1w, acc(th + 0.5 * h * k1t));
+        let (k3t, k3w) = (w + 0.5 * h * k2w, acc(th + 0.5 * h * k2t));
+        let (k4t, k4w) = (w + h * k3w, acc(th + h * k3t));
+        let th_new = th + h / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t);
+        if th_new >= theta {
+            return t + h * (theta - th) / (th_new - th);
+        }
+        w += h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w);
+        th = th_new;
+        t += h;
+    }
+    t
+}
+
+#[test]
+fn stiff_wire_first_touches_when_a_rigid_pendulum_would() {
+    let s = scene(|t| {
+        t.replace("youngs_modulus = 154e9", "youngs_modulus = 2e11")
+            .replace("youngs_modulus = 51.7e9", "youngs_modulus = 2e11")
+            .replace("bending_factor = 0.1", "bending_factor = 1.0")
+    });
+    // Geometry from the scene: pivot at the origin, wire along x, rod across y.
+    let c = s.model.contact().unwrap();
+    let rod = &c.rods[0];
+    let (xc, zc) = (rod.center[0], rod.center[2]);
+    let gap = rod.radius + c.wire_radius;
+    // The bar's lower surface touches the rod when the rod centre is `gap`
+    // below the bar's axis: x_c sin θ + z_c cos θ = −gap.
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if xc * mid.sin() + zc * mid.cos() < -gap {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    let length = s.model.element.length * s.model.n_elements as f64;
+    let t_rigid = rigid_pendulum_time(lo, length, 9.81);
+    let r = run(&s, t_rigid * 1.1);
+    let t = r.first_contact.expect("contact");
+    println!("first contact {t:.5} s, rigid pendulum {t_rigid:.5} s");
+    assert!(((t - t_rigid) / t_rigid).abs() < 0.02, "{t} vs {t_rigid}");
+}
+
+#[test]
+fn penetration_falls_as_contact_stiffness_rises() {
+    let mut last = f64::INFINITY;
+    for k in ["1e8", "1e9", "1e10", "1e11", "1e12"] {
+        let s = scene(|t| {
+            t.replace(
+                "contact_stiffness = 1e10",
+                &format!("contact_stiffness = {k}"),
+            )
+            .replace("friction = 0.3", "friction = 0.0")
+        });
+        let r = run(&s, 0.3);
+        assert!(r.first_contact.is_some(), "{k}: no contact");
+        println!("ε_N = {k}: max penetration {:.3e} m", r.max_penetration);
+        assert!(
+            r.max_penetration.is_finite() && r.max_penetration < last,
+            "{k}: {} ≥ {last}",
+            r.max_penetration
+        );
+        last = r.max_penetration;
+    }
+}

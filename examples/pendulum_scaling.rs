@@ -27,10 +27,7 @@ fn model(n: usize) -> Model {
         n,
         [0.0; 3],
         [1.0, 0.0, 0.0],
-        vec![Support {
-            node: 0,
-            kind: SupportKind::Pin,
-        }],
+        vec![Support::new(0, SupportKind::Pin)],
         Some([0.0, 0.0, -9.81]),
         vec![],
     )

@@ -35,7 +35,7 @@ fn tip(section: &Section, n: usize, kind: SupportKind, force: [f64; 3]) -> [f64;
         n,
         [0.0; 3],
         [1.0, 0.0, 0.0],
-        vec![Support { node: 0, kind }],
+        vec![Support::new(0, kind)],
         None,
         vec![PointLoad { node: n, force }],
     )

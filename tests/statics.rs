@@ -17,7 +17,7 @@ fn cantilever(section: Section, n: usize, kind: SupportKind, force: [f64; 3]) ->
         n,
         [0.0; 3],
         [1.0, 0.0, 0.0],
-        vec![Support { node: 0, kind }],
+        vec![Support::new(0, kind)],
         None,
         vec![PointLoad { node: n, force }],
     )

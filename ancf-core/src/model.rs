@@ -24,6 +24,23 @@ pub enum SupportKind {
 pub struct Support {
     pub node: usize,
     pub kind: SupportKind,
+    /// Where the node is held (m); `None`: its reference position.
+    pub position: Option<[f64; 3]>,
+    /// Time (s) at which the support lets go (a broken conductor, a failed
+    /// clamp); `None`: it holds for the whole run.
+    pub release_time: Option<f64>,
+}
+
+impl Support {
+    /// A support at the node's reference position that never releases.
+    pub fn new(node: usize, kind: SupportKind) -> Self {
+        Support {
+            node,
+            kind,
+            position: None,
+            release_time: None,
+        }
+    }
 }
 
 /// A constant force (N) at a node's position r.
@@ -84,6 +101,83 @@ impl std::fmt::Display for ModelError {
 }
 impl std::error::Error for ModelError {}
 
+/// The unknown numbering: every coordinate not held by an active support
+/// (`active(support)`), in order. Errors name the support at fault.
+fn eliminate(
+    n_nodes: usize,
+    supports: &[Support],
+    axis: [f64; 3],
+    active: impl Fn(&Support) -> bool,
+) -> Result<(Vec<Option<usize>>, usize), ModelError> {
+    let mut fixed = vec![false; NODE_DOFS * n_nodes];
+    for (i, s) in supports.iter().enumerate() {
+        if s.node >= n_nodes {
+            return Err(ModelError(format!(
+                "support[{i}].node: node {} does not exist (the wire has nodes 0..={})",
+                s.node,
+                n_nodes - 1
+            )));
+        }
+        if !active(s) {
+            continue;
+        }
+        let base = NODE_DOFS * s.node;
+        let mut fix = |c: usize| fixed[base + c] = true;
+        match s.kind {
+            SupportKind::Fixed => (0..12).for_each(&mut fix),
+            SupportKind::Pin => (0..3).for_each(&mut fix),
+            SupportKind::Clamp => {
+                let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
+                    return Err(ModelError(format!(
+                        "support[{i}].kind: a clamp needs wire.direction along a coordinate axis (got {axis:?}); use \"fixed\""
+                    )));
+                };
+                (0..3).chain(6..12).for_each(&mut fix);
+                (0..3).filter(|&k| k != along).for_each(|k| fix(3 + k));
+            }
+        }
+    }
+    let mut dof_map = vec![None; fixed.len()];
+    let mut n_unknowns = 0;
+    for (c, f) in fixed.iter().enumerate() {
+        if !f {
+            dof_map[c] = Some(n_unknowns);
+            n_unknowns += 1;
+        }
+    }
+    Ok((dof_map, n_unknowns))
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Rotate v by the smallest rotation taking unit `from` to unit `to` (Rodrigues).
+fn rotate_between(from: [f64; 3], to: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    let k = cross3(from, to);
+    let s = dot3(k, k).sqrt();
+    let c = dot3(from, to);
+    if s < 1e-14 {
+        return if c > 0.0 { v } else { v.map(|x| -x) };
+    }
+    let k = k.map(|x| x / s);
+    let kv = cross3(k, v);
+    let kkv = dot3(k, v);
+    std::array::from_fn(|i| v[i] * c + kv[i] * s + k[i] * kkv * (1.0 - c))
+}
+
 /// Two unit vectors completing `axis` to a right-handed frame; for the
 /// default axis x they are y and z.
 pub fn section_frame(axis: [f64; 3]) -> ([f64; 3], [f64; 3]) {
@@ -141,39 +235,7 @@ impl Model {
             let e = reference_coordinates(start, axis, ny, nz, l);
             reference[NODE_DOFS * el..NODE_DOFS * el + 24].copy_from_slice(&e);
         }
-        let mut fixed = vec![false; reference.len()];
-        for (i, s) in supports.iter().enumerate() {
-            if s.node >= n_nodes {
-                return Err(ModelError(format!(
-                    "support[{i}].node: node {} does not exist (the wire has nodes 0..={})",
-                    s.node,
-                    n_nodes - 1
-                )));
-            }
-            let base = NODE_DOFS * s.node;
-            let mut fix = |c: usize| fixed[base + c] = true;
-            match s.kind {
-                SupportKind::Fixed => (0..12).for_each(&mut fix),
-                SupportKind::Pin => (0..3).for_each(&mut fix),
-                SupportKind::Clamp => {
-                    let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
-                        return Err(ModelError(format!(
-                            "support[{i}].kind: a clamp needs wire.direction along a coordinate axis (got {axis:?}); use \"fixed\""
-                        )));
-                    };
-                    (0..3).chain(6..12).for_each(&mut fix);
-                    (0..3).filter(|&k| k != along).for_each(|k| fix(3 + k));
-                }
-            }
-        }
-        let mut dof_map = vec![None; reference.len()];
-        let mut n_unknowns = 0;
-        for (c, f) in fixed.iter().enumerate() {
-            if !f {
-                dof_map[c] = Some(n_unknowns);
-                n_unknowns += 1;
-            }
-        }
+        let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, axis, |_| true)?;
         for (i, ld) in loads.iter().enumerate() {
             if ld.node >= n_nodes {
                 return Err(ModelError(format!(
@@ -220,6 +282,182 @@ impl Model {
             section_y: ny,
             section_z: nz,
         })
+    }
+
+    /// The model with only the supports still holding at time `t` (those
+    /// without a release time, or released later): a release phase. The
+    /// coordinates a released support held become unknowns.
+    pub fn holding_at(&self, t: f64) -> Model {
+        let (dof_map, n_unknowns) = eliminate(self.n_nodes(), &self.supports, self.axis, |s| {
+            s.release_time.is_none_or(|r| r > t)
+        })
+        .expect("supports were validated when the model was built");
+        Model {
+            dof_map,
+            n_unknowns,
+            ..self.clone()
+        }
+    }
+
+    /// The release times of the supports, sorted, without duplicates.
+    pub fn release_times(&self) -> Vec<f64> {
+        let mut t: Vec<f64> = self
+            .supports
+            .iter()
+            .filter_map(|s| s.release_time)
+            .collect();
+        t.sort_by(f64::total_cmp);
+        t.dedup();
+        t
+    }
+
+    /// Starting coordinates: the reference, with every support at its
+    /// `position`. When supports move, the nodes between two consecutive
+    /// supported nodes are laid on a parabola in the vertical plane through
+    /// them (sagging along gravity, or −z) whose arc length equals their
+    /// unstretched length — a hanging conductor's shape to within a few per
+    /// cent — or on the straight chord when it is longer than the wire
+    /// (taut). A straight, compressed start would buckle the static solve of
+    /// a slack span; this one is already in tension. Nodes beyond the end
+    /// supports move rigidly with them.
+    pub fn initial_coordinates(&self) -> Vec<f64> {
+        let mut q = self.reference.clone();
+        let moved: Vec<(usize, [f64; 3])> = self
+            .supports
+            .iter()
+            .filter_map(|s| s.position.map(|p| (s.node, p)))
+            .collect();
+        if moved.iter().all(|(n, p)| {
+            let r = self.node_position(&self.reference, *n);
+            dot3(sub(*p, r), sub(*p, r)) == 0.0
+        }) {
+            return q;
+        }
+        // Every supported node with its target position, by node index.
+        let mut held: Vec<(usize, [f64; 3])> = self
+            .supports
+            .iter()
+            .map(|s| {
+                (
+                    s.node,
+                    s.position
+                        .unwrap_or_else(|| self.node_position(&self.reference, s.node)),
+                )
+            })
+            .collect();
+        held.sort_by_key(|h| h.0);
+        held.dedup_by_key(|h| h.0);
+        let l = self.element.length;
+        let down = {
+            let g = self.effects.iter().find_map(|e| match e {
+                Effect::Gravity { acceleration, .. } => Some(*acceleration),
+                _ => None,
+            });
+            let g = g.unwrap_or([0.0, 0.0, -1.0]);
+            let n = dot3(g, g).sqrt();
+            g.map(|x| x / n)
+        };
+        let set_node = |q: &mut [f64], n: usize, p: [f64; 3], tangent: [f64; 3], stretch: f64| {
+            let base = NODE_DOFS * n;
+            let ny = rotate_between(self.axis, tangent, self.section_y);
+            let nz = rotate_between(self.axis, tangent, self.section_z);
+            for k in 0..3 {
+                q[base + k] = p[k];
+                q[base + 3 + k] = stretch * tangent[k];
+                q[base + 6 + k] = ny[k];
+                q[base + 9 + k] = nz[k];
+            }
+        };
+        // Rigid shifts beyond the first and last held nodes.
+        let shift = |q: &mut [f64], nodes: std::ops::Range<usize>, by: [f64; 3]| {
+            for n in nodes {
+                for k in 0..3 {
+                    q[NODE_DOFS * n + k] += by[k];
+                }
+            }
+        };
+        let (first, last) = (held[0], held[held.len() - 1]);
+        shift(
+            &mut q,
+            0..first.0 + 1,
+            sub(first.1, self.node_position(&self.reference, first.0)),
+        );
+        shift(
+            &mut q,
+            last.0..self.n_nodes(),
+            sub(last.1, self.node_position(&self.reference, last.0)),
+        );
+        for pair in held.windows(2) {
+            let ((na, pa), (nb, pb)) = (pair[0], pair[1]);
+            let chord = sub(pb, pa);
+            let c = dot3(chord, chord).sqrt();
+            let s_len = (nb - na) as f64 * l;
+            if c == 0.0 || nb == na {
+                continue;
+            }
+            let u = chord.map(|x| x / c);
+            if s_len <= c {
+                for n in na..=nb {
+                    let f = (n - na) as f64 / (nb - na) as f64;
+                    set_node(
+                        &mut q,
+                        n,
+                        std::array::from_fn(|k| pa[k] + f * chord[k]),
+                        u,
+                        c / s_len,
+                    );
+                }
+                continue;
+            }
+            // Sag direction: `down` with its chord component removed.
+            let mut w = sub(down, u.map(|x| x * dot3(down, u)));
+            let wn = dot3(w, w).sqrt();
+            if wn < 1e-9 {
+                w = self.section_y;
+            } else {
+                w = w.map(|x| x / wn);
+            }
+            // p(τ) = pa + τ c u + 4 f τ(1 − τ) w; arc length by 200-point midpoint sums.
+            let arc = |f: f64, upto: f64| -> f64 {
+                let m = 200;
+                (0..m)
+                    .map(|i| {
+                        let t = upto * (i as f64 + 0.5) / m as f64;
+                        (c * c + (4.0 * f * (1.0 - 2.0 * t)).powi(2)).sqrt() * upto / m as f64
+                    })
+                    .sum()
+            };
+            let (mut lo, mut hi) = (0.0, s_len);
+            for _ in 0..80 {
+                let mid = 0.5 * (lo + hi);
+                if arc(mid, 1.0) < s_len {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            let f = 0.5 * (lo + hi);
+            for n in na..=nb {
+                let target = (n - na) as f64 * l;
+                let (mut a, mut b) = (0.0, 1.0);
+                for _ in 0..60 {
+                    let mid = 0.5 * (a + b);
+                    if arc(f, mid) < target {
+                        a = mid
+                    } else {
+                        b = mid
+                    }
+                }
+                let t = 0.5 * (a + b);
+                let p =
+                    std::array::from_fn(|k| pa[k] + t * c * u[k] + 4.0 * f * t * (1.0 - t) * w[k]);
+                let d: [f64; 3] =
+                    std::array::from_fn(|k| c * u[k] + 4.0 * f * (1.0 - 2.0 * t) * w[k]);
+                let dn = dot3(d, d).sqrt();
+                set_node(&mut q, n, p, d.map(|x| x / dn), 1.0);
+            }
+        }
+        q
     }
 
     pub fn n_nodes(&self) -> usize {

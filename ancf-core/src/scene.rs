@@ -141,6 +141,8 @@ pub enum SupportKindSpec {
 pub struct SupportSpec {
     pub node: NodeRef,
     pub kind: SupportKindSpec,
+    pub position: Option<[f64; 3]>,
+    pub release_time: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -431,9 +433,28 @@ impl Scene {
                 SupportKindSpec::Fixed => SupportKind::Fixed,
                 SupportKindSpec::Pin => SupportKind::Pin,
             };
+            let position = match s.position {
+                Some(p) => Some(finite3(&format!("support[{i}].position"), p)?),
+                None => None,
+            };
+            let release_time = match s.release_time {
+                Some(t) => {
+                    let t = finite(&format!("support[{i}].release_time"), t)?;
+                    if t < 0.0 {
+                        return Err(err(
+                            format!("support[{i}].release_time"),
+                            format!("must be ≥ 0 s, got {t}"),
+                        ));
+                    }
+                    Some(t)
+                }
+                None => None,
+            };
             supports.push(Support {
                 node: node(format!("support[{i}].node"), s.node)?,
                 kind,
+                position,
+                release_time,
             });
         }
         let mut loads = Vec::new();

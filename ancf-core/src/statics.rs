@@ -3,7 +3,7 @@
 
 use crate::assembly::{Pattern, assemble};
 use crate::linear_solver::SparseSolver;
-use crate::model::Model;
+use crate::model::{Model, NODE_DOFS};
 
 /// Settings of the static solver.
 #[derive(Clone, Debug)]
@@ -33,9 +33,11 @@ impl Default for StaticSettings {
 pub struct StaticResult {
     /// Full coordinates at equilibrium.
     pub q: Vec<f64>,
-    /// Newton iterations per load increment.
+    /// Newton iterations per load increment (increments are halved on failure).
     pub iterations: Vec<usize>,
     pub strain_energy: f64,
+    /// Force each support exerts on the wire at its node's position r, N.
+    pub reactions: Vec<(usize, [f64; 3])>,
 }
 
 #[derive(Clone, Debug)]
@@ -80,12 +82,84 @@ fn residual(
     (r, scale, energy)
 }
 
-/// Solve for static equilibrium from the reference configuration.
+/// Solve for static equilibrium from the model's initial coordinates
+/// (supports at their positions, see [`Model::initial_coordinates`]).
 pub fn solve_static(model: &Model, settings: &StaticSettings) -> Result<StaticResult, StaticError> {
-    solve_static_from(model, settings, model.reference.clone())
+    solve_static_from(model, settings, model.initial_coordinates())
 }
 
-/// Solve for static equilibrium starting from the coordinates `q0`.
+/// Newton at one load level from `q`: returns the iterations and the strain
+/// energy, or a message.
+#[allow(clippy::too_many_arguments)]
+fn newton(
+    model: &Model,
+    pattern: &Pattern,
+    solver: &mut SparseSolver,
+    q: &mut Vec<f64>,
+    ext: &[f64],
+    settings: &StaticSettings,
+    roundoff: f64,
+) -> Result<(usize, f64), String> {
+    let mut it = 0;
+    loop {
+        let mut kv = pattern.zeros();
+        let (r, scale, u) = residual(model, q, ext, pattern, Some(&mut kv));
+        let rn = norm(&r);
+        if !rn.is_finite() {
+            return Err(
+                "the residual is not finite (NaN or overflow in the element forces)".into(),
+            );
+        }
+        let at_roundoff = r.iter().all(|v| v.abs() <= roundoff);
+        if it > 0 && (rn <= settings.residual_tolerance * scale || at_roundoff) {
+            return Ok((it, u));
+        }
+        if it >= settings.max_iterations {
+            return Err(format!(
+                "Newton did not converge in {it} iterations (relative residual {:.2e})",
+                rn / scale.max(f64::MIN_POSITIVE)
+            ));
+        }
+        solver.factorize(&kv, true).map_err(|e| e.0)?;
+        let mut dq = r.clone();
+        solver.solve_in_place(&mut dq);
+        dq.iter_mut().for_each(|v| *v = -*v);
+        // Backtracking line search on the total potential energy
+        // Π = U − Q_extᵀ(q − q_ref): a full Newton step on a stiff beam can
+        // raise ‖R‖ (a linearized rotation stretches r_x) while Π falls, so
+        // the residual norm alone is the wrong merit function here.
+        let potential = |q: &[f64], u: f64| -> f64 {
+            u - ext
+                .iter()
+                .zip(q.iter().zip(&model.reference))
+                .map(|(f, (a, b))| f * (a - b))
+                .sum::<f64>()
+        };
+        let pi0 = potential(q, u);
+        let slope: f64 = r.iter().zip(&dq).map(|(a, b)| a * b).sum();
+        let mut alpha = 1.0;
+        let mut trial = q.clone();
+        for _ in 0..12 {
+            trial.copy_from_slice(q);
+            model.scatter_add(&dq, alpha, &mut trial);
+            let (rt, _, ut) = residual(model, &trial, ext, pattern, None);
+            let pit = potential(&trial, ut);
+            let ok_energy =
+                pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
+            if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {
+                break;
+            }
+            alpha *= 0.5;
+        }
+        *q = trial;
+        it += 1;
+    }
+}
+
+/// Solve for static equilibrium starting from the coordinates `q0`
+/// (eliminated coordinates keep their values from `q0`). The load is
+/// applied in `load_steps` increments; an increment that fails is halved
+/// (down to 1/256 of the first) and the next one grows back.
 pub fn solve_static_from(
     model: &Model,
     settings: &StaticSettings,
@@ -100,102 +174,66 @@ pub fn solve_static_from(
     let roundoff = model.roundoff_force();
     let mut q = q0;
     let mut iterations = Vec::new();
-    let steps = settings.load_steps.max(1);
+    let base = 1.0 / settings.load_steps.max(1) as f64;
+    let (mut lambda, mut dl) = (0.0f64, base);
     let mut energy = 0.0;
-    for step in 1..=steps {
-        let lambda = step as f64 / steps as f64;
-        let ext = model.external_force(lambda);
-        let converged = q.clone();
-        let fail = |msg: String, its: &Vec<usize>| StaticError {
-            message: format!("static load step {step}/{steps} (load factor {lambda:.3}): {msg}"),
-            last_converged: converged.clone(),
-            iterations: its.clone(),
-        };
-        let mut it = 0;
-        loop {
-            let mut kv = pattern.zeros();
-            let (r, scale, u) = residual(model, &q, &ext, &pattern, Some(&mut kv));
-            energy = u;
-            let rn = norm(&r);
-            if !rn.is_finite() {
-                return Err(fail(
-                    "the residual is not finite (NaN or overflow in the element forces)".into(),
-                    &iterations,
-                ));
-            }
-            let at_roundoff = r.iter().all(|v| v.abs() <= roundoff);
-            if it > 0 && (rn <= settings.residual_tolerance * scale || at_roundoff) {
-                break;
-            }
-            if it >= settings.max_iterations {
-                return Err(fail(
-                    format!(
-                        "Newton did not converge in {it} iterations (relative residual {:.2e}); \
-                         try more load_steps",
-                        rn / scale.max(f64::MIN_POSITIVE)
-                    ),
-                    &iterations,
-                ));
-            }
-            solver
-                .factorize(&kv, true)
-                .map_err(|e| fail(e.0, &iterations))?;
-            let mut dq = r.clone();
-            solver.solve_in_place(&mut dq);
-            dq.iter_mut().for_each(|v| *v = -*v);
-            // Backtracking line search on the total potential energy
-            // Π = U − Q_extᵀ(q − q_ref): a full Newton step on a stiff beam can
-            // raise ‖R‖ (a linearized rotation stretches r_x) while Π falls, so
-            // the residual norm is the wrong merit function here.
-            let potential = |q: &[f64], u: f64| -> f64 {
-                u - ext
-                    .iter()
-                    .zip(q.iter().zip(&model.reference))
-                    .map(|(f, (a, b))| f * (a - b))
-                    .sum::<f64>()
-            };
-            let pi0 = potential(&q, u);
-            let slope: f64 = r.iter().zip(&dq).map(|(a, b)| a * b).sum();
-            let mut alpha = 1.0;
-            let mut trial = q.clone();
-            for _ in 0..12 {
-                trial.copy_from_slice(&q);
-                model.scatter_add(&dq, alpha, &mut trial);
-                let (rt, _, ut) = residual(model, &trial, &ext, &pattern, None);
-                let pit = potential(&trial, ut);
-                let ok_energy = pit.is_finite()
-                    && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
-                if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {
-                    break;
-                }
-                alpha *= 0.5;
-            }
-            q = trial;
-            it += 1;
-            let dn = alpha * norm(&dq);
-            let qn = norm(
-                &model.gather(
-                    &q.iter()
-                        .zip(&model.reference)
-                        .map(|(a, b)| a - b)
-                        .collect::<Vec<_>>(),
-                ),
-            );
-            if dn <= settings.increment_tolerance * qn.max(1e-300)
-                && rn <= settings.residual_tolerance.sqrt() * scale
-            {
-                let (r, scale, u) = residual(model, &q, &ext, &pattern, None);
+    while lambda < 1.0 {
+        let target = (lambda + dl).min(1.0);
+        let ext = model.external_force(target);
+        let mut trial = q.clone();
+        match newton(
+            model,
+            &pattern,
+            &mut solver,
+            &mut trial,
+            &ext,
+            settings,
+            roundoff,
+        ) {
+            Ok((its, u)) => {
+                iterations.push(its);
+                q = trial;
+                lambda = target;
                 energy = u;
-                if norm(&r) <= settings.residual_tolerance.sqrt() * scale {
-                    break;
-                }
+                dl = (1.5 * dl).min(base);
+            }
+            Err(msg) if dl > base / 256.0 => {
+                let _ = msg;
+                dl *= 0.5;
+            }
+            Err(msg) => {
+                return Err(StaticError {
+                    message: format!(
+                        "static solve at load factor {target:.4} (last converged {lambda:.4}, increment {dl:.2e}): {msg}"
+                    ),
+                    last_converged: q,
+                    iterations,
+                });
             }
         }
-        iterations.push(it);
     }
+    // Reactions: at equilibrium Q_e − Q_ext − Q_c is the support force on the held coordinates.
+    let mut qe = assemble(model, &pattern, &q, None).0;
+    if let Some(c) = model.contact() {
+        let v = vec![0.0; q.len()];
+        let (qc, _, _) = crate::assembly::assemble_contact(model, c, &pattern, &q, &v, None, None);
+        qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
+    }
+    let ext = model.external_force(1.0);
+    let reactions = model
+        .supports
+        .iter()
+        .map(|s| {
+            (
+                s.node,
+                std::array::from_fn(|k| qe[NODE_DOFS * s.node + k] - ext[NODE_DOFS * s.node + k]),
+            )
+        })
+        .collect();
     Ok(StaticResult {
         q,
         iterations,
         strain_energy: energy,
+        reactions,
     })
 }

@@ -57,7 +57,7 @@ position = [{span}, 0.0, 0.0]
 fn elastic_catenary(l0: f64, span: f64, w: f64, ea: f64) -> (f64, f64) {
     let v = w * l0 / 2.0;
     let x = |h: f64, s: f64| h * s / ea + (h / w) * ((v / h).asinh() - ((v - w * s) / h).asinh());
-    let (mut lo, mut hi) = (1e-3, 1e9);
+    let (mut lo, mut hi) = (1e-3f64, 1e9f64);
     for _ in 0..200 {
         let mid = (lo * hi).sqrt();
         if x(mid, l0) < span {

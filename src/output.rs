@@ -41,6 +41,19 @@ pub struct ContactSummary {
     pub max_normal_force: f64,
     /// Largest penetration, m.
     pub max_penetration: f64,
+    /// Per rod, in the scene's order.
+    pub rods: Vec<RodSummary>,
+}
+
+/// One rod's load: what a frame designer needs.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RodSummary {
+    /// Peak normal force, N.
+    pub peak_force: f64,
+    /// Time of the peak, s.
+    pub peak_time: f64,
+    /// ∫ normal force dt, N s.
+    pub impulse: f64,
 }
 
 /// `summary.json`.
@@ -103,6 +116,25 @@ impl TimeSeries {
 
     pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
         let line: Vec<String> = values.iter().map(|v| format!("{v:.12e}")).collect();
+        writeln!(self.file, "{}", line.join(","))?;
+        self.file.flush()
+    }
+}
+
+/// A CSV file written row by row (flushed), for extra time series.
+pub struct Table {
+    file: BufWriter<File>,
+}
+
+impl Table {
+    pub fn create(path: &Path, header: &str) -> std::io::Result<Self> {
+        let mut file = BufWriter::new(File::create(path)?);
+        writeln!(file, "{header}")?;
+        Ok(Table { file })
+    }
+
+    pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
+        let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
         writeln!(self.file, "{}", line.join(","))?;
         self.file.flush()
     }

@@ -41,6 +41,7 @@ fn effect_names(model: &Model) -> Vec<String> {
                 format!("contact ({} rods, with friction)", c.rods.len())
             }
             Effect::Contact(c) => format!("contact ({} rods, frictionless)", c.rods.len()),
+            Effect::Damping(d) => format!("damping ({d:?})"),
         })
         .collect()
 }
@@ -116,9 +117,20 @@ pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
                 }
             }
         }
-        Analysis::Dynamic(settings) => {
+        Analysis::Dynamic {
+            settings,
+            initial_static,
+            load_steps,
+        } => {
             summary.analysis = "dynamic".into();
-            run_dynamic(scene, settings, opts, &mut summary)?
+            run_dynamic(
+                scene,
+                settings,
+                *initial_static,
+                *load_steps,
+                opts,
+                &mut summary,
+            )?
         }
     };
     summary.tip = tip(model, &final_q);
@@ -161,6 +173,8 @@ struct History {
     contact_point: Vec<[f64; 5]>,
     /// Centerline shapes (time, x–z points) at a few instants.
     shapes: Vec<(f64, Vec<(f64, f64)>)>,
+    /// Time and each rod's normal force, N.
+    rod_forces: Vec<Vec<f64>>,
 }
 
 /// Centerline in the x–z plane, 8 points per element.
@@ -189,44 +203,108 @@ fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 
     (p, [eps[0], eps[1], eps[2]])
 }
 
+/// Per-rod statistics (issue 8): peak normal force, its time, impulse.
+#[derive(Clone, Debug, Default)]
+struct RodStats {
+    peak_force: f64,
+    peak_time: f64,
+    impulse: f64,
+}
+
 fn run_dynamic(
     scene: &Scene,
     settings: &ancf_core::dynamics::DynamicSettings,
+    initial_static: bool,
+    load_steps: usize,
     opts: &RunOptions,
     summary: &mut Summary,
 ) -> Result<Vec<f64>, String> {
     let model = &scene.model;
     let out = &opts.out;
     let contact = model.contact();
+    let n_rods = contact.map_or(0, |c| c.rods.len());
     let mut series = TimeSeries::create(out, contact.is_some()).map_err(|e| io_err(out, e))?;
+    let mut rod_csv = if n_rods > 0 {
+        let header: Vec<String> = (0..n_rods).map(|i| format!("rod{i}_force")).collect();
+        Some(
+            crate::output::Table::create(
+                &out.join("rod_forces.csv"),
+                &format!("time,{}", header.join(",")),
+            )
+            .map_err(|e| io_err(out, e))?,
+        )
+    } else {
+        None
+    };
     let mut vtk = if scene.output.vtk {
         Some(VtkWriter::new(&out.join("vtk"), model).map_err(|e| io_err(out, e))?)
     } else {
         None
     };
-    let mut integ = match Integrator::new(model, settings.clone()) {
-        Ok(i) => i,
-        Err(e) => {
-            summary.status = "failed".into();
-            summary.message = format!("setting up the solver: {}", e.message);
-            return Ok(model.reference.clone());
-        }
-    };
-    let mut state =
-        match integ.initial_state(model.reference.clone(), vec![0.0; model.reference.len()]) {
-            Ok(s) => s,
+    // Phases: the model with the supports still holding, between release times.
+    let releases: Vec<f64> = model
+        .release_times()
+        .into_iter()
+        .filter(|t| *t < settings.end_time)
+        .collect();
+    let mut phase_starts = vec![0.0];
+    phase_starts.extend(releases.iter().copied().filter(|t| *t > 0.0));
+    let phases: Vec<Model> = phase_starts.iter().map(|t| model.holding_at(*t)).collect();
+
+    // Initial coordinates: static equilibrium with every support holding, or the supports' positions.
+    let q0 = if initial_static {
+        let st = StaticSettings {
+            load_steps,
+            ..Default::default()
+        };
+        match solve_static(model, &st) {
+            Ok(res) => {
+                summary.message = format!(
+                    "initial static equilibrium in {:?} iterations; ",
+                    res.iterations
+                );
+                res.q
+            }
             Err(e) => {
                 summary.status = "failed".into();
-                summary.message = format!("initial acceleration: {}", e.message);
-                return Ok(model.reference.clone());
+                summary.message = format!(
+                    "initial static equilibrium: {}. Likely cause: supports too far from the wire's \
+                     reach or a load too large; increase analysis.load_steps",
+                    e.message
+                );
+                return Ok(e.last_converged);
             }
-        };
+        }
+    } else {
+        model.initial_coordinates()
+    };
+    let fail_setup = |summary: &mut Summary, what: &str, msg: String| {
+        summary.status = "failed".into();
+        summary.message = format!("{what}: {msg}");
+    };
+    let mut phase = 0;
+    let mut integ = match Integrator::new(&phases[0], settings.clone()) {
+        Ok(i) => i,
+        Err(e) => {
+            fail_setup(summary, "setting up the solver", e.message);
+            return Ok(q0);
+        }
+    };
+    let mut state = match integ.initial_state(q0.clone(), vec![0.0; q0.len()]) {
+        Ok(s) => s,
+        Err(e) => {
+            fail_setup(summary, "initial acceleration", e.message);
+            return Ok(q0);
+        }
+    };
+    summary.unknowns = phases[0].n_unknowns;
     let h = settings.time_step;
     let n_steps = (settings.end_time / h - 1e-9).ceil() as usize;
     let bar = progress_bar(n_steps as u64, opts.quiet);
     let mut history = History::default();
     let e0 = integ.energies(&state);
     let mut contact_summary = contact.map(|_| ContactSummary::default());
+    let mut rod_stats = vec![RodStats::default(); n_rods];
     let mut first_point: Option<ContactPoint> = None;
     let snapshot_every = (n_steps / 8).max(1);
     let write = |series: &mut TimeSeries,
@@ -275,9 +353,39 @@ fn run_dynamic(
     history.shapes.push((0.0, centerline(model, &state.q)));
     let mut max_drift: f64 = 0.0;
     let mut last = e0;
+    let mut released = 0;
     summary.status = "completed".into();
-    summary.message = format!("{n_steps} steps of {h} s");
+    summary
+        .message
+        .push_str(&format!("{n_steps} steps of {h} s"));
     for k in 1..=n_steps {
+        // A release inside this step: switch to the next phase at its start.
+        while phase + 1 < phases.len() && phase_starts[phase + 1] <= state.time + 1e-12 * h {
+            phase += 1;
+            let dissipated = state.dissipated;
+            integ = match Integrator::new(&phases[phase], settings.clone()) {
+                Ok(i) => i,
+                Err(e) => {
+                    fail_setup(summary, "setting up the solver after a release", e.message);
+                    break;
+                }
+            };
+            match integ.initial_state(state.q.clone(), state.v.clone()) {
+                Ok(mut s) => {
+                    s.time = state.time;
+                    s.dissipated = dissipated;
+                    state = s;
+                    released += 1;
+                }
+                Err(e) => {
+                    fail_setup(summary, "acceleration after a release", e.message);
+                    break;
+                }
+            }
+        }
+        if summary.status == "failed" {
+            break;
+        }
         let hk = if k == n_steps {
             settings.end_time - state.time
         } else {
@@ -305,6 +413,13 @@ fn run_dynamic(
                     }
                     cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
                     cs.max_penetration = cs.max_penetration.max(sample.max_penetration);
+                    for (r, f) in rod_stats.iter_mut().zip(&info.rod_forces) {
+                        r.impulse += f * hk;
+                        if *f > r.peak_force {
+                            r.peak_force = *f;
+                            r.peak_time = state.time;
+                        }
+                    }
                 }
                 if k % scene.output.every == 0 || k == n_steps {
                     let e = integ.energies(&state);
@@ -329,6 +444,18 @@ fn run_dynamic(
                         contact.map(|_| &info.contact),
                     )
                     .map_err(|e| io_err(out, e))?;
+                    if let Some(t) = rod_csv.as_mut() {
+                        let mut row = vec![state.time];
+                        row.extend(
+                            info.rod_forces
+                                .iter()
+                                .copied()
+                                .chain(std::iter::repeat(0.0))
+                                .take(n_rods),
+                        );
+                        t.row(&row).map_err(|e| io_err(out, e))?;
+                        history.rod_forces.push(row);
+                    }
                     if let Some(cp) = &first_point {
                         let (p, strains) = point_state(model, &state.q, cp);
                         let (p0, _) = point_state(model, &model.reference, cp);
@@ -364,6 +491,11 @@ fn run_dynamic(
         }
     }
     bar.finish_and_clear();
+    if released > 0 && summary.status == "completed" {
+        summary
+            .message
+            .push_str(&format!("; {released} support release(s)"));
+    }
     summary.time = state.time;
     summary.energy = Some(EnergySummary {
         kinetic: last.kinetic,
@@ -375,6 +507,16 @@ fn run_dynamic(
         total: last.total(),
         max_drift,
     });
+    if let Some(cs) = contact_summary.as_mut() {
+        cs.rods = rod_stats
+            .iter()
+            .map(|r| crate::output::RodSummary {
+                peak_force: r.peak_force,
+                peak_time: r.peak_time,
+                impulse: r.impulse,
+            })
+            .collect();
+    }
     summary.contact = contact_summary;
     if scene.output.plots {
         plot_dynamic(out, model, &history)?;
@@ -462,6 +604,26 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
         })
         .unwrap_or_default();
     configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
+    if let Some(first) = h.rod_forces.first()
+        && first.len() > 2
+    {
+        let labels: Vec<String> = (1..first.len()).map(|i| format!("rod {}", i - 1)).collect();
+        let series: Vec<Series> = labels
+            .iter()
+            .enumerate()
+            .map(|(i, l)| Series {
+                label: l,
+                points: h.rod_forces.iter().map(|r| (r[0], r[i + 1])).collect(),
+            })
+            .collect();
+        line_plot(
+            &out.join("rod_forces.png"),
+            "Normal force on each rod",
+            "time t (s)",
+            "normal force (N)",
+            &series,
+        )?;
+    }
     if !h.contact_point.is_empty() {
         let col = |i: usize| {
             h.contact_point

@@ -134,3 +134,42 @@ fn far_elements_are_skipped_by_the_broad_phase() {
     assert_eq!(energy, 0.0);
     assert!(q.iter().chain(kq.iter()).all(|x| *x == 0.0));
 }
+
+/// Issue 8: the Kelvin–Voigt force's Jacobians against central differences.
+#[test]
+fn kelvin_voigt_jacobians_match_finite_differences() {
+    use ancf_core::damping::kelvin_voigt_element;
+    let el = element(two_layer(svk(2e9, 0.3, 0.5), mooney_rivlin(1e3), 3), L, 3);
+    let mut rng = Rng::new(4);
+    let e = deformed(&mut rng, L, 0.1);
+    let v: [f64; 24] = std::array::from_fn(|_| rng.uniform());
+    let eval = |e: &[f64; 24], v: &[f64; 24]| {
+        let (mut q, mut kq, mut kv) = ([0.0; 24], [0.0; 576], [0.0; 576]);
+        let p = kelvin_voigt_element(&el, 1e-3, e, v, &mut q, Some(&mut kq), Some(&mut kv));
+        (q, kq, kv, p)
+    };
+    let (q, kq, kv, power) = eval(&e, &v);
+    let qv: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
+    assert!(
+        (power - qv).abs() < 1e-10 * power.abs() && power > 0.0,
+        "power {power} vs Q·v {qv}"
+    );
+    let h = 1e-6;
+    let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
+    for j in 0..24 {
+        let (mut ep, mut em) = (e, e);
+        ep[j] += h;
+        em[j] -= h;
+        let (mut vp, mut vm) = (v, v);
+        vp[j] += h;
+        vm[j] -= h;
+        let (qp, qm) = (eval(&ep, &v).0, eval(&em, &v).0);
+        let (rp, rm) = (eval(&e, &vp).0, eval(&e, &vm).0);
+        for i in 0..24 {
+            fq[i * 24 + j] = (qp[i] - qm[i]) / (2.0 * h);
+            fv[i * 24 + j] = (rp[i] - rm[i]) / (2.0 * h);
+        }
+    }
+    assert!(rel(&fq, &kq) < 1e-6, "∂Q/∂q {:e}", rel(&fq, &kq));
+    assert!(rel(&fv, &kv) < 1e-6, "∂Q/∂v {:e}", rel(&fv, &kv));
+}

@@ -17,7 +17,7 @@ struct Run {
 }
 
 fn run(scene: &Scene, end: f64) -> Run {
-    let Analysis::Dynamic(settings) = &scene.analysis else {
+    let Analysis::Dynamic { settings, .. } = &scene.analysis else {
         panic!("dynamic scene")
     };
     let model = &scene.model;

@@ -68,6 +68,17 @@ impl Pattern {
         vec![0.0; self.nnz()]
     }
 
+    /// y += scale · A x for the matrix with these `values` (x, y on the unknowns).
+    pub fn mul_add(&self, values: &[f64], x: &[f64], scale: f64, y: &mut [f64]) {
+        let col_ptr = self.symbolic.col_ptr();
+        let rows = self.symbolic.row_idx();
+        for (j, xj) in x.iter().enumerate() {
+            for idx in col_ptr[j]..col_ptr[j + 1] {
+                y[rows[idx]] += scale * values[idx] * xj;
+            }
+        }
+    }
+
     /// Add an element matrix (row-major 24×24) of element `el`, times `scale`.
     pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576], scale: f64) {
         let slots = &self.slots[el * 576..(el + 1) * 576];
@@ -118,9 +129,21 @@ pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
     v
 }
 
-/// Contact forces of the whole wire at (q, v): the generalized force (full
-/// coordinates, N), −∂Q/∂q added to `jac_q` and −∂Q/∂v added to `jac_v`
-/// (pattern slots), the summed sample and the deepest point (element, point).
+/// Contact forces of the whole wire at (q, v).
+#[derive(Clone, Debug, Default)]
+pub struct ContactForces {
+    /// Generalized contact force, full coordinates (N).
+    pub force: Vec<f64>,
+    /// Summed over rods.
+    pub total: crate::contact::ContactSample,
+    /// Normal force on each rod (N), in the scene's rod order.
+    pub rod_forces: Vec<f64>,
+    /// Deepest penetrating test point: (element, point).
+    pub deepest: Option<(usize, crate::contact::DeepestPoint)>,
+}
+
+/// Contact at (q, v): the forces, −∂Q/∂q added to `jac_q` and −∂Q/∂v added
+/// to `jac_v` (pattern slots).
 pub fn assemble_contact(
     model: &Model,
     contact: &crate::contact::Contact,
@@ -129,48 +152,52 @@ pub fn assemble_contact(
     v: &[f64],
     mut jac_q: Option<&mut [f64]>,
     mut jac_v: Option<&mut [f64]>,
-) -> (
-    Vec<f64>,
-    crate::contact::ContactSample,
-    Option<(usize, crate::contact::DeepestPoint)>,
-) {
-    let mut force = vec![0.0; q.len()];
-    let mut total = crate::contact::ContactSample::default();
-    let mut deepest: Option<(usize, crate::contact::DeepestPoint)> = None;
+) -> ContactForces {
+    let mut out = ContactForces {
+        force: vec![0.0; q.len()],
+        rod_forces: vec![0.0; contact.rods.len()],
+        ..Default::default()
+    };
     let mut kq = [0.0; 576];
     let mut kv = [0.0; 576];
     for el in 0..model.n_elements {
         let e = model.element_coordinates(q, el);
         let ve = model.element_coordinates(v, el);
-        let mut qe = [0.0; 24];
-        kq.fill(0.0);
-        kv.fill(0.0);
-        let (sample, dp) = contact.element(
-            &e,
-            &ve,
-            &mut qe,
-            jac_q.is_some().then_some(&mut kq),
-            jac_v.is_some().then_some(&mut kv),
-        );
-        if sample.active == 0 {
-            continue;
-        }
-        total.accumulate(&sample);
-        if let Some(dp) = dp
-            && deepest.is_none_or(|(_, d)| dp.penetration > d.penetration)
-        {
-            deepest = Some((el, dp));
-        }
-        let base = NODE_DOFS * el;
-        for i in 0..24 {
-            force[base + i] += qe[i];
-        }
-        if let Some(values) = jac_q.as_deref_mut() {
-            pattern.add_element(values, el, &kq, 1.0);
-        }
-        if let Some(values) = jac_v.as_deref_mut() {
-            pattern.add_element(values, el, &kv, 1.0);
+        for ri in 0..contact.rods.len() {
+            let mut qe = [0.0; 24];
+            kq.fill(0.0);
+            kv.fill(0.0);
+            let (sample, dp) = contact.element_rod(
+                ri,
+                &e,
+                &ve,
+                &mut qe,
+                jac_q.is_some().then_some(&mut kq),
+                jac_v.is_some().then_some(&mut kv),
+            );
+            if sample.active == 0 {
+                continue;
+            }
+            out.total.accumulate(&sample);
+            out.rod_forces[ri] += sample.normal_force;
+            if let Some(dp) = dp
+                && out
+                    .deepest
+                    .is_none_or(|(_, d)| dp.penetration > d.penetration)
+            {
+                out.deepest = Some((el, crate::contact::DeepestPoint { rod: ri, ..dp }));
+            }
+            let base = NODE_DOFS * el;
+            for i in 0..24 {
+                out.force[base + i] += qe[i];
+            }
+            if let Some(values) = jac_q.as_deref_mut() {
+                pattern.add_element(values, el, &kq, 1.0);
+            }
+            if let Some(values) = jac_v.as_deref_mut() {
+                pattern.add_element(values, el, &kv, 1.0);
+            }
         }
     }
-    (force, total, deepest)
+    out
 }

@@ -183,9 +183,34 @@ impl Contact {
     ) -> (ContactSample, Option<DeepestPoint>) {
         let mut sample = ContactSample::default();
         let mut deepest: Option<DeepestPoint> = None;
-        for (ri, rod) in self.rods.iter().enumerate() {
+        for ri in 0..self.rods.len() {
+            let (s, dp) = self.element_rod(ri, e, v, q, kq.as_deref_mut(), kv.as_deref_mut());
+            sample.accumulate(&s);
+            if let Some(dp) = dp
+                && deepest.is_none_or(|d| dp.penetration > d.penetration)
+            {
+                deepest = Some(dp);
+            }
+        }
+        (sample, deepest)
+    }
+
+    /// [`Contact::element`] for rod `ri` alone.
+    pub fn element_rod(
+        &self,
+        ri: usize,
+        e: &ElementVector,
+        v: &ElementVector,
+        q: &mut ElementVector,
+        mut kq: Option<&mut ElementMatrix>,
+        mut kv: Option<&mut ElementMatrix>,
+    ) -> (ContactSample, Option<DeepestPoint>) {
+        let mut sample = ContactSample::default();
+        let mut deepest: Option<DeepestPoint> = None;
+        let rod = &self.rods[ri];
+        {
             if !self.may_touch(rod, e) {
-                continue;
+                return (sample, None);
             }
             let d = rod.axis;
             for (pi, tp) in self.points.iter().enumerate() {

@@ -3,8 +3,10 @@
 
 use crate::assembly::{Pattern, assemble, assemble_contact, mass_values};
 use crate::contact::{ContactSample, DeepestPoint};
+use crate::damping::{Damping, kelvin_voigt_element};
 use crate::linear_solver::SparseSolver;
 use crate::model::Model;
+use crate::model::NODE_DOFS;
 
 /// How often the Newton matrix is refactorized.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,7 +83,7 @@ pub struct State {
     pub q: Vec<f64>,
     pub v: Vec<f64>,
     pub a: Vec<f64>,
-    /// Energy dissipated by friction since t = 0, J.
+    /// Energy dissipated by friction and damping since t = 0, J.
     pub dissipated: f64,
 }
 
@@ -94,7 +96,7 @@ pub struct Energies {
     pub loads: f64,
     /// Contact penalty energy.
     pub contact: f64,
-    /// Dissipated by friction since t = 0 (not part of `total`).
+    /// Dissipated by friction and damping since t = 0 (not part of `total`).
     pub dissipated: f64,
 }
 
@@ -106,7 +108,7 @@ impl Energies {
 }
 
 /// Statistics of one completed step.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct StepInfo {
     pub iterations: usize,
     pub factorizations: usize,
@@ -116,6 +118,10 @@ pub struct StepInfo {
     pub contact: ContactSample,
     /// Deepest penetrating test point: (element, point).
     pub deepest: Option<(usize, DeepestPoint)>,
+    /// Normal force on each rod (N) at the step's midpoint.
+    pub rod_forces: Vec<f64>,
+    /// Power dissipated by damping (W) at the step's midpoint.
+    pub damping_power: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -137,6 +143,8 @@ pub struct Integrator<'m> {
     ext: Vec<f64>,
     /// Residual entries below this are round-off (N), see [`Model::roundoff_force`].
     roundoff: f64,
+    /// Rayleigh damping matrix α M + β K₀ in pattern slots (empty without it).
+    rayleigh: Vec<f64>,
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -152,6 +160,20 @@ impl<'m> Integrator<'m> {
         let pattern = Pattern::new(model);
         let solver = SparseSolver::new(&pattern).map_err(|e| StepError { message: e.0 })?;
         let mass = mass_values(model, &pattern);
+        let rayleigh = match model.damping() {
+            Some(Damping::Rayleigh {
+                mass: alpha,
+                stiffness: beta,
+            }) => {
+                let mut k0 = pattern.zeros();
+                assemble(model, &pattern, &model.reference, Some(&mut k0));
+                mass.iter()
+                    .zip(&k0)
+                    .map(|(m, k)| alpha * m + beta * k)
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
         Ok(Integrator {
             params: AlphaParameters::new(settings.spectral_radius),
             model,
@@ -161,6 +183,7 @@ impl<'m> Integrator<'m> {
             factored_for: None,
             ext: model.external_force(1.0),
             roundoff: model.roundoff_force(),
+            rayleigh,
             pattern,
         })
     }
@@ -171,10 +194,14 @@ impl<'m> Integrator<'m> {
         let (qe, _) = assemble(self.model, &self.pattern, &q0, None);
         let mut rhs_full: Vec<f64> = self.ext.iter().zip(&qe).map(|(a, b)| a - b).collect();
         if let Some(c) = self.model.contact() {
-            let (qc, _, _) = assemble_contact(self.model, c, &self.pattern, &q0, &v0, None, None);
+            let qc = assemble_contact(self.model, c, &self.pattern, &q0, &v0, None, None).force;
             rhs_full.iter_mut().zip(&qc).for_each(|(r, f)| *r += f);
         }
         let mut a = self.model.gather(&rhs_full);
+        if self.model.damping().is_some() {
+            let (qd, _) = self.damping_force(&q0, &v0, None, None);
+            a.iter_mut().zip(&qd).for_each(|(r, f)| *r -= f);
+        }
         // Subtract the mass coupling to prescribed velocities' rates (zero: supports are fixed).
         self.solver
             .factorize(&self.mass, true)
@@ -203,7 +230,7 @@ impl<'m> Integrator<'m> {
         let contact = match self.model.contact() {
             Some(c) => {
                 assemble_contact(self.model, c, &self.pattern, &s.q, &s.v, None, None)
-                    .1
+                    .total
                     .energy
             }
             None => 0.0,
@@ -245,8 +272,11 @@ impl<'m> Integrator<'m> {
                         iterations: i1.iterations + i2.iterations,
                         factorizations: i1.factorizations + i2.factorizations,
                         substeps: i1.substeps + i2.substeps,
+                        // Forces and powers: those of the last sub-step.
                         contact: i2.contact,
                         deepest: i2.deepest,
+                        rod_forces: i2.rod_forces,
+                        damping_power: i2.damping_power,
                     },
                 ))
             }
@@ -299,19 +329,88 @@ impl<'m> Integrator<'m> {
         };
         let mut kq = kq;
         let (mut qe, _) = assemble(model, &self.pattern, &qm, kq.as_deref_mut());
+        let mut kv = kv;
         if let Some(c) = model.contact() {
-            let kv = if c.has_friction() { kv } else { None };
-            let (qc, sample, deepest) = assemble_contact(model, c, &self.pattern, &qm, &vm, kq, kv);
-            qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
-            info.contact = sample;
-            info.deepest = deepest;
+            let kvc = if c.has_friction() {
+                kv.as_deref_mut()
+            } else {
+                None
+            };
+            let cf = assemble_contact(model, c, &self.pattern, &qm, &vm, kq.as_deref_mut(), kvc);
+            qe.iter_mut().zip(&cf.force).for_each(|(a, b)| *a -= b);
+            info.contact = cf.total;
+            info.deepest = cf.deepest;
+            info.rod_forces = cf.rod_forces;
         }
         let ma = model.mass_times(&am);
         let r_full: Vec<f64> = (0..n).map(|c| ma[c] + qe[c] - self.ext[c]).collect();
         let scale = norm(&model.gather(&ma))
             .max(norm(&model.gather(&self.ext)))
             .max(norm(&model.gather(&qe)));
-        (model.gather(&r_full), scale, q1, v1)
+        let mut r = model.gather(&r_full);
+        if model.damping().is_some() {
+            let (qd, power) = self.damping_force(&qm, &vm, kq, kv);
+            r.iter_mut().zip(&qd).for_each(|(a, b)| *a += b);
+            info.damping_power = power;
+        }
+        (r, scale, q1, v1)
+    }
+
+    /// Damping force on the unknowns at (q, v) and its power (W); adds
+    /// ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv` (pattern slots).
+    fn damping_force(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        kq: Option<&mut [f64]>,
+        kv: Option<&mut [f64]>,
+    ) -> (Vec<f64>, f64) {
+        let model = self.model;
+        let vu = model.gather(v);
+        match model.damping() {
+            None => (vec![0.0; model.n_unknowns], 0.0),
+            Some(Damping::Rayleigh { .. }) => {
+                let mut f = vec![0.0; model.n_unknowns];
+                self.pattern.mul_add(&self.rayleigh, &vu, 1.0, &mut f);
+                if let Some(kv) = kv {
+                    kv.iter_mut().zip(&self.rayleigh).for_each(|(a, b)| *a += b);
+                }
+                let power = f.iter().zip(&vu).map(|(a, b)| a * b).sum();
+                (f, power)
+            }
+            Some(Damping::KelvinVoigt { coefficient }) => {
+                let mut full = vec![0.0; q.len()];
+                let mut power = 0.0;
+                let (mut kq, mut kv) = (kq, kv);
+                let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
+                for el in 0..model.n_elements {
+                    let e = model.element_coordinates(q, el);
+                    let ve = model.element_coordinates(v, el);
+                    let mut qe = [0.0; 24];
+                    mq.fill(0.0);
+                    mv.fill(0.0);
+                    power += kelvin_voigt_element(
+                        &model.element,
+                        *coefficient,
+                        &e,
+                        &ve,
+                        &mut qe,
+                        kq.is_some().then_some(&mut mq),
+                        kv.is_some().then_some(&mut mv),
+                    );
+                    for i in 0..24 {
+                        full[NODE_DOFS * el + i] += qe[i];
+                    }
+                    if let Some(k) = kq.as_deref_mut() {
+                        self.pattern.add_element(k, el, &mq, 1.0);
+                    }
+                    if let Some(k) = kv.as_deref_mut() {
+                        self.pattern.add_element(k, el, &mv, 1.0);
+                    }
+                }
+                (model.gather(&full), power)
+            }
+        }
     }
 
     /// One generalized-α step of size h without cutting: damped Newton on
@@ -329,6 +428,9 @@ impl<'m> Integrator<'m> {
         } = self.params;
         let model = self.model;
         let friction = model.contact().is_some_and(|c| c.has_friction());
+        // Friction and Kelvin–Voigt damping make the Newton matrix non-symmetric.
+        let symmetric = !friction && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }));
+        let velocity_jacobian = friction || model.damping().is_some();
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
         let mut info = StepInfo::default();
@@ -372,7 +474,8 @@ impl<'m> Integrator<'m> {
                 if self.settings.newton == NewtonKind::Modified && iterations > 6 {
                     self.factored_for = None;
                 }
-                let dissipated = s.dissipated + h * info.contact.friction_power;
+                let dissipated =
+                    s.dissipated + h * (info.contact.friction_power + info.damping_power);
                 return Ok((
                     State {
                         time: s.time + h,
@@ -424,11 +527,11 @@ impl<'m> Integrator<'m> {
                     .zip(&kq)
                     .map(|(m, k)| (1.0 - alpha_m) * m + c_k * k)
                     .collect();
-                if friction {
+                if velocity_jacobian {
                     a_mat.iter_mut().zip(&kv).for_each(|(a, d)| *a += c_d * d);
                 }
                 self.solver
-                    .factorize(&a_mat, !friction)
+                    .factorize(&a_mat, symmetric)
                     .map_err(|e| StepError { message: e.0 })?;
                 info.factorizations += 1;
                 self.factored_for = Some(h);

@@ -13,6 +13,7 @@
 
 pub mod assembly;
 pub mod contact;
+pub mod damping;
 pub mod dynamics;
 pub mod element;
 pub mod linear_solver;

@@ -68,6 +68,8 @@ pub enum Effect {
     PointLoads(Vec<PointLoad>),
     /// Penalty contact with rigid rods (friction only where a rod has μ > 0).
     Contact(crate::contact::Contact),
+    /// Structural damping (Kelvin–Voigt or Rayleigh).
+    Damping(crate::damping::Damping),
 }
 
 /// A straight wire of `n_elements` equal elements.
@@ -485,6 +487,22 @@ impl Model {
         })
     }
 
+    /// The damping effect, when the scene names one.
+    pub fn damping(&self) -> Option<&crate::damping::Damping> {
+        self.effects.iter().find_map(|e| match e {
+            Effect::Damping(d) => Some(d),
+            _ => None,
+        })
+    }
+
+    /// Add damping as one of the model's effects.
+    pub fn with_damping(mut self, damping: Option<crate::damping::Damping>) -> Self {
+        if let Some(d) = damping {
+            self.effects.push(Effect::Damping(d));
+        }
+        self
+    }
+
     /// Add rods: contact becomes one of the model's effects.
     pub fn with_rods(
         mut self,
@@ -528,7 +546,7 @@ impl Model {
                         }
                     }
                 }
-                Effect::Elasticity { .. } | Effect::Contact(_) => {}
+                Effect::Elasticity { .. } | Effect::Contact(_) | Effect::Damping(_) => {}
             }
         }
         f

@@ -56,6 +56,22 @@ pub enum AnalysisKind {
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
+pub enum InitialSpec {
+    Reference,
+    Static,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    pub kind: String,
+    pub strain_rate_coefficient: Option<f64>,
+    pub mass: Option<f64>,
+    pub stiffness: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
 pub enum NewtonSpec {
     Full,
     Modified,
@@ -65,6 +81,7 @@ pub enum NewtonSpec {
 #[serde(deny_unknown_fields)]
 pub struct AnalysisSpec {
     pub kind: AnalysisKind,
+    pub initial: Option<InitialSpec>,
     pub end_time: Option<f64>,
     pub time_step: Option<f64>,
     pub spectral_radius: Option<f64>,
@@ -195,6 +212,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub rod: Vec<RodSpec>,
     pub contact: Option<ContactSpec>,
+    pub damping: Option<DampingSpec>,
     pub output: Option<OutputSpec>,
 }
 
@@ -219,7 +237,14 @@ pub enum Analysis {
         tolerance: f64,
         max_iterations: usize,
     },
-    Dynamic(crate::dynamics::DynamicSettings),
+    /// `initial_static`: start from the static equilibrium (supports at
+    /// their positions, release times ignored) at rest, solved in
+    /// `load_steps` increments.
+    Dynamic {
+        settings: crate::dynamics::DynamicSettings,
+        initial_static: bool,
+        load_steps: usize,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -478,6 +503,7 @@ impl Scene {
                     ("time_step", a.time_step.is_some()),
                     ("spectral_radius", a.spectral_radius.is_some()),
                     ("newton", a.newton.is_some()),
+                    ("initial", a.initial.is_some()),
                 ] {
                     if given {
                         return Err(err(
@@ -497,7 +523,11 @@ impl Scene {
                 }
             }
             AnalysisKind::Dynamic => {
-                if a.load_steps.is_some() {
+                let initial_static = a.initial == Some(InitialSpec::Static);
+                if a.load_steps == Some(0) {
+                    return Err(err("analysis.load_steps", "must be at least 1"));
+                }
+                if a.load_steps.is_some() && !initial_static {
                     return Err(err("analysis.load_steps", "only for kind = \"static\""));
                 }
                 let end_time = a.end_time.ok_or_else(|| {
@@ -530,7 +560,7 @@ impl Scene {
                         format!("must be in [0, 1], got {rho}"),
                     ));
                 }
-                Analysis::Dynamic(crate::dynamics::DynamicSettings {
+                let settings = crate::dynamics::DynamicSettings {
                     time_step: h,
                     end_time,
                     spectral_radius: rho,
@@ -541,7 +571,12 @@ impl Scene {
                     tolerance: tolerance(a)?,
                     max_iterations: a.max_iterations.unwrap_or(25).max(1),
                     ..Default::default()
-                })
+                };
+                Analysis::Dynamic {
+                    settings,
+                    initial_static,
+                    load_steps: a.load_steps.unwrap_or(1),
+                }
             }
         };
         let output = match &f.output {
@@ -565,6 +600,15 @@ impl Scene {
 
         let element = ElementIntegration::new(length / w.elements as f64, axial, section);
         let (rods, contact_settings) = validate_rods(&f.rod, f.contact.as_ref())?;
+        let damping = validate_damping(f.damping.as_ref())?;
+        if let Some(s) = supports.iter().find(|s| s.release_time.is_some()) {
+            if a.kind == AnalysisKind::Static {
+                return Err(err(
+                    "support.release_time",
+                    format!("node {}: a release time needs a dynamic analysis", s.node),
+                ));
+            }
+        }
         let model = Model::new(
             element, w.elements, origin, direction, supports, gravity, loads,
         )
@@ -572,7 +616,8 @@ impl Scene {
             field: String::new(),
             message: e.0,
         })?
-        .with_rods(rods, contact_settings);
+        .with_rods(rods, contact_settings)
+        .with_damping(damping);
         if model.n_unknowns == 0 {
             return Err(err(
                 "support",
@@ -599,6 +644,63 @@ fn tolerance(a: &AnalysisSpec) -> Result<f64, SceneError> {
         ));
     }
     Ok(t)
+}
+
+fn validate_damping(
+    spec: Option<&DampingSpec>,
+) -> Result<Option<crate::damping::Damping>, SceneError> {
+    let Some(d) = spec else { return Ok(None) };
+    let reject = |pairs: &[(&str, bool)]| -> Result<(), SceneError> {
+        for (k, given) in pairs {
+            if *given {
+                return Err(err(
+                    format!("damping.{k}"),
+                    format!("not a parameter of kind \"{}\"", d.kind),
+                ));
+            }
+        }
+        Ok(())
+    };
+    match d.kind.as_str() {
+        "kelvin-voigt" => {
+            reject(&[
+                ("mass", d.mass.is_some()),
+                ("stiffness", d.stiffness.is_some()),
+            ])?;
+            let c = d.strain_rate_coefficient.ok_or_else(|| {
+                err(
+                    "damping.strain_rate_coefficient",
+                    "missing (s), required for kelvin-voigt",
+                )
+            })?;
+            let c = positive("damping.strain_rate_coefficient", c)?;
+            Ok(Some(crate::damping::Damping::KelvinVoigt {
+                coefficient: c,
+            }))
+        }
+        "rayleigh" => {
+            reject(&[(
+                "strain_rate_coefficient",
+                d.strain_rate_coefficient.is_some(),
+            )])?;
+            let alpha = finite("damping.mass", d.mass.unwrap_or(0.0))?;
+            let beta = finite("damping.stiffness", d.stiffness.unwrap_or(0.0))?;
+            if alpha < 0.0 || beta < 0.0 || alpha + beta == 0.0 {
+                return Err(err(
+                    "damping.mass",
+                    format!("need mass ≥ 0, stiffness ≥ 0, not both 0; got {alpha}, {beta}"),
+                ));
+            }
+            Ok(Some(crate::damping::Damping::Rayleigh {
+                mass: alpha,
+                stiffness: beta,
+            }))
+        }
+        other => Err(err(
+            "damping.kind",
+            format!("unknown kind \"{other}\" (use \"kelvin-voigt\" or \"rayleigh\")"),
+        )),
+    }
 }
 
 fn validate_rods(

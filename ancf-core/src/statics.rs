@@ -73,7 +73,7 @@ fn residual(
     if let Some(c) = model.contact() {
         // Statics: normal contact only (no velocities, no friction).
         let v = vec![0.0; q.len()];
-        let (qc, _, _) = crate::assembly::assemble_contact(model, c, pattern, q, &v, k, None);
+        let qc = crate::assembly::assemble_contact(model, c, pattern, q, &v, k, None).force;
         qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
     }
     let full: Vec<f64> = qe.iter().zip(ext).map(|(a, b)| a - b).collect();
@@ -216,7 +216,7 @@ pub fn solve_static_from(
     let mut qe = assemble(model, &pattern, &q, None).0;
     if let Some(c) = model.contact() {
         let v = vec![0.0; q.len()];
-        let (qc, _, _) = crate::assembly::assemble_contact(model, c, &pattern, &q, &v, None, None);
+        let qc = crate::assembly::assemble_contact(model, c, &pattern, &q, &v, None, None).force;
         qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
     }
     let ext = model.external_force(1.0);

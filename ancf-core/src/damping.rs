@@ -1,0 +1,150 @@
+//! Structural damping, an effect only when a scene names it (SPEC §6).
+//!
+//! * Kelvin–Voigt: the stress gains a strain-rate term σ_v = c D₀ Ė with
+//!   Ė = sym(Fᵀ Ḟ) (in Voigt form Ė = B(q) ė), c in seconds and D₀ the law's
+//!   small-strain tangent. Its force depends on q and v; both Jacobians are
+//!   returned (the q-Jacobian is not symmetric, so the Newton matrix is
+//!   then factored by LU).
+//! * Rayleigh: Q_d = (α M + β K₀) v with K₀ the stiffness at the reference
+//!   (assembled once by the integrator).
+//!
+//! The dissipated power Q_d · v ≥ 0 is integrated into the energy balance.
+
+use crate::element::{
+    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
+};
+use crate::material::{Law, tensor_from_stress};
+use nalgebra::{SMatrix, Vector6};
+
+/// Damping named by a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Damping {
+    /// Q_d = (mass · M + stiffness · K₀) v; `mass` in 1/s, `stiffness` in s.
+    Rayleigh { mass: f64, stiffness: f64 },
+    /// σ_v = c D₀ Ė; `coefficient` c in s.
+    KelvinVoigt { coefficient: f64 },
+}
+
+/// ∂ε/∂e (6×24, engineering shears) built from a deformation-gradient-like
+/// matrix `f` (F gives B, Ḟ gives the rate matrix B̃).
+fn strain_matrix(f: &[[f64; 3]; 3], g: &[[f64; 3]; 8]) -> SMatrix<f64, 6, 24> {
+    let mut b = SMatrix::<f64, 6, 24>::zeros();
+    for i in 0..8 {
+        for k in 0..3 {
+            let col = 3 * i + k;
+            let (fk, gi) = (&f[k], &g[i]);
+            b[(0, col)] = fk[0] * gi[0];
+            b[(1, col)] = fk[1] * gi[1];
+            b[(2, col)] = fk[2] * gi[2];
+            b[(3, col)] = fk[1] * gi[2] + fk[2] * gi[1];
+            b[(4, col)] = fk[0] * gi[2] + fk[2] * gi[0];
+            b[(5, col)] = fk[0] * gi[1] + fk[1] * gi[0];
+        }
+    }
+    b
+}
+
+/// One point of the Kelvin–Voigt force: adds w Bᵀσ_v to `q`, ∂/∂q to `kq`,
+/// ∂/∂v to `kv`; returns the dissipated power w σ_v · Ė (W).
+#[allow(clippy::too_many_arguments)]
+fn kelvin_voigt_point(
+    e: &ElementVector,
+    v: &ElementVector,
+    g: &[[f64; 3]; 8],
+    w: f64,
+    law: &Law,
+    c: f64,
+    q: &mut ElementVector,
+    kq: Option<&mut ElementMatrix>,
+    kv: Option<&mut ElementMatrix>,
+) -> f64 {
+    let f = deformation_gradient(e, g);
+    let fdot = deformation_gradient(v, g);
+    let b = strain_matrix(&f, g);
+    let ve = SMatrix::<f64, 24, 1>::from_column_slice(v);
+    let rate: Vector6<f64> = b * ve;
+    let d0 = law.stress_tangent(&Vector6::zeros()).tangent * c;
+    let sigma = d0 * rate;
+    let force = b.transpose() * sigma;
+    for i in 0..24 {
+        q[i] += w * force[i];
+    }
+    if let Some(kv) = kv {
+        let m = b.transpose() * d0 * b;
+        for r in 0..24 {
+            for col in 0..24 {
+                kv[r * 24 + col] += w * m[(r, col)];
+            }
+        }
+    }
+    if let Some(kq) = kq {
+        let bt = strain_matrix(&fdot, g);
+        let m = b.transpose() * d0 * bt;
+        let s = tensor_from_stress(&sigma);
+        for r in 0..24 {
+            for col in 0..24 {
+                let (i, k, j, mm) = (r / 3, r % 3, col / 3, col % 3);
+                let mut val = m[(r, col)];
+                if k == mm {
+                    for a in 0..3 {
+                        for bb in 0..3 {
+                            val += g[i][a] * s[(a, bb)] * g[j][bb];
+                        }
+                    }
+                }
+                kq[r * 24 + col] += w * val;
+            }
+        }
+    }
+    w * sigma.dot(&rate)
+}
+
+/// Kelvin–Voigt force of one element with coordinates `e` and velocities
+/// `v`, over the same points and laws as its elastic force (section points
+/// and, where a layer has one, the centerline).
+pub fn kelvin_voigt_element(
+    ei: &ElementIntegration,
+    c: f64,
+    e: &ElementVector,
+    v: &ElementVector,
+    q: &mut ElementVector,
+    mut kq: Option<&mut ElementMatrix>,
+    mut kv: Option<&mut ElementMatrix>,
+) -> f64 {
+    let l = ei.length;
+    let mut power = 0.0;
+    for (xi, wx) in ei.axial.nodes.iter().zip(&ei.axial.weights) {
+        let wx = wx * l;
+        for layer in &ei.section.layers {
+            for p in &layer.points {
+                let g = shape_gradients(*xi, p.y, p.z, l);
+                power += kelvin_voigt_point(
+                    e,
+                    v,
+                    &g,
+                    wx * p.weight,
+                    &layer.laws.section,
+                    c,
+                    q,
+                    kq.as_deref_mut(),
+                    kv.as_deref_mut(),
+                );
+            }
+            if let Some(cl) = &layer.laws.centerline {
+                let g = shape_gradients(*xi, 0.0, 0.0, l);
+                power += kelvin_voigt_point(
+                    e,
+                    v,
+                    &g,
+                    wx * layer.area,
+                    cl,
+                    c,
+                    q,
+                    kq.as_deref_mut(),
+                    kv.as_deref_mut(),
+                );
+            }
+        }
+    }
+    power
+}

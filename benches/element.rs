@@ -11,6 +11,7 @@ use std::hint::black_box;
 
 fn svk() -> Material {
     Material {
+        locking: Default::default(),
         density: 7200.0,
         model: MaterialModel::StVenantKirchhoff {
             youngs_modulus: 2e9,
@@ -22,6 +23,7 @@ fn svk() -> Material {
 
 fn mooney_rivlin() -> Material {
     Material {
+        locking: Default::default(),
         density: 1100.0,
         model: MaterialModel::MooneyRivlin {
             mu10: 5e5,

@@ -13,6 +13,7 @@ use std::time::Instant;
 
 fn model(n: usize) -> Model {
     let m = Material {
+        locking: Default::default(),
         density: 7200.0,
         model: MaterialModel::StVenantKirchhoff {
             youngs_modulus: 2e9,

@@ -266,19 +266,27 @@ pub fn configurations_plot(
         .axis_desc_style(("sans-serif", 16))
         .draw()
         .map_err(e)?;
+    // Rods: their true circle, or a marker of 5 px where that would be invisible.
+    let px_per_m = (width as f64 - 100.0) / (x1 - x0);
     for &(x, z, r) in rods {
-        let circle: Vec<(f64, f64)> = (0..=64)
-            .map(|k| {
-                let a = 2.0 * std::f64::consts::PI * k as f64 / 64.0;
-                (x + r * a.cos(), z + r * a.sin())
-            })
-            .collect();
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                circle,
-                BLACK.mix(0.6).filled(),
-            )))
-            .map_err(e)?;
+        if r * px_per_m >= 5.0 {
+            let circle: Vec<(f64, f64)> = (0..=64)
+                .map(|k| {
+                    let a = 2.0 * std::f64::consts::PI * k as f64 / 64.0;
+                    (x + r * a.cos(), z + r * a.sin())
+                })
+                .collect();
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    circle,
+                    BLACK.mix(0.6).filled(),
+                )))
+                .map_err(e)?;
+        } else {
+            chart
+                .draw_series(std::iter::once(Circle::new((x, z), 5, BLACK.filled())))
+                .map_err(e)?;
+        }
     }
     let n = shapes.len().max(2) as f64;
     for (i, (t, pts)) in shapes.iter().enumerate() {

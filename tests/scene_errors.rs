@@ -279,3 +279,18 @@ fn cli_refuses_bad_scenes_without_leaving_output() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 8 regression: 10 cm tubes slipped between contact test stations
+/// 12.5 cm apart and the wire fell through the frame. A rod thinner than the
+/// station spacing is refused, naming the field and the stations needed.
+#[test]
+fn issue8_rod_thinner_than_station_spacing_is_refused() {
+    let rod = "\n[[rod]]\ncenter = [0.5, 0.0, -0.3]\naxis = [0.0, 1.0, 0.0]\nradius = 0.01\ncontact_stiffness = 1e10\n";
+    let err = Scene::from_toml(&(BASE.to_string() + rod))
+        .err()
+        .expect("refused");
+    assert_eq!(err.field, "contact.stations");
+    assert!(err.message.contains("use stations = "), "{}", err.message);
+    let fine = BASE.to_string() + rod + "\n[contact]\nstations = 40\n";
+    Scene::from_toml(&fine).expect("enough stations");
+}

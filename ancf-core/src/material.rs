@@ -82,6 +82,8 @@ pub enum Law {
         k1: f64,
         k2: f64,
     },
+    /// W = W_a − W_b: the centerline remainder of a locking split.
+    Difference(Box<Law>, Box<Law>),
 }
 
 /// Stress and tangent of a law at one strain.
@@ -118,13 +120,18 @@ impl Law {
     /// Whether this law is the Mooney–Rivlin kernel (used to prove that an
     /// all-SVK model never evaluates it).
     pub fn is_mooney_rivlin(&self) -> bool {
-        matches!(self, Law::MooneyRivlin { .. })
+        match self {
+            Law::MooneyRivlin { .. } => true,
+            Law::Difference(a, b) => a.is_mooney_rivlin() || b.is_mooney_rivlin(),
+            Law::Linear(_) => false,
+        }
     }
 
     /// Strain energy density W (J/m³).
     pub fn energy(&self, eps: &Vector6<f64>) -> f64 {
         match self {
             Law::Linear(d) => 0.5 * eps.dot(&(d * eps)),
+            Law::Difference(a, b) => a.energy(eps) - b.energy(eps),
             Law::MooneyRivlin { mu10, mu01, k1, k2 } => {
                 let c = Matrix3::identity() + tensor_from_strain(eps) * 2.0;
                 let (i1, i2, i3, _) = invariants_and_cofactor(&c);
@@ -137,6 +144,7 @@ impl Law {
     pub fn stress(&self, eps: &Vector6<f64>) -> Vector6<f64> {
         match self {
             Law::Linear(d) => d * eps,
+            Law::Difference(a, b) => a.stress(eps) - b.stress(eps),
             Law::MooneyRivlin { .. } => self.stress_tangent(eps).stress,
         }
     }
@@ -144,6 +152,13 @@ impl Law {
     /// Stress and tangent D = ∂σ/∂ε (Pa).
     pub fn stress_tangent(&self, eps: &Vector6<f64>) -> StressTangent {
         match self {
+            Law::Difference(a, b) => {
+                let (sa, sb) = (a.stress_tangent(eps), b.stress_tangent(eps));
+                StressTangent {
+                    stress: sa.stress - sb.stress,
+                    tangent: sa.tangent - sb.tangent,
+                }
+            }
             Law::Linear(d) => StressTangent {
                 stress: d * eps,
                 tangent: *d,
@@ -178,15 +193,39 @@ impl Law {
     }
 }
 
+/// How a layer's energy avoids the locking of the element's linear
+/// transverse field (SPEC §3.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Locking {
+    /// The paper's plain formulation: the whole law over the section.
+    None,
+    /// The default. SVK: the ν = 0 part of D (diagonal normal block, E)
+    /// over the section, the Poisson-coupling remainder D(E, ν) − D(E, 0) on
+    /// the centerline. Mooney–Rivlin: a ν = 0 SVK law with the small-strain
+    /// modulus E_c = 6(μ10 + μ01) over the section, W_MR − W_SVK on the
+    /// centerline. Uniform states are unchanged (both parts integrate to the
+    /// full law); bending sees E I instead of the locked stiffness.
+    #[default]
+    Centerline,
+}
+
 /// A material as a user describes it (one per layer), with its density.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Mass density, kg/m³.
     pub density: f64,
     pub model: MaterialModel,
+    pub locking: Locking,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+impl Material {
+    /// How this layer integrates its energy (see [`MaterialModel::layer_laws`]).
+    pub fn layer_laws(&self) -> LayerLaws {
+        self.model.layer_laws(self.locking)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MaterialModel {
     /// St. Venant–Kirchhoff: Young's modulus (Pa), Poisson's ratio, and the
     /// weakened-bending coefficient ω ∈ [0, 1] (fraction of the continuum
@@ -211,40 +250,82 @@ pub struct LayerLaws {
 }
 
 impl MaterialModel {
-    /// The split of SPEC §3.1: with ω < 1 the axial term ½(λ+2μ)E_xx² is
-    /// integrated with weight ω over the section and (1 − ω) on the
-    /// centerline. With ω = 1 there is no centerline term at all.
-    pub fn layer_laws(&self) -> LayerLaws {
-        match *self {
-            MaterialModel::StVenantKirchhoff {
-                youngs_modulus,
-                poisson_ratio,
-                bending_factor,
-            } => {
-                let mut d = isotropic_elasticity(youngs_modulus, poisson_ratio);
-                if bending_factor == 1.0 {
-                    return LayerLaws {
-                        section: Law::Linear(d),
-                        centerline: None,
-                    };
-                }
-                let axial = d[(0, 0)];
-                d[(0, 0)] = bending_factor * axial;
-                let mut dc = Matrix6::zeros();
-                dc[(0, 0)] = (1.0 - bending_factor) * axial;
-                LayerLaws {
-                    section: Law::Linear(d),
-                    centerline: Some(Law::Linear(dc)),
-                }
+    /// Section and centerline laws of a layer. Weakened bending (SPEC
+    /// §3.1): the axial term ½ D₁₁ E_xx² of the section law is kept with
+    /// weight ω, and (1 − ω) of it moves to the centerline. The locking
+    /// treatment is described at [`Locking`]. A layer needing no centerline
+    /// term (ω = 1 and no remainder) gets none.
+    pub fn layer_laws(&self, locking: Locking) -> LayerLaws {
+        let (mut section, mut centerline) = match (*self, locking) {
+            (
+                MaterialModel::StVenantKirchhoff {
+                    youngs_modulus,
+                    poisson_ratio,
+                    ..
+                },
+                Locking::None,
+            ) => (
+                isotropic_elasticity(youngs_modulus, poisson_ratio),
+                Matrix6::zeros(),
+            ),
+            (
+                MaterialModel::StVenantKirchhoff {
+                    youngs_modulus,
+                    poisson_ratio,
+                    ..
+                },
+                Locking::Centerline,
+            ) => {
+                let d0 = isotropic_elasticity(youngs_modulus, 0.0);
+                (d0, isotropic_elasticity(youngs_modulus, poisson_ratio) - d0)
             }
-            MaterialModel::MooneyRivlin {
-                mu10,
-                mu01,
-                penalty,
-            } => LayerLaws {
-                section: Law::mooney_rivlin(mu10, mu01, penalty),
-                centerline: None,
-            },
+            (
+                MaterialModel::MooneyRivlin {
+                    mu10,
+                    mu01,
+                    penalty,
+                },
+                Locking::None,
+            ) => {
+                return LayerLaws {
+                    section: Law::mooney_rivlin(mu10, mu01, penalty),
+                    centerline: None,
+                };
+            }
+            (
+                MaterialModel::MooneyRivlin {
+                    mu10,
+                    mu01,
+                    penalty,
+                },
+                Locking::Centerline,
+            ) => {
+                let svk = Law::Linear(isotropic_elasticity(6.0 * (mu10 + mu01), 0.0));
+                return LayerLaws {
+                    section: svk.clone(),
+                    centerline: Some(Law::Difference(
+                        Box::new(Law::mooney_rivlin(mu10, mu01, penalty)),
+                        Box::new(svk),
+                    )),
+                };
+            }
+        };
+        let MaterialModel::StVenantKirchhoff { bending_factor, .. } = *self else {
+            unreachable!()
+        };
+        if bending_factor != 1.0 {
+            let axial = section[(0, 0)];
+            section[(0, 0)] = bending_factor * axial;
+            centerline[(0, 0)] += (1.0 - bending_factor) * axial;
+        }
+        let centerline = if centerline.iter().all(|v| *v == 0.0) {
+            None
+        } else {
+            Some(Law::Linear(centerline))
+        };
+        LayerLaws {
+            section: Law::Linear(section),
+            centerline,
         }
     }
 

@@ -55,7 +55,7 @@ impl Section {
                     points: ring_rule(order, *r1, *r2),
                     area: PI * (r2 * r2 - r1 * r1),
                     second_moments: [i, i],
-                    laws: m.model.layer_laws(),
+                    laws: m.layer_laws(),
                     material: m.clone(),
                 }
             })
@@ -75,7 +75,7 @@ impl Section {
             points: rectangle_rule(order, order, width, height),
             area: width * height,
             second_moments: [height * width.powi(3) / 12.0, width * height.powi(3) / 12.0],
-            laws: material.model.layer_laws(),
+            laws: material.layer_laws(),
             material,
         };
         Section {

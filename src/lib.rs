@@ -1,6 +1,7 @@
 //! The `ancf` program's library: running a scene and writing what users
 //! look at (CSV, JSON, plots). The physics lives in `ancf-core`.
 
+pub mod bench;
 pub mod output;
 pub mod plot;
 pub mod run;

@@ -38,6 +38,16 @@ enum Command {
     },
     /// Validate a scene without running it.
     Check { scene: PathBuf },
+    /// Measure element kernels, time steps, parallel speed-up and the impact
+    /// scene's real-time factor (release build; run from the repository root).
+    Bench {
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Smaller meshes and a short impact run (seconds instead of a minute).
+        #[arg(long)]
+        quick: bool,
+    },
     /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2).
     Quadrature {
         /// Inner radius, m (0 for a disk).
@@ -110,6 +120,30 @@ fn main() -> ExitCode {
                     eprintln!("error: run {}: {}", summary.status, summary.message);
                     eprintln!("outputs so far are in {}", out.display());
                     ExitCode::from(1)
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
+        Command::Bench { json, quick } => {
+            if cfg!(debug_assertions) {
+                eprintln!(
+                    "warning: a debug build; benchmark numbers need `cargo run --release -- bench`"
+                );
+            }
+            match ancf::bench::run(quick) {
+                Ok(report) => {
+                    if json {
+                        println!(
+                            "{}",
+                            serde_json::to_string_pretty(&report).expect("report serializes")
+                        );
+                    } else {
+                        print!("{}", ancf::bench::table(&report));
+                    }
+                    ExitCode::SUCCESS
                 }
                 Err(e) => {
                     eprintln!("error: {e}");

@@ -219,3 +219,36 @@ fn impact_run_writes_contact_outputs_vtk_and_plots() {
     assert!(cp.starts_with("time,dz,exx,eyy,ezz"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bench_json_has_the_documented_keys() {
+    let out = ancf()
+        .args(["bench", "--quick", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "force_us",
+        "jacobian_us",
+        "step_ms_32_full_newton",
+        "parallel_speedup_256",
+        "impact_realtime_factor",
+    ] {
+        assert!(
+            v[key].as_f64().is_some_and(|x| x > 0.0 && x.is_finite()),
+            "{key}: {}",
+            v[key]
+        );
+    }
+    for n in ["4", "16", "32"] {
+        assert!(
+            v["step_ms"][n].as_f64().is_some_and(|x| x > 0.0),
+            "step_ms[{n}]"
+        );
+    }
+}

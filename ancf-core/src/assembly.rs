@@ -96,6 +96,22 @@ pub fn assemble(
     model: &Model,
     pattern: &Pattern,
     q: &[f64],
+    jacobian: Option<&mut [f64]>,
+) -> (Vec<f64>, f64) {
+    if model.n_elements >= PARALLEL_MIN_ELEMENTS && rayon::current_num_threads() > 1 {
+        assemble_parallel(model, pattern, q, jacobian)
+    } else {
+        assemble_serial(model, pattern, q, jacobian)
+    }
+}
+
+/// Below this many elements the serial loop is faster than splitting work.
+pub const PARALLEL_MIN_ELEMENTS: usize = 64;
+
+fn assemble_serial(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
     mut jacobian: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
     let mut force = vec![0.0; q.len()];
@@ -115,6 +131,47 @@ pub fn assemble(
         let base = NODE_DOFS * el;
         for i in 0..24 {
             force[base + i] += qe[i];
+        }
+    }
+    (force, energy)
+}
+
+/// Elements evaluated in parallel (rayon), then scattered serially in
+/// element order: the sums happen in the same order as in the serial loop,
+/// so the result has the same bits with any number of threads.
+fn assemble_parallel(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    jacobian: Option<&mut [f64]>,
+) -> (Vec<f64>, f64) {
+    use rayon::prelude::*;
+    let want_k = jacobian.is_some();
+    let per_element: Vec<(f64, [f64; 24], Option<Box<[f64; 576]>>)> = (0..model.n_elements)
+        .into_par_iter()
+        .map(|el| {
+            let e = model.element_coordinates(q, el);
+            let mut qe = [0.0; 24];
+            if want_k {
+                let mut ke = Box::new([0.0; 576]);
+                let u = model.element.evaluate(&e, &mut qe, Some(&mut ke));
+                (u, qe, Some(ke))
+            } else {
+                (model.element.evaluate(&e, &mut qe, None), qe, None)
+            }
+        })
+        .collect();
+    let mut force = vec![0.0; q.len()];
+    let mut energy = 0.0;
+    let mut jacobian = jacobian;
+    for (el, (u, qe, ke)) in per_element.iter().enumerate() {
+        energy += u;
+        let base = NODE_DOFS * el;
+        for i in 0..24 {
+            force[base + i] += qe[i];
+        }
+        if let (Some(values), Some(ke)) = (jacobian.as_deref_mut(), ke) {
+            pattern.add_element(values, el, ke, 1.0);
         }
     }
     (force, energy)

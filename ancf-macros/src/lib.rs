@@ -7,6 +7,7 @@
 use proc_macro::TokenStream;
 
 mod kernel;
+mod mooney_rivlin;
 
 /// Generates a quadrature-point kernel of the fully parameterized beam,
 /// unrolled and specialised to the sparsity of the shape-function gradients.
@@ -35,6 +36,21 @@ mod kernel;
 pub fn structured_point_kernel(input: TokenStream) -> TokenStream {
     match syn::parse::<kernel::KernelSpec>(input) {
         Ok(spec) => kernel::expand(&spec).into(),
+        Err(e) => e.to_compile_error().into(),
+    }
+}
+
+/// Generates the Mooney–Rivlin stress and tangent, unrolled, with only the
+/// non-zero products of each directional derivative (see `mooney_rivlin.rs`).
+///
+/// ```ignore
+/// ancf_macros::mooney_rivlin_kernel! { pub fn mr_stress_tangent; }
+/// // fn mr_stress_tangent(eps: &Vector6<f64>, mu10, mu01, k1, k2) -> (Vector6<f64>, Matrix6<f64>)
+/// ```
+#[proc_macro]
+pub fn mooney_rivlin_kernel(input: TokenStream) -> TokenStream {
+    match syn::parse::<mooney_rivlin::MrSpec>(input) {
+        Ok(spec) => mooney_rivlin::expand(&spec).into(),
         Err(e) => e.to_compile_error().into(),
     }
 }

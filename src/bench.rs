@@ -1,0 +1,288 @@
+//! `ancf bench`: the numbers users compare simulators by (issue 7), measured
+//! on this machine in one command. Element kernels, pendulum step times,
+//! parallel speed-up and the impact scene's real-time factor. Single thread
+//! unless stated (a 1-thread rayon pool); wall-clock medians of repeats.
+
+use crate::run::{RunOptions, run_scene};
+use ancf_core::dynamics::{DynamicSettings, Integrator, NewtonKind};
+use ancf_core::element::{ElementIntegration, reference_coordinates};
+use ancf_core::material::{Material, MaterialModel};
+use ancf_core::model::{Model, Support, SupportKind};
+use ancf_core::scene::Scene;
+use ancf_core::section::Section;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+fn svk(nu: f64) -> Material {
+    Material {
+        density: 7200.0,
+        model: MaterialModel::StVenantKirchhoff {
+            youngs_modulus: 2e9,
+            poisson_ratio: nu,
+            bending_factor: 1.0,
+        },
+        locking: Default::default(),
+    }
+}
+
+/// The pendulum of `scenes/pendulum.toml` with `n` elements.
+pub fn pendulum(n: usize) -> Model {
+    let section = Section::circular(&[(0.0, 0.01, svk(0.0)), (0.01, 0.02, svk(0.0))], 3);
+    let el = ElementIntegration::new(1.0 / n as f64, 5, section);
+    Model::new(
+        el,
+        n,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        vec![Support::new(0, SupportKind::Pin)],
+        Some([0.0, 0.0, -9.81]),
+        vec![],
+    )
+    .expect("valid pendulum")
+}
+
+/// Milliseconds per step, Newton iterations and factorizations per step,
+/// averaged over `steps` steps after 5 warm-up steps (h = 1e-3 s, ρ∞ = 1).
+pub fn pendulum_step(model: &Model, newton: NewtonKind, steps: usize) -> (f64, f64, f64) {
+    let h = 1e-3;
+    let settings = DynamicSettings {
+        time_step: h,
+        end_time: 1.0,
+        spectral_radius: 1.0,
+        newton,
+        ..Default::default()
+    };
+    let mut integ = Integrator::new(model, settings).expect("solver");
+    let mut s = integ
+        .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
+        .expect("initial state");
+    for _ in 0..5 {
+        s = integ.step(&s, h).expect("step").0;
+    }
+    let (mut its, mut facs) = (0, 0);
+    let t0 = Instant::now();
+    for _ in 0..steps {
+        let (next, info) = integ.step(&s, h).expect("step");
+        its += info.iterations;
+        facs += info.factorizations;
+        s = next;
+    }
+    let n = steps as f64;
+    (
+        t0.elapsed().as_secs_f64() * 1e3 / n,
+        its as f64 / n,
+        facs as f64 / n,
+    )
+}
+
+/// Median time (µs) of `f` over repeated batches.
+fn time_us(mut f: impl FnMut()) -> f64 {
+    let mut batch = 1usize;
+    loop {
+        let t = Instant::now();
+        for _ in 0..batch {
+            f();
+        }
+        if t.elapsed().as_secs_f64() > 0.02 {
+            break;
+        }
+        batch *= 2;
+    }
+    let mut samples: Vec<f64> = (0..9)
+        .map(|_| {
+            let t = Instant::now();
+            for _ in 0..batch {
+                f();
+            }
+            t.elapsed().as_secs_f64() * 1e6 / batch as f64
+        })
+        .collect();
+    samples.sort_by(f64::total_cmp);
+    samples[4]
+}
+
+/// Force and Jacobian time (µs) of one element.
+fn element_times(el: &ElementIntegration) -> (f64, f64) {
+    let l = el.length;
+    let mut e = reference_coordinates(
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        l,
+    );
+    for (i, v) in e.iter_mut().enumerate() {
+        *v += 0.01 * ((i * 7919 % 23) as f64 / 23.0 - 0.5);
+    }
+    let force = time_us(|| {
+        let mut q = [0.0; 24];
+        std::hint::black_box(el.evaluate(std::hint::black_box(&e), &mut q, None));
+    });
+    let mut k = [0.0; 576];
+    let jac = time_us(|| {
+        let mut q = [0.0; 24];
+        k.fill(0.0);
+        std::hint::black_box(el.evaluate(std::hint::black_box(&e), &mut q, Some(&mut k)));
+    });
+    (force, jac)
+}
+
+#[derive(Debug, Serialize)]
+pub struct BenchReport {
+    /// Circular two-layer SVK section, 3 axial points, ring rule n = 3.
+    pub force_us: f64,
+    pub jacobian_us: f64,
+    /// Rectangle 3 axial × 2×2 SVK (Chrono's ChElementBeamANCF_3243 case).
+    pub rect_force_us: f64,
+    pub rect_jacobian_us: f64,
+    /// Mooney–Rivlin Jacobian per section point (plain formulation).
+    pub mooney_rivlin_jacobian_us_per_point: f64,
+    pub step_ms_32_full_newton: f64,
+    /// Modified Newton, ms per step, keyed by element count.
+    pub step_ms: BTreeMap<String, f64>,
+    /// Full Newton, ms per step, keyed by element count.
+    pub step_ms_full_newton: BTreeMap<String, f64>,
+    /// Full-Newton step time at 256 elements, 1 thread over 2 threads.
+    pub parallel_speedup_256: f64,
+    /// Simulated seconds per wall second for scenes/wire_rod_impact.toml, one thread.
+    pub impact_realtime_factor: f64,
+    pub threads_available: usize,
+}
+
+/// Run every measurement. `quick` trims the largest meshes (for tests).
+pub fn run(quick: bool) -> Result<BenchReport, String> {
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| e.to_string())?;
+    let (force_us, jacobian_us, rect_force_us, rect_jacobian_us, mr) = single.install(|| {
+        let circle = ElementIntegration::new(
+            0.25,
+            3,
+            Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, svk(0.3))], 3),
+        );
+        let rect = ElementIntegration::new(0.25, 3, Section::rectangular(0.02, 0.02, svk(0.3), 2));
+        let rubber = Material {
+            density: 1100.0,
+            model: MaterialModel::MooneyRivlin {
+                mu10: 5e5,
+                mu01: 1e5,
+                penalty: 1e3,
+            },
+            locking: ancf_core::material::Locking::None,
+        };
+        let mr = ElementIntegration::new(0.25, 3, Section::circular(&[(0.0, 0.02, rubber)], 3));
+        let points = 3 * mr.section.layers[0].points.len();
+        let (f, j) = element_times(&circle);
+        let (rf, rj) = element_times(&rect);
+        let (_, mj) = element_times(&mr);
+        (f, j, rf, rj, mj / points as f64)
+    });
+    let sizes: &[usize] = if quick {
+        &[4, 16, 32]
+    } else {
+        &[4, 16, 32, 64, 256, 1024, 4096]
+    };
+    let mut step_ms = BTreeMap::new();
+    let mut step_full = BTreeMap::new();
+    single.install(|| {
+        for &n in sizes {
+            let m = pendulum(n);
+            let steps = if n <= 64 {
+                50
+            } else if n <= 1024 {
+                10
+            } else {
+                3
+            };
+            step_full.insert(n.to_string(), pendulum_step(&m, NewtonKind::Full, steps).0);
+            step_ms.insert(
+                n.to_string(),
+                pendulum_step(&m, NewtonKind::Modified, steps).0,
+            );
+        }
+    });
+    let n_par = if quick { 64 } else { 256 };
+    let m = pendulum(n_par);
+    let one = single.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
+    let two_pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .map_err(|e| e.to_string())?;
+    let two = two_pool.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
+    let impact_realtime_factor = single.install(|| -> Result<f64, String> {
+        let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").map_err(|e| {
+            format!("scenes/wire_rod_impact.toml (run from the repository root): {e}")
+        })?;
+        let text = if quick {
+            text.replace("end_time = 1.0", "end_time = 0.05")
+        } else {
+            text
+        };
+        let text = text.replace("every = 50 ", "every = 1000000 ");
+        let mut scene = Scene::from_toml(&text).map_err(|e| e.to_string())?;
+        scene.output.vtk = false;
+        scene.output.plots = false;
+        let dir = std::env::temp_dir().join(format!("ancf-bench-{}", std::process::id()));
+        let t = Instant::now();
+        let s = run_scene(
+            &scene,
+            &RunOptions {
+                out: dir.clone(),
+                quiet: true,
+            },
+        )?;
+        let wall = t.elapsed().as_secs_f64();
+        let _ = std::fs::remove_dir_all(&dir);
+        Ok(s.time / wall)
+    })?;
+    Ok(BenchReport {
+        force_us,
+        jacobian_us,
+        rect_force_us,
+        rect_jacobian_us,
+        mooney_rivlin_jacobian_us_per_point: mr,
+        step_ms_32_full_newton: step_full.get("32").copied().unwrap_or(f64::NAN),
+        step_ms,
+        step_ms_full_newton: step_full,
+        parallel_speedup_256: one / two,
+        impact_realtime_factor,
+        threads_available: std::thread::available_parallelism().map_or(1, |n| n.get()),
+    })
+}
+
+/// The report as a table.
+pub fn table(r: &BenchReport) -> String {
+    let mut s = String::new();
+    s += "Element kernels (single thread, µs per element)\n";
+    s += &format!(
+        "  SVK circle, 2 layers, 3 axial × ring n=3   force {:8.3}   Jacobian {:8.3}\n",
+        r.force_us, r.jacobian_us
+    );
+    s += &format!(
+        "  SVK rectangle 3 × 2×2                      force {:8.3}   Jacobian {:8.3}\n",
+        r.rect_force_us, r.rect_jacobian_us
+    );
+    s += &format!(
+        "  Mooney–Rivlin Jacobian per section point   {:8.3} µs\n",
+        r.mooney_rivlin_jacobian_us_per_point
+    );
+    s += "Pendulum time step (single thread, ms per step)\n";
+    s += "  elements   full Newton   modified Newton\n";
+    let mut sizes: Vec<&String> = r.step_ms_full_newton.keys().collect();
+    sizes.sort_by_key(|n| n.parse::<usize>().unwrap_or(0));
+    for n in sizes {
+        let full = r.step_ms_full_newton[n];
+        s += &format!("  {:>8}   {:>11.3}   {:>15.3}\n", n, full, r.step_ms[n]);
+    }
+    s += &format!(
+        "Parallel speed-up, full Newton at 256 elements (1 → 2 threads): {:.2}×\n",
+        r.parallel_speedup_256
+    );
+    s += &format!(
+        "Impact scene real-time factor (simulated s per wall s, 1 thread): {:.3}\n",
+        r.impact_realtime_factor
+    );
+    s
+}

@@ -136,6 +136,9 @@ fn assemble_serial(
     (force, energy)
 }
 
+/// One element's strain energy, force and (when asked) Jacobian.
+type ElementContribution = (f64, [f64; 24], Option<Box<[f64; 576]>>);
+
 /// Elements evaluated in parallel (rayon), then scattered serially in
 /// element order: the sums happen in the same order as in the serial loop,
 /// so the result has the same bits with any number of threads.
@@ -147,7 +150,7 @@ fn assemble_parallel(
 ) -> (Vec<f64>, f64) {
     use rayon::prelude::*;
     let want_k = jacobian.is_some();
-    let per_element: Vec<(f64, [f64; 24], Option<Box<[f64; 576]>>)> = (0..model.n_elements)
+    let per_element: Vec<ElementContribution> = (0..model.n_elements)
         .into_par_iter()
         .map(|el| {
             let e = model.element_coordinates(q, el);

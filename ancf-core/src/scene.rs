@@ -603,13 +603,13 @@ impl Scene {
         let (rods, contact_settings) =
             validate_rods(&f.rod, f.contact.as_ref(), length / w.elements as f64)?;
         let damping = validate_damping(f.damping.as_ref())?;
-        if let Some(s) = supports.iter().find(|s| s.release_time.is_some()) {
-            if a.kind == AnalysisKind::Static {
-                return Err(err(
-                    "support.release_time",
-                    format!("node {}: a release time needs a dynamic analysis", s.node),
-                ));
-            }
+        if let Some(i) = supports.iter().position(|s| s.release_time.is_some())
+            && a.kind == AnalysisKind::Static
+        {
+            return Err(err(
+                format!("support[{i}].release_time"),
+                "a release time needs kind = \"dynamic\"",
+            ));
         }
         let model = Model::new(
             element, w.elements, origin, direction, supports, gravity, loads,

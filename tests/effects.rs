@@ -103,10 +103,36 @@ fn centerline_and_mooney_rivlin_only_where_the_layer_needs_them() {
         )
     });
     let layers = &s.model.element.section.layers;
+    // The SVK core with ω = 1 and ν = 0: no centerline term, no Mooney–Rivlin.
     assert!(layers[0].laws.centerline.is_none() && !layers[0].laws.section.is_mooney_rivlin());
-    assert!(layers[1].laws.section.is_mooney_rivlin());
+    // The cover with the default locking remedy: a ν = 0 SVK law over the
+    // section, Mooney–Rivlin only in the centerline remainder.
+    assert!(!layers[1].laws.section.is_mooney_rivlin());
+    assert!(
+        layers[1]
+            .laws
+            .centerline
+            .as_ref()
+            .is_some_and(|l| l.is_mooney_rivlin())
+    );
     assert!(matches!(
         s.model.effects[0],
+        Effect::Elasticity {
+            mooney_rivlin: true,
+            centerline: true
+        }
+    ));
+    // The paper's plain formulation: Mooney–Rivlin over the section, nothing on the centerline.
+    let plain = load("scenes/wire_rod_impact.toml", |t| {
+        t.replacen("bending_factor = 0.1", "bending_factor = 1.0", 1).replace(
+            "[[material]]\nname = \"aluminium-strands\"\nmodel = \"st-venant-kirchhoff\"\ndensity = 2026.0\nyoungs_modulus = 51.7e9\npoisson_ratio = 0.0\nbending_factor = 0.1",
+            "[[material]]\nname = \"aluminium-strands\"\nmodel = \"mooney-rivlin\"\nlocking = \"none\"\ndensity = 1100.0\nmu10 = 5e5\nmu01 = 1e5\npenalty = 1e3",
+        )
+    });
+    let cover = &plain.model.element.section.layers[1];
+    assert!(cover.laws.section.is_mooney_rivlin() && cover.laws.centerline.is_none());
+    assert!(matches!(
+        plain.model.effects[0],
         Effect::Elasticity {
             mooney_rivlin: true,
             centerline: false

@@ -128,9 +128,15 @@ impl Section {
     }
 
     /// Whether any layer uses the Mooney–Rivlin law.
+    /// Whether any layer evaluates the Mooney–Rivlin law, over the section
+    /// or on the centerline (the locking remedy's remainder).
     pub fn has_mooney_rivlin(&self) -> bool {
-        self.layers
-            .iter()
-            .any(|l| l.laws.section.is_mooney_rivlin())
+        self.layers.iter().any(|l| {
+            l.laws.section.is_mooney_rivlin()
+                || l.laws
+                    .centerline
+                    .as_ref()
+                    .is_some_and(|c| c.is_mooney_rivlin())
+        })
     }
 }

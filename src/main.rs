@@ -99,6 +99,14 @@ fn main() -> ExitCode {
                     s.model.element.kernel_path()
                 );
             }
+            // Ctrl-C ends the run after the current step, keeping everything written so far.
+            if let Err(e) = ctrlc::set_handler(|| {
+                ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
+            }) {
+                eprintln!(
+                    "warning: no Ctrl-C handler ({e}); an interrupt will stop the run without a summary"
+                );
+            }
             match run_scene(
                 &s,
                 &RunOptions {
@@ -119,7 +127,11 @@ fn main() -> ExitCode {
                 Ok(summary) => {
                     eprintln!("error: run {}: {}", summary.status, summary.message);
                     eprintln!("outputs so far are in {}", out.display());
-                    ExitCode::from(1)
+                    ExitCode::from(if summary.status == "interrupted" {
+                        130
+                    } else {
+                        1
+                    })
                 }
                 Err(e) => {
                     eprintln!("error: {e}");

@@ -59,7 +59,7 @@ pub struct RodSummary {
 /// `summary.json`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {
-    /// "completed" or "failed".
+    /// "completed", "failed" or "interrupted".
     pub status: String,
     pub message: String,
     /// "static" or "dynamic".

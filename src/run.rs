@@ -17,6 +17,10 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// Set by the Ctrl-C handler (see `main.rs`); the run loop checks it each
+/// step and ends with status "interrupted", keeping what it wrote.
+pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 #[derive(Clone, Debug)]
 pub struct RunOptions {
     /// Output directory (created if absent).
@@ -384,6 +388,14 @@ fn run_dynamic(
             }
         }
         if summary.status == "failed" {
+            break;
+        }
+        if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            summary.status = "interrupted".into();
+            summary.message = format!(
+                "interrupted (Ctrl-C) before step {k} at t = {:.6} s; output up to the last written step is kept",
+                state.time
+            );
             break;
         }
         let hk = if k == n_steps {

@@ -252,3 +252,46 @@ fn bench_json_has_the_documented_keys() {
         );
     }
 }
+
+/// Issue 6 §5: Ctrl-C keeps everything computed so far and says so.
+#[test]
+fn interrupted_run_keeps_its_output() {
+    let dir = tmp("interrupt");
+    let mut child = ancf()
+        .args([
+            "run",
+            "scenes/wire_rod_impact.toml",
+            "--out",
+            dir.to_str().unwrap(),
+            "--quiet",
+        ])
+        .spawn()
+        .unwrap();
+    // Wait until a few rows exist, then interrupt.
+    let series = dir.join("timeseries.csv");
+    for _ in 0..200 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        if std::fs::read_to_string(&series)
+            .map(|t| t.lines().count() > 3)
+            .unwrap_or(false)
+        {
+            break;
+        }
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted");
+    assert!(summary["message"].as_str().unwrap().contains("interrupted"));
+    let t = summary["time"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 1.0, "stopped early at {t}");
+    let rows = std::fs::read_to_string(&series).unwrap().lines().count();
+    assert!(rows > 3, "time series kept ({rows} lines)");
+    assert!(dir.join("vtk/wire.pvd").exists() && dir.join("final_nodes.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -93,7 +93,7 @@ impl Summary {
 
 /// `timeseries.csv`, one row per written step, flushed row by row.
 pub struct TimeSeries {
-    file: BufWriter<File>,
+    table: Table,
 }
 
 pub const TIMESERIES_HEADER: &str =
@@ -102,22 +102,18 @@ pub const TIMESERIES_HEADER: &str =
 impl TimeSeries {
     /// With rods, the columns `contact_force,penetration,contact_energy,dissipated` follow.
     pub fn create(dir: &Path, contact: bool) -> std::io::Result<Self> {
-        let mut file = BufWriter::new(File::create(dir.join("timeseries.csv"))?);
-        if contact {
-            writeln!(
-                file,
-                "{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated"
-            )?;
+        let header = if contact {
+            format!("{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated")
         } else {
-            writeln!(file, "{TIMESERIES_HEADER}")?;
-        }
-        Ok(TimeSeries { file })
+            TIMESERIES_HEADER.to_string()
+        };
+        Ok(TimeSeries {
+            table: Table::create(&dir.join("timeseries.csv"), &header)?,
+        })
     }
 
     pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
-        let line: Vec<String> = values.iter().map(|v| format!("{v:.12e}")).collect();
-        writeln!(self.file, "{}", line.join(","))?;
-        self.file.flush()
+        self.table.row(values)
     }
 }
 
@@ -134,7 +130,7 @@ impl Table {
     }
 
     pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
-        let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
+        let line: Vec<String> = values.iter().map(|v| format!("{v:.12e}")).collect();
         writeln!(self.file, "{}", line.join(","))?;
         self.file.flush()
     }

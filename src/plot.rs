@@ -48,84 +48,6 @@ fn tick_label(v: &f64, lo: f64, hi: f64) -> String {
     }
 }
 
-/// A line plot of several series with labelled axes and a legend.
-pub fn line_plot(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: &[Series],
-) -> Result<(), String> {
-    register_font();
-    let (mut x0, mut x1, mut y0, mut y1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for s in series {
-        for &(x, y) in &s.points {
-            if x.is_finite() && y.is_finite() {
-                x0 = x0.min(x);
-                x1 = x1.max(x);
-                y0 = y0.min(y);
-                y1 = y1.max(y);
-            }
-        }
-    }
-    if !x0.is_finite() {
-        return Err(format!("{}: nothing to plot", path.display()));
-    }
-    if x1 <= x0 {
-        x1 = x0 + 1.0;
-    }
-    let pad = 0.05 * (y1 - y0).abs().max(1e-12 * y1.abs().max(1.0));
-    let (y0, y1) = (y0 - pad, y1 + pad);
-    let root = BitMapBackend::new(path, (960, 600)).into_drawing_area();
-    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
-    root.fill(&WHITE).map_err(e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 26))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(90)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .y_label_formatter(&|v| tick_label(v, y0, y1))
-        .x_label_formatter(&|v| tick_label(v, x0, x1))
-        .label_style(("sans-serif", 16))
-        .axis_desc_style(("sans-serif", 18))
-        .draw()
-        .map_err(e)?;
-    for (i, s) in series.iter().enumerate() {
-        let color = COLORS[i % COLORS.len()];
-        chart
-            .draw_series(LineSeries::new(
-                s.points.iter().copied(),
-                color.stroke_width(2),
-            ))
-            .map_err(e)?
-            .label(s.label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 16))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
-}
-
 /// One chart of a multi-panel figure.
 pub struct Panel<'a> {
     pub title: &'a str,
@@ -161,6 +83,86 @@ fn bounds(series: &[Series]) -> Option<(f64, f64, f64, f64)> {
     Some((x0, x1, y0 - pad, y1 + pad))
 }
 
+/// A line plot of several series with labelled axes and a legend.
+pub fn line_plot(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<(), String> {
+    register_font();
+    let root = BitMapBackend::new(path, (960, 600)).into_drawing_area();
+    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+    root.fill(&WHITE).map_err(e)?;
+    let panel = Panel {
+        title,
+        x_label,
+        y_label,
+        series: series
+            .iter()
+            .map(|s| Series {
+                label: s.label,
+                points: s.points.clone(),
+            })
+            .collect(),
+    };
+    if !draw_panel(&root, &panel, 1.25).map_err(e)? {
+        return Err(format!("{}: nothing to plot", path.display()));
+    }
+    root.present().map_err(e)?;
+    Ok(())
+}
+
+/// Draw one chart into `area` (fonts scaled by `scale`); false when there is nothing to draw.
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    p: &Panel,
+    scale: f64,
+) -> Result<bool, DrawingAreaErrorKind<DB::ErrorType>> {
+    let Some((x0, x1, y0, y1)) = bounds(&p.series) else {
+        return Ok(false);
+    };
+    let size = |px: f64| (px * scale).round() as u32;
+    let mut chart = ChartBuilder::on(area)
+        .caption(p.title, ("sans-serif", size(20.0)))
+        .margin(size(10.0))
+        .x_label_area_size(size(45.0))
+        .y_label_area_size(size(80.0))
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(p.x_label)
+        .y_desc(p.y_label)
+        .y_label_formatter(&|v| tick_label(v, y0, y1))
+        .x_label_formatter(&|v| tick_label(v, x0, x1))
+        .label_style(("sans-serif", size(14.0)))
+        .axis_desc_style(("sans-serif", size(15.0)))
+        .draw()?;
+    for (i, s) in p.series.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        chart
+            .draw_series(LineSeries::new(
+                s.points.iter().copied(),
+                color.stroke_width(2),
+            ))?
+            .label(s.label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+    }
+    if p.series.len() > 1 {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", size(13.0)))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+    }
+    Ok(true)
+}
+
 /// Several line charts on a grid of `rows × cols`.
 pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> Result<(), String> {
     register_font();
@@ -168,48 +170,7 @@ pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> R
     let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
     root.fill(&WHITE).map_err(e)?;
     for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {
-        let Some((x0, x1, y0, y1)) = bounds(&p.series) else {
-            continue;
-        };
-        let mut chart = ChartBuilder::on(area)
-            .caption(p.title, ("sans-serif", 20))
-            .margin(10)
-            .x_label_area_size(45)
-            .y_label_area_size(80)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(e)?;
-        chart
-            .configure_mesh()
-            .x_desc(p.x_label)
-            .y_desc(p.y_label)
-            .y_label_formatter(&|v| tick_label(v, y0, y1))
-            .x_label_formatter(&|v| tick_label(v, x0, x1))
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 15))
-            .draw()
-            .map_err(e)?;
-        for (i, s) in p.series.iter().enumerate() {
-            let color = COLORS[i % COLORS.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    s.points.iter().copied(),
-                    color.stroke_width(2),
-                ))
-                .map_err(e)?
-                .label(s.label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-        }
-        if p.series.len() > 1 {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 13))
-                .draw()
-                .map_err(e)?;
-        }
+        draw_panel(area, p, 1.0).map_err(e)?;
     }
     root.present().map_err(e)?;
     Ok(())

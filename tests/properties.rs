@@ -81,8 +81,10 @@ proptest! {
         let at = eqs[pos % eqs.len()] + 1;
         let end = base[at..].find(['\n', '#', ',', ']', '}']).map_or(base.len(), |k| at + k);
         let text = format!("{} {}{}", &base[..at], replacement, &base[end..]);
-        if let Ok(scene) = Scene::from_toml(&text) {
-            if scene.model.n_elements <= 64 {
+        if let Ok(scene) = Scene::from_toml(&text)
+            && scene.model.n_elements <= 64
+        {
+            {
                 let dir = std::env::temp_dir().join(format!("ancf-prop-{}-{}", std::process::id(), pos));
                 let summary = ancf::run::run_scene(&scene, &ancf::run::RunOptions { out: dir.clone(), quiet: true });
                 let _ = std::fs::remove_dir_all(&dir);

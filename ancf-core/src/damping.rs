@@ -11,7 +11,7 @@
 //! The dissipated power Q_d · v ≥ 0 is integrated into the energy balance.
 
 use crate::element::{
-    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
+    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, strain_matrix,
 };
 use crate::material::{Law, tensor_from_stress};
 use nalgebra::{SMatrix, Vector6};
@@ -23,25 +23,6 @@ pub enum Damping {
     Rayleigh { mass: f64, stiffness: f64 },
     /// σ_v = c D₀ Ė; `coefficient` c in s.
     KelvinVoigt { coefficient: f64 },
-}
-
-/// ∂ε/∂e (6×24, engineering shears) built from a deformation-gradient-like
-/// matrix `f` (F gives B, Ḟ gives the rate matrix B̃).
-fn strain_matrix(f: &[[f64; 3]; 3], g: &[[f64; 3]; 8]) -> SMatrix<f64, 6, 24> {
-    let mut b = SMatrix::<f64, 6, 24>::zeros();
-    for i in 0..8 {
-        for k in 0..3 {
-            let col = 3 * i + k;
-            let (fk, gi) = (&f[k], &g[i]);
-            b[(0, col)] = fk[0] * gi[0];
-            b[(1, col)] = fk[1] * gi[1];
-            b[(2, col)] = fk[2] * gi[2];
-            b[(3, col)] = fk[1] * gi[2] + fk[2] * gi[1];
-            b[(4, col)] = fk[0] * gi[2] + fk[2] * gi[0];
-            b[(5, col)] = fk[0] * gi[1] + fk[1] * gi[0];
-        }
-    }
-    b
 }
 
 /// One point of the Kelvin–Voigt force: adds w Bᵀσ_v to `q`, ∂/∂q to `kq`,
@@ -111,40 +92,9 @@ pub fn kelvin_voigt_element(
     mut kq: Option<&mut ElementMatrix>,
     mut kv: Option<&mut ElementMatrix>,
 ) -> f64 {
-    let l = ei.length;
     let mut power = 0.0;
-    for (xi, wx) in ei.axial.nodes.iter().zip(&ei.axial.weights) {
-        let wx = wx * l;
-        for layer in &ei.section.layers {
-            for p in &layer.points {
-                let g = shape_gradients(*xi, p.y, p.z, l);
-                power += kelvin_voigt_point(
-                    e,
-                    v,
-                    &g,
-                    wx * p.weight,
-                    &layer.laws.section,
-                    c,
-                    q,
-                    kq.as_deref_mut(),
-                    kv.as_deref_mut(),
-                );
-            }
-            if let Some(cl) = &layer.laws.centerline {
-                let g = shape_gradients(*xi, 0.0, 0.0, l);
-                power += kelvin_voigt_point(
-                    e,
-                    v,
-                    &g,
-                    wx * layer.area,
-                    cl,
-                    c,
-                    q,
-                    kq.as_deref_mut(),
-                    kv.as_deref_mut(),
-                );
-            }
-        }
-    }
+    ei.for_each_point(|g, w, law| {
+        power += kelvin_voigt_point(e, v, g, w, law, c, q, kq.as_deref_mut(), kv.as_deref_mut());
+    });
     power
 }

@@ -102,6 +102,26 @@ ancf_macros::structured_point_kernel! {
     gradient_sparsity = [[x], [x], [x, y], [x, z], [x], [x], [x, y], [x, z]];
 }
 
+/// ∂ε/∂e (6×24, Voigt with engineering shears) built from a
+/// deformation-gradient-like matrix `f`: with F it is the B matrix
+/// (δε = B δe); with Ḟ it is the rate matrix of Kelvin–Voigt damping.
+pub fn strain_matrix(f: &[[f64; 3]; 3], g: &[[f64; 3]; 8]) -> SMatrix<f64, 6, 24> {
+    let mut b = SMatrix::<f64, 6, 24>::zeros();
+    for i in 0..8 {
+        for k in 0..3 {
+            let col = 3 * i + k;
+            let (fk, gi) = (&f[k], &g[i]);
+            b[(0, col)] = fk[0] * gi[0];
+            b[(1, col)] = fk[1] * gi[1];
+            b[(2, col)] = fk[2] * gi[2];
+            b[(3, col)] = fk[1] * gi[2] + fk[2] * gi[1];
+            b[(4, col)] = fk[0] * gi[2] + fk[2] * gi[0];
+            b[(5, col)] = fk[0] * gi[1] + fk[1] * gi[0];
+        }
+    }
+    b
+}
+
 /// Generic point kernel, the textbook form: B = ∂ε/∂e (6×24),
 /// q += w Bᵀσ, K += w (BᵀDB + geometric part).
 pub fn point_kernel_generic(
@@ -114,19 +134,7 @@ pub fn point_kernel_generic(
 ) -> f64 {
     let f = deformation_gradient(e, g);
     let eps = green_lagrange(&f);
-    let mut b = SMatrix::<f64, 6, 24>::zeros();
-    for i in 0..8 {
-        for kk in 0..3 {
-            let col = 3 * i + kk;
-            let (fk, gi) = (&f[kk], &g[i]);
-            b[(0, col)] = fk[0] * gi[0];
-            b[(1, col)] = fk[1] * gi[1];
-            b[(2, col)] = fk[2] * gi[2];
-            b[(3, col)] = fk[1] * gi[2] + fk[2] * gi[1];
-            b[(4, col)] = fk[0] * gi[2] + fk[2] * gi[0];
-            b[(5, col)] = fk[0] * gi[1] + fk[1] * gi[0];
-        }
-    }
+    let b = strain_matrix(&f, g);
     let (sigma, tangent) = match k {
         Some(_) => {
             let st = law.stress_tangent(&eps);
@@ -245,29 +253,33 @@ impl ElementIntegration {
         q: &mut ElementVector,
         mut k: Option<&mut ElementMatrix>,
     ) -> f64 {
-        let l = self.length;
         let mut energy = 0.0;
+        self.for_each_point(|g, w, law| {
+            energy += point_kernel_generic(e, g, w, law, q, k.as_deref_mut())
+        });
+        energy
+    }
+
+    /// Visit every integration point with the shape gradients there, its
+    /// weight (m³) and its law: the section points of each layer and, where a
+    /// layer has one, its centerline point (weighted by the layer's area).
+    pub fn for_each_point(&self, mut visit: impl FnMut(&[[f64; 3]; 8], f64, &Law)) {
+        let l = self.length;
         for (xi, wx) in self.axial.nodes.iter().zip(&self.axial.weights) {
             let wx = wx * l;
             for layer in &self.section.layers {
                 for p in &layer.points {
-                    let g = shape_gradients(*xi, p.y, p.z, l);
-                    energy += point_kernel_generic(
-                        e,
-                        &g,
+                    visit(
+                        &shape_gradients(*xi, p.y, p.z, l),
                         wx * p.weight,
                         &layer.laws.section,
-                        q,
-                        k.as_deref_mut(),
                     );
                 }
                 if let Some(cl) = &layer.laws.centerline {
-                    let g = shape_gradients(*xi, 0.0, 0.0, l);
-                    energy += point_kernel_generic(e, &g, wx * layer.area, cl, q, k.as_deref_mut());
+                    visit(&shape_gradients(*xi, 0.0, 0.0, l), wx * layer.area, cl);
                 }
             }
         }
-        energy
     }
 
     /// Element mass matrix (kg), row-major 24×24: M = Σ ρ ∫ SᵀS dV, exact

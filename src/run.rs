@@ -378,6 +378,7 @@ fn run_dynamic(
                 Ok(mut s) => {
                     s.time = state.time;
                     s.dissipated = dissipated;
+                    integ.set_energy_reference(&s);
                     state = s;
                     released += 1;
                 }

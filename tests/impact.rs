@@ -166,3 +166,29 @@ fn penetration_falls_as_contact_stiffness_rises() {
         last = r.max_penetration;
     }
 }
+
+/// Issue 6 regression: with a time step 50× too coarse for the contact
+/// (h = 5e-3 s), converged steps used to pump energy into the wire (196 J on
+/// an 8 J swing at h = 1e-2 s) until Newton failed. Steps that create energy
+/// or drive the wire through the rod are now rejected and halved: the run
+/// completes, finite, and never gains energy.
+#[test]
+fn issue6_coarse_steps_through_contact_do_not_gain_energy() {
+    let s = scene(|t| t.replace("time_step = 1e-4", "time_step = 5e-3"));
+    let r = run(&s, 0.4);
+    assert!(r.first_contact.is_some());
+    let e0 = r.energies[0].1.total();
+    let scale = r
+        .energies
+        .iter()
+        .map(|(_, e)| e.gravity.abs())
+        .fold(0.0, f64::max);
+    for (t, e) in &r.energies {
+        let balance = e.total() + e.dissipated;
+        assert!(balance.is_finite(), "non-finite energy at {t}");
+        assert!(
+            balance <= e0 + 0.05 * scale,
+            "energy rose to {balance} J at t = {t} (scale {scale} J)"
+        );
+    }
+}

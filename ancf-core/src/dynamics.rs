@@ -145,6 +145,13 @@ pub struct Integrator<'m> {
     roundoff: f64,
     /// Rayleigh damping matrix α M + β K₀ in pattern slots (empty without it).
     rayleigh: Vec<f64>,
+    /// Total + dissipated energy at the initial state (J), for the energy guard.
+    energy_start: f64,
+    /// Largest kinetic + strain + |potentials| + contact seen so far (J).
+    energy_scale: f64,
+    /// Energy below which changes are round-off (J): 1e-9 of the model's
+    /// weight times its length (or 1e-12 J without gravity).
+    energy_floor: f64,
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -184,6 +191,21 @@ impl<'m> Integrator<'m> {
             ext: model.external_force(1.0),
             roundoff: model.roundoff_force(),
             rayleigh,
+            energy_start: 0.0,
+            energy_scale: 0.0,
+            energy_floor: match model.gravity_force() {
+                Some(_) => {
+                    let length = model.element.length * model.n_elements as f64;
+                    let g = model.effects.iter().find_map(|e| match e {
+                        crate::model::Effect::Gravity { acceleration, .. } => {
+                            Some(acceleration.iter().map(|x| x * x).sum::<f64>().sqrt())
+                        }
+                        _ => None,
+                    });
+                    1e-9 * model.total_mass() * g.unwrap_or(0.0) * length + 1e-12
+                }
+                None => 1e-12,
+            },
             pattern,
         })
     }
@@ -212,13 +234,26 @@ impl<'m> Integrator<'m> {
         self.solver.solve_in_place(&mut a);
         let mut a_full = vec![0.0; q0.len()];
         self.model.scatter_add(&a, 1.0, &mut a_full);
-        Ok(State {
+        let state = State {
             time: 0.0,
             q: q0,
             v: v0,
             a: a_full,
             dissipated: 0.0,
-        })
+        };
+        self.set_energy_reference(&state);
+        Ok(state)
+    }
+
+    /// The state the energy guard measures gains from (total + dissipated),
+    /// set by `initial_state`; call it again when a run continues from a
+    /// state carrying dissipation (a release phase).
+    pub fn set_energy_reference(&mut self, s: &State) {
+        let e = self.energies(s);
+        self.energy_start = e.total() + e.dissipated;
+        self.energy_scale = self
+            .energy_scale
+            .max(e.kinetic + e.strain + e.gravity.abs() + e.loads.abs() + e.contact);
     }
 
     /// Energies of a state.
@@ -256,7 +291,35 @@ impl<'m> Integrator<'m> {
         h: f64,
         depth: usize,
     ) -> Result<(State, StepInfo), StepError> {
-        match self.try_step(s, h) {
+        let attempt = self.try_step(s, h).and_then(|(next, info)| {
+            let Some(c) = self.model.contact() else { return Ok((next, info)) };
+            // A converged step that drove the wire deep into a rod was too coarse for the contact.
+            if info.contact.max_penetration > c.settings.max_penetration * c.wire_radius {
+                return Err(StepError {
+                    message: format!(
+                        "penetration {:.3e} m exceeds {} wire radii (contact.max_penetration)",
+                        info.contact.max_penetration, c.settings.max_penetration
+                    ),
+                });
+            }
+            // Nor may the run create energy: loads are constant and the
+            // scheme conservative or dissipative, so total + dissipated
+            // rising more than 1 % of the largest energy in play above its
+            // value at the start means the contact was not resolved
+            // (measured: h = 1e-2 s in the impact scene gained 196 J on an
+            // 8 J swing before Newton failed).
+            let e1 = self.energies(&next);
+            let scale = self.energy_scale.max(e1.kinetic + e1.strain + e1.gravity.abs() + e1.loads.abs() + e1.contact);
+            let gain = (e1.total() + e1.dissipated) - self.energy_start;
+            if gain > 0.01 * scale + self.energy_floor {
+                return Err(StepError {
+                    message: format!("the step would raise the energy {gain:.3e} J above its start (contact not resolved)"),
+                });
+            }
+            self.energy_scale = scale;
+            Ok((next, info))
+        });
+        match attempt {
             Ok((next, mut info)) => {
                 info.substeps = 1;
                 Ok((next, info))

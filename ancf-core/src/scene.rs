@@ -184,6 +184,7 @@ pub struct RodSpec {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
+    pub max_penetration: Option<f64>,
     pub stations: Option<usize>,
     pub angles: Option<usize>,
     pub slip_velocity: Option<f64>,
@@ -762,6 +763,9 @@ fn validate_rods(
                 return Err(err("contact.angles", format!("must be 3..=256, got {a}")));
             }
             settings.angles = a;
+        }
+        if let Some(m) = c.max_penetration {
+            settings.max_penetration = positive("contact.max_penetration", m)?;
         }
         if let Some(v) = c.slip_velocity {
             settings.slip_velocity = positive("contact.slip_velocity", v)?;

@@ -28,6 +28,7 @@ fn setup(friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
             stations: 6,
             angles: 12,
             slip_velocity: 1e-2,
+            ..Default::default()
         },
         RW,
         L,

@@ -28,13 +28,18 @@ enum Format {
 enum Command {
     /// Run a scene and write its outputs (summary.json, timeseries.csv, plots) into --out.
     Run {
-        scene: PathBuf,
+        /// The scene file (not needed with --resume).
+        #[arg(required_unless_present = "resume")]
+        scene: Option<PathBuf>,
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Continue the run whose outputs (and checkpoint.json) are in DIR.
+        #[arg(long, value_name = "DIR", conflicts_with = "scene")]
+        resume: Option<PathBuf>,
     },
     /// Validate a scene without running it.
     Check { scene: PathBuf },
@@ -87,18 +92,12 @@ fn main() -> ExitCode {
             }
             Err(code) => code,
         },
-        Command::Run { scene, out, quiet } => {
-            let s = match load(&scene) {
-                Ok(s) => s,
-                Err(code) => return code,
-            };
-            if !quiet {
-                eprintln!(
-                    "ancf: {} — {}",
-                    scene.display(),
-                    s.model.element.kernel_path()
-                );
-            }
+        Command::Run {
+            scene,
+            out,
+            quiet,
+            resume,
+        } => {
             // Ctrl-C ends the run after the current step, keeping everything written so far.
             if let Err(e) = ctrlc::set_handler(|| {
                 ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
@@ -107,13 +106,39 @@ fn main() -> ExitCode {
                     "warning: no Ctrl-C handler ({e}); an interrupt will stop the run without a summary"
                 );
             }
-            match run_scene(
-                &s,
-                &RunOptions {
-                    out: out.clone(),
-                    quiet,
-                },
-            ) {
+            let (result, out) = match (resume, scene) {
+                (Some(dir), _) => {
+                    if !quiet {
+                        eprintln!("ancf: resuming the run in {}", dir.display());
+                    }
+                    (ancf::run::resume(&dir, quiet), dir)
+                }
+                (None, Some(scene)) => {
+                    let s = match load(&scene) {
+                        Ok(s) => s,
+                        Err(code) => return code,
+                    };
+                    if !quiet {
+                        eprintln!(
+                            "ancf: {} — {}",
+                            scene.display(),
+                            s.model.element.kernel_path()
+                        );
+                    }
+                    (
+                        run_scene(
+                            &s,
+                            &RunOptions {
+                                out: out.clone(),
+                                quiet,
+                            },
+                        ),
+                        out,
+                    )
+                }
+                (None, None) => unreachable!("clap requires a scene without --resume"),
+            };
+            match result {
                 Ok(summary) if summary.status == "completed" => {
                     println!(
                         "completed: {} steps, {} Newton iterations, {:.2} s wall; outputs in {}",

@@ -33,7 +33,7 @@ pub struct TipSummary {
 }
 
 /// Contact statistics of a run with rods.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 pub struct ContactSummary {
     /// Time of the first contact, s (null: never touched).
     pub first_time: Option<f64>,
@@ -46,7 +46,7 @@ pub struct ContactSummary {
 }
 
 /// One rod's load: what a frame designer needs.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 pub struct RodSummary {
     /// Peak normal force, N.
     pub peak_force: f64,
@@ -112,6 +112,13 @@ impl TimeSeries {
         })
     }
 
+    /// Continue an existing `timeseries.csv` (a resumed run).
+    pub fn append(dir: &Path, _contact: bool) -> std::io::Result<Self> {
+        Ok(TimeSeries {
+            table: Table::append(&dir.join("timeseries.csv"))?,
+        })
+    }
+
     pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
         self.table.row(values)
     }
@@ -127,6 +134,13 @@ impl Table {
         let mut file = BufWriter::new(File::create(path)?);
         writeln!(file, "{header}")?;
         Ok(Table { file })
+    }
+
+    /// Continue an existing table.
+    pub fn append(path: &Path) -> std::io::Result<Self> {
+        Ok(Table {
+            file: BufWriter::new(std::fs::OpenOptions::new().append(true).open(path)?),
+        })
     }
 
     pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {

@@ -76,13 +76,7 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
 pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| io_err(&opts.out, e))?;
     let model = &scene.model;
-    let mut summary = Summary {
-        elements: model.n_elements,
-        unknowns: model.n_unknowns,
-        kernel: model.element.kernel_path().to_string(),
-        effects: effect_names(model),
-        ..Default::default()
-    };
+    let mut summary = new_summary(scene);
     let start = Instant::now();
     let final_q = match &scene.analysis {
         Analysis::Static {
@@ -134,15 +128,11 @@ pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
                 *load_steps,
                 opts,
                 &mut summary,
+                None,
             )?
         }
     };
-    summary.tip = tip(model, &final_q);
-    summary.wall_time_s = start.elapsed().as_secs_f64();
-    write_final_nodes(&opts.out, &node_positions(model, &final_q))
-        .map_err(|e| io_err(&opts.out, e))?;
-    summary.write(&opts.out).map_err(|e| io_err(&opts.out, e))?;
-    Ok(summary)
+    finish(scene, opts, summary, &final_q, start)
 }
 
 fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
@@ -160,7 +150,7 @@ fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
 }
 
 /// The material point that touched a rod first: element and (ξ, y, z).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 struct ContactPoint {
     element: usize,
     xi: f64,
@@ -169,7 +159,7 @@ struct ContactPoint {
 }
 
 /// History kept for the plots (written steps only).
-#[derive(Default)]
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 struct History {
     time: Vec<f64>,
     energies: Vec<Energies>,
@@ -208,13 +198,133 @@ fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 
 }
 
 /// Per-rod statistics (issue 8): peak normal force, its time, impulse.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 struct RodStats {
     peak_force: f64,
     peak_time: f64,
     impulse: f64,
 }
 
+/// Everything a dynamic run accumulates: what a checkpoint saves and a
+/// resumed run starts from.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+struct Progress {
+    /// Steps completed.
+    k: usize,
+    phase: usize,
+    state: State,
+    energy_reference: (f64, f64),
+    newton_iterations: usize,
+    factorizations: usize,
+    released: usize,
+    message: String,
+    contact: Option<ContactSummary>,
+    rod_stats: Vec<RodStats>,
+    first_point: Option<ContactPoint>,
+    history: History,
+    max_drift: f64,
+    e0: Energies,
+    last: Energies,
+    vtk_frames: Vec<(f64, String)>,
+}
+
+/// `checkpoint.json`: the scene and the progress after a step.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Checkpoint {
+    scene: String,
+    progress: Progress,
+}
+
+fn write_checkpoint(out: &Path, scene: &Scene, p: &Progress) -> Result<(), String> {
+    let text = serde_json::to_string(&Checkpoint {
+        scene: scene.source.clone(),
+        progress: p.clone(),
+    })
+    .map_err(|e| format!("checkpoint: {e}"))?;
+    let tmp = out.join("checkpoint.json.tmp");
+    std::fs::write(&tmp, text).map_err(|e| io_err(out, e))?;
+    std::fs::rename(&tmp, out.join("checkpoint.json")).map_err(|e| io_err(out, e))
+}
+
+/// Keep the header and the rows of a CSV whose first column is ≤ `t`.
+fn truncate_csv(path: &Path, t: f64) -> Result<(), String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(());
+    };
+    let mut kept = String::new();
+    for (i, line) in text.lines().enumerate() {
+        let time = line.split(',').next().and_then(|v| v.parse::<f64>().ok());
+        if i == 0 || time.is_some_and(|x| x <= t + 1e-9 * t.abs().max(1e-300)) {
+            kept.push_str(line);
+            kept.push('\n');
+        }
+    }
+    std::fs::write(path, kept).map_err(|e| io_err(path, e))
+}
+
+/// Continue the run checkpointed in `dir` (`ancf run --resume DIR`): the
+/// outputs are cut back to the checkpoint and continued; the result equals
+/// an uninterrupted run bit for bit.
+pub fn resume(dir: &Path, quiet: bool) -> Result<Summary, String> {
+    let path = dir.join("checkpoint.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let ck: Checkpoint =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::from_toml(&ck.scene).map_err(|e| format!("the checkpoint's scene: {e}"))?;
+    let Analysis::Dynamic { settings, .. } = &scene.analysis else {
+        return Err("only dynamic runs have checkpoints".into());
+    };
+    let t = ck.progress.state.time;
+    truncate_csv(&dir.join("timeseries.csv"), t)?;
+    truncate_csv(&dir.join("rod_forces.csv"), t)?;
+    let opts = RunOptions {
+        out: dir.to_path_buf(),
+        quiet,
+    };
+    let mut summary = new_summary(&scene);
+    summary.analysis = "dynamic".into();
+    let start = Instant::now();
+    let q = run_dynamic(
+        &scene,
+        settings,
+        false,
+        1,
+        &opts,
+        &mut summary,
+        Some(ck.progress),
+    )?;
+    finish(&scene, &opts, summary, &q, start)
+}
+
+fn new_summary(scene: &Scene) -> Summary {
+    let model = &scene.model;
+    Summary {
+        elements: model.n_elements,
+        unknowns: model.n_unknowns,
+        kernel: model.element.kernel_path().to_string(),
+        effects: effect_names(model),
+        ..Default::default()
+    }
+}
+
+fn finish(
+    scene: &Scene,
+    opts: &RunOptions,
+    mut summary: Summary,
+    final_q: &[f64],
+    start: Instant,
+) -> Result<Summary, String> {
+    let model = &scene.model;
+    summary.tip = tip(model, final_q);
+    summary.wall_time_s = start.elapsed().as_secs_f64();
+    write_final_nodes(&opts.out, &node_positions(model, final_q))
+        .map_err(|e| io_err(&opts.out, e))?;
+    summary.write(&opts.out).map_err(|e| io_err(&opts.out, e))?;
+    Ok(summary)
+}
+
+#[allow(clippy::too_many_arguments)]
 fn run_dynamic(
     scene: &Scene,
     settings: &ancf_core::dynamics::DynamicSettings,
@@ -222,26 +332,28 @@ fn run_dynamic(
     load_steps: usize,
     opts: &RunOptions,
     summary: &mut Summary,
+    resume: Option<Progress>,
 ) -> Result<Vec<f64>, String> {
     let model = &scene.model;
     let out = &opts.out;
     let contact = model.contact();
     let n_rods = contact.map_or(0, |c| c.rods.len());
-    let mut series = TimeSeries::create(out, contact.is_some()).map_err(|e| io_err(out, e))?;
+    let resuming = resume.is_some();
+    let mut series = if resuming {
+        TimeSeries::append(out, contact.is_some())
+    } else {
+        TimeSeries::create(out, contact.is_some())
+    }
+    .map_err(|e| io_err(out, e))?;
     let mut rod_csv = if n_rods > 0 {
         let header: Vec<String> = (0..n_rods).map(|i| format!("rod{i}_force")).collect();
-        Some(
-            crate::output::Table::create(
-                &out.join("rod_forces.csv"),
-                &format!("time,{}", header.join(",")),
-            )
-            .map_err(|e| io_err(out, e))?,
-        )
-    } else {
-        None
-    };
-    let mut vtk = if scene.output.vtk {
-        Some(VtkWriter::new(&out.join("vtk"), model).map_err(|e| io_err(out, e))?)
+        let path = out.join("rod_forces.csv");
+        let table = if resuming {
+            crate::output::Table::append(&path)
+        } else {
+            crate::output::Table::create(&path, &format!("time,{}", header.join(",")))
+        };
+        Some(table.map_err(|e| io_err(out, e))?)
     } else {
         None
     };
@@ -254,63 +366,12 @@ fn run_dynamic(
     let mut phase_starts = vec![0.0];
     phase_starts.extend(releases.iter().copied().filter(|t| *t > 0.0));
     let phases: Vec<Model> = phase_starts.iter().map(|t| model.holding_at(*t)).collect();
-
-    // Initial coordinates: static equilibrium with every support holding, or the supports' positions.
-    let q0 = if initial_static {
-        let st = StaticSettings {
-            load_steps,
-            ..Default::default()
-        };
-        match solve_static(model, &st) {
-            Ok(res) => {
-                summary.message = format!(
-                    "initial static equilibrium in {:?} iterations; ",
-                    res.iterations
-                );
-                res.q
-            }
-            Err(e) => {
-                summary.status = "failed".into();
-                summary.message = format!(
-                    "initial static equilibrium: {}. Likely cause: supports too far from the wire's \
-                     reach or a load too large; increase analysis.load_steps",
-                    e.message
-                );
-                return Ok(e.last_converged);
-            }
-        }
-    } else {
-        model.initial_coordinates()
-    };
     let fail_setup = |summary: &mut Summary, what: &str, msg: String| {
         summary.status = "failed".into();
         summary.message = format!("{what}: {msg}");
     };
-    let mut phase = 0;
-    let mut integ = match Integrator::new(&phases[0], settings.clone()) {
-        Ok(i) => i,
-        Err(e) => {
-            fail_setup(summary, "setting up the solver", e.message);
-            return Ok(q0);
-        }
-    };
-    let mut state = match integ.initial_state(q0.clone(), vec![0.0; q0.len()]) {
-        Ok(s) => s,
-        Err(e) => {
-            fail_setup(summary, "initial acceleration", e.message);
-            return Ok(q0);
-        }
-    };
-    summary.unknowns = phases[0].n_unknowns;
     let h = settings.time_step;
     let n_steps = (settings.end_time / h - 1e-9).ceil() as usize;
-    let bar = progress_bar(n_steps as u64, opts.quiet);
-    let mut history = History::default();
-    let e0 = integ.energies(&state);
-    let mut contact_summary = contact.map(|_| ContactSummary::default());
-    let mut rod_stats = vec![RodStats::default(); n_rods];
-    let mut first_point: Option<ContactPoint> = None;
-    let snapshot_every = (n_steps / 8).max(1);
     let write = |series: &mut TimeSeries,
                  vtk: &mut Option<VtkWriter>,
                  history: &mut History,
@@ -343,44 +404,130 @@ fn run_dynamic(
         history.energies.push(*e);
         Ok(())
     };
-    let no_contact = ancf_core::contact::ContactSample::default();
-    write(
-        &mut series,
-        &mut vtk,
-        &mut history,
-        &state,
-        &e0,
-        0,
-        contact.map(|_| &no_contact),
-    )
-    .map_err(|e| io_err(out, e))?;
-    history.shapes.push((0.0, centerline(model, &state.q)));
-    let mut max_drift: f64 = 0.0;
-    let mut last = e0;
-    let mut released = 0;
+
+    let (mut p, mut integ, mut vtk) = match resume {
+        Some(p) => {
+            let mut integ =
+                Integrator::new(&phases[p.phase], settings.clone()).map_err(|e| e.message)?;
+            integ.restore_energy_reference(p.energy_reference);
+            let vtk = if scene.output.vtk {
+                Some(
+                    VtkWriter::resume(&out.join("vtk"), model, p.vtk_frames.clone())
+                        .map_err(|e| io_err(out, e))?,
+                )
+            } else {
+                None
+            };
+            (p, integ, vtk)
+        }
+        None => {
+            let mut vtk = if scene.output.vtk {
+                Some(VtkWriter::new(&out.join("vtk"), model).map_err(|e| io_err(out, e))?)
+            } else {
+                None
+            };
+            // Initial coordinates: static equilibrium with every support holding, or the supports' positions.
+            let mut message = String::new();
+            let q0 = if initial_static {
+                let st = StaticSettings {
+                    load_steps,
+                    ..Default::default()
+                };
+                match solve_static(model, &st) {
+                    Ok(res) => {
+                        message = format!(
+                            "initial static equilibrium in {:?} iterations; ",
+                            res.iterations
+                        );
+                        res.q
+                    }
+                    Err(e) => {
+                        summary.status = "failed".into();
+                        summary.message = format!(
+                            "initial static equilibrium: {}. Likely cause: supports too far from the wire's \
+                             reach or a load too large; increase analysis.load_steps",
+                            e.message
+                        );
+                        return Ok(e.last_converged);
+                    }
+                }
+            } else {
+                model.initial_coordinates()
+            };
+            let mut integ = match Integrator::new(&phases[0], settings.clone()) {
+                Ok(i) => i,
+                Err(e) => {
+                    fail_setup(summary, "setting up the solver", e.message);
+                    return Ok(q0);
+                }
+            };
+            let state = match integ.initial_state(q0.clone(), vec![0.0; q0.len()]) {
+                Ok(s) => s,
+                Err(e) => {
+                    fail_setup(summary, "initial acceleration", e.message);
+                    return Ok(q0);
+                }
+            };
+            let e0 = integ.energies(&state);
+            let mut history = History::default();
+            let no_contact = ancf_core::contact::ContactSample::default();
+            write(
+                &mut series,
+                &mut vtk,
+                &mut history,
+                &state,
+                &e0,
+                0,
+                contact.map(|_| &no_contact),
+            )
+            .map_err(|e| io_err(out, e))?;
+            history.shapes.push((0.0, centerline(model, &state.q)));
+            let p = Progress {
+                k: 0,
+                phase: 0,
+                energy_reference: integ.energy_reference(),
+                state,
+                newton_iterations: 0,
+                factorizations: 0,
+                released: 0,
+                message,
+                contact: contact.map(|_| ContactSummary::default()),
+                rod_stats: vec![RodStats::default(); n_rods],
+                first_point: None,
+                history,
+                max_drift: 0.0,
+                e0,
+                last: e0,
+                vtk_frames: Vec::new(),
+            };
+            (p, integ, vtk)
+        }
+    };
+    summary.unknowns = phases[0].n_unknowns;
+    let bar = progress_bar(n_steps as u64, opts.quiet);
+    bar.set_position(p.k as u64);
+    let snapshot_every = (n_steps / 8).max(1);
     summary.status = "completed".into();
-    summary
-        .message
-        .push_str(&format!("{n_steps} steps of {h} s"));
-    for k in 1..=n_steps {
+    summary.message = format!("{}{n_steps} steps of {h} s", p.message);
+    for k in p.k + 1..=n_steps {
         // A release inside this step: switch to the next phase at its start.
-        while phase + 1 < phases.len() && phase_starts[phase + 1] <= state.time + 1e-12 * h {
-            phase += 1;
-            let dissipated = state.dissipated;
-            integ = match Integrator::new(&phases[phase], settings.clone()) {
+        while p.phase + 1 < phases.len() && phase_starts[p.phase + 1] <= p.state.time + 1e-12 * h {
+            p.phase += 1;
+            let dissipated = p.state.dissipated;
+            integ = match Integrator::new(&phases[p.phase], settings.clone()) {
                 Ok(i) => i,
                 Err(e) => {
                     fail_setup(summary, "setting up the solver after a release", e.message);
                     break;
                 }
             };
-            match integ.initial_state(state.q.clone(), state.v.clone()) {
+            match integ.initial_state(p.state.q.clone(), p.state.v.clone()) {
                 Ok(mut s) => {
-                    s.time = state.time;
+                    s.time = p.state.time;
                     s.dissipated = dissipated;
                     integ.set_energy_reference(&s);
-                    state = s;
-                    released += 1;
+                    p.state = s;
+                    p.released += 1;
                 }
                 Err(e) => {
                     fail_setup(summary, "acceleration after a release", e.message);
@@ -394,29 +541,34 @@ fn run_dynamic(
         if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
             summary.status = "interrupted".into();
             summary.message = format!(
-                "interrupted (Ctrl-C) before step {k} at t = {:.6} s; output up to the last written step is kept",
-                state.time
+                "interrupted (Ctrl-C) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
+                p.state.time,
+                if scene.output.checkpoint_every > 0 {
+                    "; continue with `ancf run --resume DIR`"
+                } else {
+                    ""
+                }
             );
             break;
         }
         let hk = if k == n_steps {
-            settings.end_time - state.time
+            settings.end_time - p.state.time
         } else {
             h
         };
-        match integ.step(&state, hk) {
+        match integ.step(&p.state, hk) {
             Ok((next, info)) => {
-                state = next;
-                summary.steps = k;
-                summary.newton_iterations += info.iterations;
-                summary.factorizations += info.factorizations;
-                if let (Some(cs), Some(c)) = (contact_summary.as_mut(), contact) {
+                p.state = next;
+                p.k = k;
+                p.newton_iterations += info.iterations;
+                p.factorizations += info.factorizations;
+                if let (Some(cs), Some(c)) = (p.contact.as_mut(), contact) {
                     let sample = &info.contact;
                     if sample.active > 0 && cs.first_time.is_none() {
-                        cs.first_time = Some(state.time);
+                        cs.first_time = Some(p.state.time);
                         if let Some((el, dp)) = info.deepest {
                             let tp = &c.points[dp.point];
-                            first_point = Some(ContactPoint {
+                            p.first_point = Some(ContactPoint {
                                 element: el,
                                 xi: tp.xi,
                                 y: tp.y,
@@ -426,39 +578,41 @@ fn run_dynamic(
                     }
                     cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
                     cs.max_penetration = cs.max_penetration.max(sample.max_penetration);
-                    for (r, f) in rod_stats.iter_mut().zip(&info.rod_forces) {
+                    for (r, f) in p.rod_stats.iter_mut().zip(&info.rod_forces) {
                         r.impulse += f * hk;
                         if *f > r.peak_force {
                             r.peak_force = *f;
-                            r.peak_time = state.time;
+                            r.peak_time = p.state.time;
                         }
                     }
                 }
                 if k % scene.output.every == 0 || k == n_steps {
-                    let e = integ.energies(&state);
+                    let e = integ.energies(&p.state);
                     if !e.total().is_finite() {
                         summary.status = "failed".into();
                         summary.message = format!(
                             "step {k} at t = {:.6} s: the energy is not finite. Likely cause: an inverted \
                              element or a time step too large; reduce analysis.time_step",
-                            state.time
+                            p.state.time
                         );
                         break;
                     }
-                    max_drift = max_drift.max((e.total() + e.dissipated - e0.total()).abs());
-                    last = e;
+                    p.max_drift = p
+                        .max_drift
+                        .max((e.total() + e.dissipated - p.e0.total()).abs());
+                    p.last = e;
                     write(
                         &mut series,
                         &mut vtk,
-                        &mut history,
-                        &state,
+                        &mut p.history,
+                        &p.state,
                         &e,
                         info.iterations,
                         contact.map(|_| &info.contact),
                     )
                     .map_err(|e| io_err(out, e))?;
                     if let Some(t) = rod_csv.as_mut() {
-                        let mut row = vec![state.time];
+                        let mut row = vec![p.state.time];
                         row.extend(
                             info.rod_forces
                                 .iter()
@@ -467,14 +621,14 @@ fn run_dynamic(
                                 .take(n_rods),
                         );
                         t.row(&row).map_err(|e| io_err(out, e))?;
-                        history.rod_forces.push(row);
+                        p.history.rod_forces.push(row);
                     }
-                    if let Some(cp) = &first_point {
-                        let (p, strains) = point_state(model, &state.q, cp);
+                    if let Some(cp) = &p.first_point {
+                        let (pos, strains) = point_state(model, &p.state.q, cp);
                         let (p0, _) = point_state(model, &model.reference, cp);
-                        history.contact_point.push([
-                            state.time,
-                            p[2] - p0[2],
+                        p.history.contact_point.push([
+                            p.state.time,
+                            pos[2] - p0[2],
                             strains[0],
                             strains[1],
                             strains[2],
@@ -482,12 +636,23 @@ fn run_dynamic(
                     }
                 }
                 if k % snapshot_every == 0 || k == n_steps {
-                    history
+                    p.history
                         .shapes
-                        .push((state.time, centerline(model, &state.q)));
+                        .push((p.state.time, centerline(model, &p.state.q)));
+                }
+                let every = scene.output.checkpoint_every;
+                if every > 0 && k % every == 0 && k < n_steps {
+                    p.energy_reference = integ.energy_reference();
+                    p.vtk_frames = vtk
+                        .as_ref()
+                        .map(|v| v.frames().to_vec())
+                        .unwrap_or_default();
+                    write_checkpoint(out, scene, &p)?;
+                    // The resumed run starts without a factorization: so does this one.
+                    integ.refresh_factorization();
                 }
                 bar.set_position(k as u64);
-                bar.set_message(format!("{:.4} s", state.time));
+                bar.set_message(format!("{:.4} s", p.state.time));
             }
             Err(e) => {
                 summary.status = "failed".into();
@@ -495,21 +660,25 @@ fn run_dynamic(
                     "step {k} at t = {:.6} s: {}. Likely cause: a time step too large for the stiffness \
                      (material penalty, contact) or an unstable configuration; reduce analysis.time_step. \
                      Output up to t = {:.6} s is kept",
-                    state.time + hk,
+                    p.state.time + hk,
                     e.message,
-                    state.time
+                    p.state.time
                 );
                 break;
             }
         }
     }
     bar.finish_and_clear();
-    if released > 0 && summary.status == "completed" {
+    if p.released > 0 && summary.status == "completed" {
         summary
             .message
-            .push_str(&format!("; {released} support release(s)"));
+            .push_str(&format!("; {} support release(s)", p.released));
     }
-    summary.time = state.time;
+    summary.steps = p.k;
+    summary.newton_iterations = p.newton_iterations;
+    summary.factorizations = p.factorizations;
+    summary.time = p.state.time;
+    let last = p.last;
     summary.energy = Some(EnergySummary {
         kinetic: last.kinetic,
         strain: last.strain,
@@ -518,10 +687,11 @@ fn run_dynamic(
         contact: last.contact,
         dissipated: last.dissipated,
         total: last.total(),
-        max_drift,
+        max_drift: p.max_drift,
     });
-    if let Some(cs) = contact_summary.as_mut() {
-        cs.rods = rod_stats
+    if let Some(cs) = p.contact.as_mut() {
+        cs.rods = p
+            .rod_stats
             .iter()
             .map(|r| crate::output::RodSummary {
                 peak_force: r.peak_force,
@@ -530,14 +700,14 @@ fn run_dynamic(
             })
             .collect();
     }
-    summary.contact = contact_summary;
+    summary.contact = p.contact.clone();
     if scene.output.plots {
-        plot_dynamic(out, model, &history)?;
+        plot_dynamic(out, model, &p.history)?;
     }
-    if !history.contact_point.is_empty() {
-        write_contact_point(out, &history).map_err(|e| io_err(out, e))?;
+    if !p.history.contact_point.is_empty() {
+        write_contact_point(out, &p.history).map_err(|e| io_err(out, e))?;
     }
-    Ok(state.q)
+    Ok(p.state.q)
 }
 
 fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {

@@ -150,6 +150,19 @@ impl VtkWriter {
         })
     }
 
+    /// Continue a series: the rods are rewritten, `frames` (from a
+    /// checkpoint) are kept and numbering continues after them.
+    pub fn resume(dir: &Path, model: &Model, frames: Vec<(f64, String)>) -> std::io::Result<Self> {
+        let mut w = VtkWriter::new(dir, model)?;
+        w.frames = frames;
+        Ok(w)
+    }
+
+    /// The frames written so far: (time, file name).
+    pub fn frames(&self) -> &[(f64, String)] {
+        &self.frames
+    }
+
     /// Writes the wire at time `t` with coordinates `q` and velocities `v`.
     pub fn frame(&mut self, model: &Model, t: f64, q: &[f64], v: &[f64]) -> std::io::Result<()> {
         let l = model.element.length;

@@ -299,3 +299,86 @@ fn interrupted_run_keeps_its_output() {
     assert!(dir.join("vtk/wire.pvd").exists() && dir.join("final_nodes.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 6 §5: a run interrupted after a checkpoint and continued with
+/// `ancf run --resume DIR` ends bit for bit like an uninterrupted run.
+#[test]
+fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
+    let dir = tmp("resume");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.4")
+        .replace("every = 50 ", "every = 50\ncheckpoint_every = 700 ");
+    assert!(scene.contains("checkpoint_every = 700"));
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, scene).unwrap();
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let run = |out: &std::path::Path| {
+        ancf()
+            .args([
+                "run",
+                path.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ])
+            .output()
+            .unwrap()
+    };
+    assert!(run(&a).status.success());
+    let mut child = ancf()
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            b.to_str().unwrap(),
+            "--quiet",
+        ])
+        .spawn()
+        .unwrap();
+    for _ in 0..400 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        if b.join("checkpoint.json").exists() {
+            break;
+        }
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert_eq!(
+        child.wait().unwrap().code(),
+        Some(130),
+        "the run must still be going when interrupted"
+    );
+    let resumed = ancf()
+        .args(["run", "--resume", b.to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    for file in [
+        "final_nodes.csv",
+        "timeseries.csv",
+        "rod_forces.csv",
+        "vtk/wire.pvd",
+    ] {
+        let (x, y) = (
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+        );
+        assert!(x == y, "{file} differs after resuming");
+    }
+    let json = |d: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+    };
+    let (mut sa, mut sb) = (json(&a), json(&b));
+    sa["wall_time_s"] = serde_json::Value::Null;
+    sb["wall_time_s"] = serde_json::Value::Null;
+    assert_eq!(sa, sb);
+    let _ = std::fs::remove_dir_all(&dir);
+}

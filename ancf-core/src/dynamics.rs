@@ -77,7 +77,7 @@ impl AlphaParameters {
 }
 
 /// State in full coordinates.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
     pub time: f64,
     pub q: Vec<f64>,
@@ -88,7 +88,7 @@ pub struct State {
 }
 
 /// Energies of a state (J).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Energies {
     pub kinetic: f64,
     pub strain: f64,
@@ -243,6 +243,23 @@ impl<'m> Integrator<'m> {
         };
         self.set_energy_reference(&state);
         Ok(state)
+    }
+
+    /// Drop the kept factorization: the next step refactors. Checkpointed
+    /// runs call it after every checkpoint, so a resumed run (which starts
+    /// without a factorization) repeats the same iterations, bit for bit.
+    pub fn refresh_factorization(&mut self) {
+        self.factored_for = None;
+    }
+
+    /// The energy guard's reference (start, scale), for checkpoints.
+    pub fn energy_reference(&self) -> (f64, f64) {
+        (self.energy_start, self.energy_scale)
+    }
+
+    /// Restore the energy guard's reference from a checkpoint.
+    pub fn restore_energy_reference(&mut self, reference: (f64, f64)) {
+        (self.energy_start, self.energy_scale) = reference;
     }
 
     /// The state the energy guard measures gains from (total + dissipated),

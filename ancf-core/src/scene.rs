@@ -194,6 +194,7 @@ pub struct ContactSpec {
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     pub every: Option<usize>,
+    pub checkpoint_every: Option<usize>,
     pub vtk: Option<bool>,
     pub plots: Option<bool>,
 }
@@ -229,6 +230,8 @@ pub mod defaults {
     pub const SPECTRAL_RADIUS: f64 = 0.9;
     pub const TOLERANCE: f64 = 1e-10;
     pub const OUTPUT_EVERY: usize = 1;
+    /// A checkpoint every 1000 steps: a few per typical run, negligible cost.
+    pub const CHECKPOINT_EVERY: usize = 1000;
 }
 
 /// What a run does, after validation.
@@ -253,6 +256,8 @@ pub enum Analysis {
 pub struct OutputSettings {
     /// Write every N-th step (≥ 1).
     pub every: usize,
+    /// Write `checkpoint.json` every N steps (0: never). Default 1000.
+    pub checkpoint_every: usize,
     pub vtk: bool,
     pub plots: bool,
 }
@@ -260,6 +265,8 @@ pub struct OutputSettings {
 /// A validated scene, ready to run.
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// The TOML text it was read from (kept in checkpoints; empty when built otherwise).
+    pub source: String,
     pub model: Model,
     pub analysis: Analysis,
     pub output: OutputSettings,
@@ -325,7 +332,9 @@ impl Scene {
                 message: msg.trim_end().to_string(),
             }
         })?;
-        Scene::from_file(&file)
+        let mut scene = Scene::from_file(&file)?;
+        scene.source = text.to_string();
+        Ok(scene)
     }
 
     /// Read, parse and validate a scene file.
@@ -589,12 +598,14 @@ impl Scene {
                 }
                 OutputSettings {
                     every,
+                    checkpoint_every: o.checkpoint_every.unwrap_or(defaults::CHECKPOINT_EVERY),
                     vtk: o.vtk.unwrap_or(true),
                     plots: o.plots.unwrap_or(true),
                 }
             }
             None => OutputSettings {
                 every: defaults::OUTPUT_EVERY,
+                checkpoint_every: defaults::CHECKPOINT_EVERY,
                 vtk: true,
                 plots: true,
             },
@@ -628,6 +639,7 @@ impl Scene {
             ));
         }
         Ok(Scene {
+            source: String::new(),
             model,
             analysis,
             output,

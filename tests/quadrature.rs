@@ -82,3 +82,33 @@ fn build_time_axial_constants_match_runtime_rules() {
     }
     assert!(compiled_axial_rule(17).is_none());
 }
+
+#[test]
+fn weighted_ring_rule_integrates_layered_stiffness_exactly() {
+    use ancf_core::quadrature::ring_rule_weighted;
+    let pieces = [(0.0, 0.0052, 3.0), (0.0052, 0.01407, 1.0)];
+    for n in 1..=6 {
+        let pts = ring_rule_weighted(n, &pieces);
+        for deg in 0..=(2 * n as u32 - 1) {
+            for a in 0..=deg {
+                let b = deg - a;
+                let q: f64 = pts
+                    .iter()
+                    .map(|p| p.weight * p.y.powi(a as i32) * p.z.powi(b as i32))
+                    .sum();
+                let exact: f64 = pieces
+                    .iter()
+                    .map(|&(r1, r2, c)| c * ring_monomial_integral(a, b, r1, r2))
+                    .sum();
+                let scale = pieces
+                    .iter()
+                    .map(|&(r1, r2, c)| c * ring_monomial_integral(deg + deg % 2, 0, r1, r2))
+                    .sum::<f64>();
+                assert!(
+                    (q - exact).abs() < 1e-12 * scale,
+                    "n={n} y^{a} z^{b}: {q} vs {exact}"
+                );
+            }
+        }
+    }
+}

@@ -200,7 +200,91 @@ pub struct ElementIntegration {
     /// Axial Gauss–Legendre rule on ξ ∈ [0, 1] (weights sum to 1).
     pub axial: Rule1d,
     pub section: Section,
+    /// The points the generated kernel integrates (see [`IntegrationPlan`]).
+    pub plan: IntegrationPlan,
     kernel: Option<ElementKernelFn>,
+}
+
+/// Section points sharing one law.
+#[derive(Clone, Debug)]
+pub struct PointGroup {
+    pub points: Vec<crate::quadrature::SectionPoint>,
+    pub law: Law,
+}
+
+/// How the generated kernel integrates a section, exactly as the per-layer
+/// rule does, with fewer points:
+/// * circular layers whose section laws are linear and proportional
+///   (D_k = c_k D̂: the default ν = 0 split with a common ω) share one ring
+///   rule of order 3 for the piecewise weight c(ρ) — exact, since an SVK
+///   integrand is a polynomial of degree 4 in (y, z) — whatever the
+///   section order (≥ 3) asked for: two layers cost 7 points instead of 14;
+/// * linear centerline laws are summed into one centerline law.
+///
+/// Other layers (Mooney–Rivlin, order < 3, rectangles) keep their points.
+#[derive(Clone, Debug)]
+pub struct IntegrationPlan {
+    pub groups: Vec<PointGroup>,
+    /// Centerline laws with their weights (m²).
+    pub centerline: Vec<(Law, f64)>,
+}
+
+impl IntegrationPlan {
+    pub fn new(section: &Section) -> Self {
+        let mut groups: Vec<PointGroup> = Vec::new();
+        // Proportional linear circular layers: (D̂, pieces (r1, r2, c)).
+        let mut merged: Vec<(nalgebra::Matrix6<f64>, Vec<(f64, f64, f64)>)> = Vec::new();
+        let radii = match &section.shape {
+            crate::section::SectionShape::Circular { radii } if section.order >= 3 => Some(radii),
+            _ => None,
+        };
+        for (i, layer) in section.layers.iter().enumerate() {
+            match (&layer.laws.section, radii) {
+                (Law::Linear(d), Some(radii)) => {
+                    let (r1, r2) = radii[i];
+                    let scale = |a: &nalgebra::Matrix6<f64>, b: &nalgebra::Matrix6<f64>| {
+                        let c = a.dot(b) / b.dot(b);
+                        ((a - b * c).norm() <= 1e-12 * a.norm()).then_some(c)
+                    };
+                    match merged
+                        .iter_mut()
+                        .find_map(|(dh, pieces)| scale(d, dh).map(|c| (pieces, c)))
+                    {
+                        Some((pieces, c)) if c > 0.0 => pieces.push((r1, r2, c)),
+                        _ => merged.push((*d, vec![(r1, r2, 1.0)])),
+                    }
+                }
+                _ => groups.push(PointGroup {
+                    points: layer.points.clone(),
+                    law: layer.laws.section.clone(),
+                }),
+            }
+        }
+        for (d, pieces) in merged {
+            groups.push(PointGroup {
+                points: crate::quadrature::ring_rule_weighted(3, &pieces),
+                law: Law::Linear(d),
+            });
+        }
+        let mut linear = nalgebra::Matrix6::<f64>::zeros();
+        let mut centerline = Vec::new();
+        for layer in &section.layers {
+            match &layer.laws.centerline {
+                Some(Law::Linear(d)) => linear += d * layer.area,
+                Some(other) => centerline.push((other.clone(), layer.area)),
+                None => {}
+            }
+        }
+        if linear.iter().any(|v| *v != 0.0) {
+            centerline.push((Law::Linear(linear), 1.0));
+        }
+        IntegrationPlan { groups, centerline }
+    }
+
+    /// Points per axial station.
+    pub fn points(&self) -> usize {
+        self.groups.iter().map(|g| g.points.len()).sum::<usize>() + self.centerline.len()
+    }
 }
 
 impl ElementIntegration {
@@ -208,6 +292,7 @@ impl ElementIntegration {
         ElementIntegration {
             length,
             axial: gauss_legendre_unit(axial_order),
+            plan: IntegrationPlan::new(&section),
             section,
             kernel: generated::element_kernel_for(axial_order),
         }
@@ -338,21 +423,16 @@ pub fn structured_element<const N: usize>(
     let mut energy = 0.0;
     for a in 0..N {
         let (xi, wx) = (nodes[a], weights[a] * l);
-        for layer in &ei.section.layers {
-            for p in &layer.points {
+        for group in &ei.plan.groups {
+            for p in &group.points {
                 let g = shape_gradients(xi, p.y, p.z, l);
-                energy += point_kernel(
-                    e,
-                    &g,
-                    wx * p.weight,
-                    &layer.laws.section,
-                    q,
-                    k.as_deref_mut(),
-                );
+                energy += point_kernel(e, &g, wx * p.weight, &group.law, q, k.as_deref_mut());
             }
-            if let Some(cl) = &layer.laws.centerline {
-                let g = shape_gradients(xi, 0.0, 0.0, l);
-                energy += point_kernel(e, &g, wx * layer.area, cl, q, k.as_deref_mut());
+        }
+        if !ei.plan.centerline.is_empty() {
+            let g = shape_gradients(xi, 0.0, 0.0, l);
+            for (law, w) in &ei.plan.centerline {
+                energy += point_kernel(e, &g, wx * w, law, q, k.as_deref_mut());
             }
         }
     }

@@ -90,16 +90,26 @@ pub fn gauss_legendre_unit(n: usize) -> Rule1d {
 /// procedure forms (degree ≤ 2n + 1 times |s|) exactly: the recurrence, and so
 /// the rule, is exact up to round-off.
 pub fn signed_radius_rule(n: usize, r1: f64, r2: f64) -> Rule1d {
-    assert!(n >= 1 && r1 >= 0.0 && r2 > r1);
+    signed_radius_rule_weighted(n, &[(r1, r2, 1.0)])
+}
+
+/// The Gauss rule for the weight c_k |s| on each piece r1_k ≤ |s| ≤ r2_k
+/// (`pieces` = (r1, r2, c), non-overlapping, c > 0): concentric layers of
+/// different stiffness integrated by one rule.
+pub fn signed_radius_rule_weighted(n: usize, pieces: &[(f64, f64, f64)]) -> Rule1d {
+    assert!(n >= 1 && !pieces.is_empty());
     let gl = gauss_legendre(n + 2);
-    let (mid, half) = (0.5 * (r1 + r2), 0.5 * (r2 - r1));
     let mut xs = Vec::new();
     let mut ws = Vec::new();
-    for (x, w) in gl.nodes.iter().zip(&gl.weights) {
-        let s = mid + half * x;
-        for sign in [-1.0, 1.0] {
-            xs.push(sign * s);
-            ws.push(w * half * s);
+    for &(r1, r2, c) in pieces {
+        assert!(r1 >= 0.0 && r2 > r1 && c > 0.0);
+        let (mid, half) = (0.5 * (r1 + r2), 0.5 * (r2 - r1));
+        for (x, w) in gl.nodes.iter().zip(&gl.weights) {
+            let s = mid + half * x;
+            for sign in [-1.0, 1.0] {
+                xs.push(sign * s);
+                ws.push(c * w * half * s);
+            }
         }
     }
     // Stieltjes: monic orthogonal polynomials evaluated on the discrete points.
@@ -134,7 +144,13 @@ pub fn signed_radius_rule(n: usize, r1: f64, r2: f64) -> Rule1d {
 /// Exact for every monomial yᵃzᵇ with a + b ≤ 2n − 1. Points at the centre
 /// (odd n) are merged into one, so a disk with odd n has n² − n + 1 points.
 pub fn ring_rule(n: usize, r1: f64, r2: f64) -> Vec<SectionPoint> {
-    let radial = signed_radius_rule(n, r1, r2);
+    ring_rule_weighted(n, &[(r1, r2, 1.0)])
+}
+
+/// The ring construction for the radial weight of [`signed_radius_rule_weighted`]:
+/// ∫ f c(ρ) dA exact for f of degree ≤ 2n − 1.
+pub fn ring_rule_weighted(n: usize, pieces: &[(f64, f64, f64)]) -> Vec<SectionPoint> {
+    let radial = signed_radius_rule_weighted(n, pieces);
     let dtheta = std::f64::consts::PI / n as f64;
     let mut points = Vec::with_capacity(n * n);
     let mut centre_weight = 0.0;

@@ -205,6 +205,9 @@ pub struct ElementIntegration {
     kernel: Option<ElementKernelFn>,
 }
 
+/// A ring r1 ≤ ρ ≤ r2 (m) with a stiffness factor c relative to its group's law.
+type RadialPiece = (f64, f64, f64);
+
 /// Section points sharing one law.
 #[derive(Clone, Debug)]
 pub struct PointGroup {
@@ -233,7 +236,7 @@ impl IntegrationPlan {
     pub fn new(section: &Section) -> Self {
         let mut groups: Vec<PointGroup> = Vec::new();
         // Proportional linear circular layers: (D̂, pieces (r1, r2, c)).
-        let mut merged: Vec<(nalgebra::Matrix6<f64>, Vec<(f64, f64, f64)>)> = Vec::new();
+        let mut merged: Vec<(nalgebra::Matrix6<f64>, Vec<RadialPiece>)> = Vec::new();
         let radii = match &section.shape {
             crate::section::SectionShape::Circular { radii } if section.order >= 3 => Some(radii),
             _ => None,

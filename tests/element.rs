@@ -227,39 +227,49 @@ fn mass_matrix_translation_rotation_and_gravity() {
     assert!(quad(&w) > 0.0);
 }
 
-/// Issue 7: proportional SVK layers share one exact 7-point rule whatever
-/// the section order, linear centerline laws collapse into one point, and
-/// the result equals the per-layer rule to 1e-12.
+/// Issue 7: linear (SVK) laws are pre-integrated over the section — no
+/// section points, whatever the section order and number of layers — and
+/// equal the per-layer point quadrature to 1e-12.
 #[test]
-fn merged_svk_layers_are_exact_and_cheaper() {
+fn preintegrated_svk_layers_equal_point_quadrature() {
     let mut rng = Rng::new(17);
-    for order in [3, 5, 7] {
+    for order in [2, 3, 5, 7] {
         for omega in [1.0, 0.3] {
             let section = two_layer(svk(2e9, 0.3, omega), svk(7e10, 0.3, omega), order);
-            let per_layer: usize = section.layers.iter().map(|l| l.points.len()).sum();
             let el = element(section, L, 3);
-            // 7 shared section points + 1 centerline point (the Poisson remainder
-            // and, with ω < 1, the (1 − ω) axial term, summed into one law).
-            let expected = 8;
+            assert!(el.plan.is_preintegrated());
             assert_eq!(
                 el.plan.points(),
-                expected,
-                "order {order}, ω {omega} (per layer: {per_layer})"
+                0,
+                "order {order}, ω {omega}: no point work left"
             );
             let generic = el.clone().with_generic_kernel();
-            let e = deformed(&mut rng, L, 0.2);
-            let (q1, k1, _) = force_jacobian(&el, &e);
-            let (q2, k2, _) = force_jacobian(&generic, &e);
-            assert!(
-                rel(&q1, &q2) < 1e-12 && rel(&k1, &k2) < 1e-12,
-                "order {order}, ω {omega}"
-            );
+            for _ in 0..2 {
+                let e = deformed(&mut rng, L, 0.2);
+                let (q1, k1, u1) = force_jacobian(&el, &e);
+                let (q2, k2, u2) = force_jacobian(&generic, &e);
+                assert!(
+                    rel(&q1, &q2) < 1e-12 && rel(&k1, &k2) < 1e-12,
+                    "order {order}, ω {omega}"
+                );
+                assert!(
+                    (u1 - u2).abs() <= 1e-12 * u2.abs(),
+                    "energy, order {order}, ω {omega}"
+                );
+            }
         }
     }
-    // A Mooney–Rivlin cover with the locking remedy integrates a ν = 0 SVK law
-    // over the section: it merges with the core, and keeps its remainder on the centerline.
+    // The rectangle too (its own 2×2 rule's moments).
+    let rect = element(
+        ancf_core::section::Section::rectangular(0.03, 0.02, svk(2e9, 0.3, 1.0), 2),
+        L,
+        3,
+    );
+    assert!(rect.plan.is_preintegrated() && rect.plan.points() == 0);
+    // A Mooney–Rivlin cover with the locking remedy: its section part (ν = 0
+    // SVK) is pre-integrated with the core; the remainder stays on the centerline.
     let mixed = element(two_layer(svk(2e9, 0.0, 1.0), mooney_rivlin(1e3), 4), L, 3);
-    assert_eq!(mixed.plan.groups.len(), 1);
+    assert!(mixed.plan.is_preintegrated() && mixed.plan.groups.is_empty());
     assert!(
         mixed
             .plan
@@ -267,12 +277,12 @@ fn merged_svk_layers_are_exact_and_cheaper() {
             .iter()
             .any(|(law, _)| law.is_mooney_rivlin())
     );
-    // With the plain formulation it keeps its own points and law.
+    // With the plain formulation the cover keeps its own points and law.
     let plain = ancf_core::material::Material {
         locking: ancf_core::material::Locking::None,
         ..mooney_rivlin(1e3)
     };
     let mixed = element(two_layer(svk(2e9, 0.0, 1.0), plain, 4), L, 3);
-    assert_eq!(mixed.plan.groups.len(), 2);
-    assert!(mixed.plan.groups.iter().any(|g| g.law.is_mooney_rivlin()));
+    assert_eq!(mixed.plan.groups.len(), 1);
+    assert!(mixed.plan.groups[0].law.is_mooney_rivlin());
 }

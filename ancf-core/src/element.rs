@@ -227,6 +227,8 @@ pub struct PointGroup {
 /// Other layers (Mooney–Rivlin, order < 3, rectangles) keep their points.
 #[derive(Clone, Debug)]
 pub struct IntegrationPlan {
+    /// Linear laws, pre-integrated over the section (see `preintegration.rs`).
+    pub preintegrated: Option<crate::preintegration::PreIntegrated>,
     pub groups: Vec<PointGroup>,
     /// Centerline laws with their weights (m²).
     pub centerline: Vec<(Law, f64)>,
@@ -269,19 +271,41 @@ impl IntegrationPlan {
                 law: Law::Linear(d),
             });
         }
-        let mut linear = nalgebra::Matrix6::<f64>::zeros();
+        // Linear laws on symmetric rules: pre-integrated (their own moments, so
+        // the result equals the point rule's exactly).
+        let mut pre = crate::preintegration::PreIntegrated::zero();
+        let mut any = false;
+        groups.retain(
+            |g| match (&g.law, crate::preintegration::Moments::of(&g.points)) {
+                (Law::Linear(d), Some(m)) => {
+                    pre.add_section(d, &m);
+                    any = true;
+                    false
+                }
+                _ => true,
+            },
+        );
         let mut centerline = Vec::new();
         for layer in &section.layers {
             match &layer.laws.centerline {
-                Some(Law::Linear(d)) => linear += d * layer.area,
+                Some(Law::Linear(d)) => {
+                    pre.add_centerline(d, layer.area);
+                    any = true;
+                }
                 Some(other) => centerline.push((other.clone(), layer.area)),
                 None => {}
             }
         }
-        if linear.iter().any(|v| *v != 0.0) {
-            centerline.push((Law::Linear(linear), 1.0));
+        IntegrationPlan {
+            preintegrated: any.then_some(pre),
+            groups,
+            centerline,
         }
-        IntegrationPlan { groups, centerline }
+    }
+
+    /// Whether linear laws are pre-integrated.
+    pub fn is_preintegrated(&self) -> bool {
+        self.preintegrated.is_some()
     }
 
     /// Points per axial station.
@@ -426,6 +450,9 @@ pub fn structured_element<const N: usize>(
     let mut energy = 0.0;
     for a in 0..N {
         let (xi, wx) = (nodes[a], weights[a] * l);
+        if let Some(pre) = &ei.plan.preintegrated {
+            energy += pre.evaluate(xi, l, wx, e, q, k.as_deref_mut());
+        }
         for group in &ei.plan.groups {
             for p in &group.points {
                 let g = shape_gradients(xi, p.y, p.z, l);

@@ -19,6 +19,7 @@ pub mod element;
 pub mod linear_solver;
 pub mod material;
 pub mod model;
+pub mod preintegration;
 pub mod quadrature;
 pub mod scene;
 pub mod section;

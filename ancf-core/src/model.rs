@@ -573,16 +573,24 @@ impl Model {
     }
 
     /// M x for a full coordinate vector x (fixed entries included as given).
+    /// The element mass matrix is an 8×8 scalar matrix times I₃ (SPEC §1:
+    /// S = [s₁I, …, s₈I]), so each element costs 8·8·3 products, not 24².
     pub fn mass_times(&self, x: &[f64]) -> Vec<f64> {
+        let m = &self.element_mass;
         let mut out = vec![0.0; x.len()];
         for el in 0..self.n_elements {
             let base = NODE_DOFS * el;
-            for i in 0..24 {
-                let mut s = 0.0;
-                for j in 0..24 {
-                    s += self.element_mass[i * 24 + j] * x[base + j];
+            for i in 0..8 {
+                let mut acc = [0.0; 3];
+                for j in 0..8 {
+                    let mij = m[(3 * i) * 24 + 3 * j];
+                    for k in 0..3 {
+                        acc[k] += mij * x[base + 3 * j + k];
+                    }
                 }
-                out[base + i] += s;
+                for k in 0..3 {
+                    out[base + 3 * i + k] += acc[k];
+                }
             }
         }
         out

@@ -52,6 +52,8 @@ pub struct PointLoad {
 
 /// A force contribution the model evaluates. The model holds exactly the
 /// effects its scene names; code for an absent effect never runs.
+// A model holds a handful of effects: the larger variants stay inline.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Effect {
     /// Elastic forces of the layers (always present).

@@ -83,6 +83,11 @@ proptest! {
         let text = format!("{} {}{}", &base[..at], replacement, &base[end..]);
         if let Ok(scene) = Scene::from_toml(&text)
             && scene.model.n_elements <= 64
+            && match &scene.analysis {
+                // Bounded runs only: a valid scene may still ask for millions of steps.
+                ancf_core::scene::Analysis::Dynamic { settings, .. } => settings.end_time / settings.time_step <= 1000.0,
+                ancf_core::scene::Analysis::Static { .. } => true,
+            }
         {
             {
                 let dir = std::env::temp_dir().join(format!("ancf-prop-{}-{}", std::process::id(), pos));

@@ -159,6 +159,12 @@ const CASES: &[(&str, &str, &str, &str)] = &[
         "analysis.time_step",
     ),
     (
+        "absurdly small time step",
+        "time_step = 1e-3",
+        "time_step = 1e-300",
+        "analysis.time_step",
+    ),
+    (
         "negative end time",
         "end_time = 0.01",
         "end_time = -1.0",

@@ -104,46 +104,94 @@ fn strain_maps() -> (Vector6, M6x15, M6x15, M6x15, [V15; 3]) {
 
 type Vector6 = nalgebra::Vector6<f64>;
 
-/// The quadratic energy U(x) = ½ xᵀ A x + bᵀ x + U₀ of linear laws over a
-/// section (per unit axial length, J/m).
+/// The energy of linear laws over a section (per unit axial length, J/m), in
+/// strain-moment variables s = s₀ + J x: the strain at the centre (6), its
+/// y- and z-slopes (the xx, xz, xy components, 3 + 3) and the coefficients
+/// α, β, γ of y², yz, z² in E_xx. Then U = ½ sᵀ M s exactly: no constant or
+/// linear term to cancel, so a stress-free state gives exactly zero (the
+/// x-space form ½ xᵀAx + bᵀx + U₀ lost 1e-16 of E·V there — found by the
+/// objectivity property test). A = Jᵀ M J is the Hessian in x.
 #[derive(Clone, Debug)]
 pub struct PreIntegrated {
+    m: M15,
+    j: M15,
+    s0: V15,
+    /// Jᵀ M J, the (constant) Hessian in x.
     pub a: M15,
-    pub b: V15,
-    pub u0: f64,
+    /// J row by row: (column, coefficient) of its single non-zero.
+    jmap: [(usize, f64); 15],
 }
+
+/// Voigt rows that a y- or z-slope of the strain can have (xx, xz, xy).
+const SLOPE_ROWS: [usize; 3] = [0, 4, 5];
 
 impl PreIntegrated {
     pub fn zero() -> Self {
+        let (c0, c, p, t, [al, be, ga]) = strain_maps();
+        let mut j = M15::zeros();
+        let mut s0 = V15::zeros();
+        for r in 0..6 {
+            j.set_row(r, &c.row(r));
+            s0[r] = c0[r];
+        }
+        for (k, &r) in SLOPE_ROWS.iter().enumerate() {
+            j.set_row(6 + k, &p.row(r));
+            j.set_row(9 + k, &t.row(r));
+        }
+        j.set_row(12, &al.transpose());
+        j.set_row(13, &be.transpose());
+        j.set_row(14, &ga.transpose());
+        let jmap = std::array::from_fn(|r| {
+            let nz: Vec<(usize, f64)> = (0..15)
+                .filter(|&c| j[(r, c)] != 0.0)
+                .map(|c| (c, j[(r, c)]))
+                .collect();
+            assert_eq!(
+                nz.len(),
+                1,
+                "each strain moment is one Gram entry times a constant"
+            );
+            nz[0]
+        });
         PreIntegrated {
+            m: M15::zeros(),
+            j,
+            s0,
             a: M15::zeros(),
-            b: V15::zeros(),
-            u0: 0.0,
+            jmap,
         }
     }
 
-    /// Add a linear law D integrated with moments `m`.
-    pub fn add_section(&mut self, d: &Matrix6<f64>, m: &Moments) {
-        let (c0, c, p, t, [al, be, ga]) = strain_maps();
-        // ∫ ½ εᵀDε with ε = (c0 + C x) + y P x + z T x + (y² α + yz β + z² γ)·x e₁.
-        self.a += (c.transpose() * d * c) * m.m0
-            + (p.transpose() * d * p) * m.yy
-            + (t.transpose() * d * t) * m.zz;
-        self.b += c.transpose() * (d * c0) * m.m0;
-        self.u0 += 0.5 * m.m0 * c0.dot(&(d * c0));
-        // Cross terms of the quadratic part with the constant part: 2·∫q·(Dε₀)₀.
-        let q = al * m.yy + ga * m.zz; // ∫ q dA as a linear form in x
-        let dc_row: V15 = (d.row(0) * c).transpose(); // (D C x)₀
-        let dc0 = (d * c0)[0];
-        self.a += q * dc_row.transpose() + dc_row * q.transpose();
-        self.b += q * dc0;
-        // ½ D₀₀ ∫ q² dA, q² = α² y⁴ + β² y²z² + γ² z⁴ + 2αγ y²z² (odd terms vanish).
+    /// Add a linear law D integrated with moments `m`:
+    /// ∫ ½ εᵀDε with ε = ε_c + y ε_y + z ε_z + (α y² + β yz + γ z²) e₁.
+    pub fn add_section(&mut self, d: &Matrix6<f64>, mo: &Moments) {
+        let m = &mut self.m;
+        for r in 0..6 {
+            for c in 0..6 {
+                m[(r, c)] += mo.m0 * d[(r, c)];
+            }
+        }
+        for (a, &ra) in SLOPE_ROWS.iter().enumerate() {
+            for (b, &rb) in SLOPE_ROWS.iter().enumerate() {
+                m[(6 + a, 6 + b)] += mo.yy * d[(ra, rb)];
+                m[(9 + a, 9 + b)] += mo.zz * d[(ra, rb)];
+            }
+        }
+        // ∫ q (D ε_c)₀ with ∫ q = α ∫y² + γ ∫z².
+        for c in 0..6 {
+            m[(12, c)] += mo.yy * d[(0, c)];
+            m[(c, 12)] += mo.yy * d[(0, c)];
+            m[(14, c)] += mo.zz * d[(0, c)];
+            m[(c, 14)] += mo.zz * d[(0, c)];
+        }
+        // ½ D₀₀ ∫ q² = ½ D₀₀ (α² ∫y⁴ + β² ∫y²z² + γ² ∫z⁴ + 2αγ ∫y²z²).
         let d00 = d[(0, 0)];
-        self.a += (al * al.transpose() * m.y4
-            + be * be.transpose() * m.y2z2
-            + ga * ga.transpose() * m.z4
-            + (al * ga.transpose() + ga * al.transpose()) * m.y2z2)
-            * d00;
+        m[(12, 12)] += d00 * mo.y4;
+        m[(13, 13)] += d00 * mo.y2z2;
+        m[(14, 14)] += d00 * mo.z4;
+        m[(12, 14)] += d00 * mo.y2z2;
+        m[(14, 12)] += d00 * mo.y2z2;
+        self.a = self.j.transpose() * self.m * self.j;
     }
 
     /// Add a linear law D at the centerline with weight w (m²).
@@ -197,9 +245,17 @@ impl PreIntegrated {
                 x[gram(i, j)] = dot(i, j);
             }
         }
-        let ax = self.a * x;
-        let sigma = ax + self.b;
-        let energy = wx * (0.5 * x.dot(&ax) + self.b.dot(&x) + self.u0);
+        // J has one non-zero per row: apply it as a map.
+        let mut strain = self.s0;
+        for (r, &(col, coef)) in self.jmap.iter().enumerate() {
+            strain[r] += coef * x[col];
+        }
+        let ms = self.m * strain;
+        let mut sigma = V15::zeros();
+        for (r, &(col, coef)) in self.jmap.iter().enumerate() {
+            sigma[col] += coef * ms[r];
+        }
+        let energy = wx * 0.5 * strain.dot(&ms);
         // ∂U/∂u_i = Σ_j S_ij u_j with S_ii = 2σ_ii, S_ij = σ_ij.
         let s = |i: usize, j: usize| {
             if i == j {

@@ -230,6 +230,8 @@ pub mod defaults {
     pub const SPECTRAL_RADIUS: f64 = 0.9;
     pub const TOLERANCE: f64 = 1e-10;
     pub const OUTPUT_EVERY: usize = 1;
+    /// The most time steps a scene may ask for (a run of this length takes days).
+    pub const MAX_STEPS: f64 = 1e8;
     /// A checkpoint every 1000 steps: a few per typical run, negligible cost.
     pub const CHECKPOINT_EVERY: usize = 1000;
 }
@@ -559,6 +561,17 @@ impl Scene {
                     return Err(err(
                         "analysis.time_step",
                         format!("{h} s is longer than end_time {end_time} s"),
+                    ));
+                }
+                // A step so small that the run could never finish is a typo, not a plan.
+                let steps = end_time / h;
+                if steps > defaults::MAX_STEPS {
+                    return Err(err(
+                        "analysis.time_step",
+                        format!(
+                            "{h} s makes {steps:.3e} steps to end_time {end_time} s (more than {:.0e}); check the units",
+                            defaults::MAX_STEPS
+                        ),
                     ));
                 }
                 let rho = finite(

@@ -113,7 +113,7 @@ impl TimeSeries {
     }
 
     /// Continue an existing `timeseries.csv` (a resumed run).
-    pub fn append(dir: &Path, _contact: bool) -> std::io::Result<Self> {
+    pub fn append(dir: &Path) -> std::io::Result<Self> {
         Ok(TimeSeries {
             table: Table::append(&dir.join("timeseries.csv"))?,
         })

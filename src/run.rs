@@ -343,7 +343,7 @@ fn run_dynamic(
     let n_rods = contact.map_or(0, |c| c.rods.len());
     let resuming = resume.is_some();
     let mut series = if resuming {
-        TimeSeries::append(out, contact.is_some())
+        TimeSeries::append(out)
     } else {
         TimeSeries::create(out, contact.is_some())
     }

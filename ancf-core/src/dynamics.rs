@@ -193,16 +193,11 @@ impl<'m> Integrator<'m> {
             rayleigh,
             energy_start: 0.0,
             energy_scale: 0.0,
-            energy_floor: match model.gravity_force() {
-                Some(_) => {
+            energy_floor: match model.gravity_acceleration() {
+                Some(g) => {
                     let length = model.element.length * model.n_elements as f64;
-                    let g = model.effects.iter().find_map(|e| match e {
-                        crate::model::Effect::Gravity { acceleration, .. } => {
-                            Some(acceleration.iter().map(|x| x * x).sum::<f64>().sqrt())
-                        }
-                        _ => None,
-                    });
-                    1e-9 * model.total_mass() * g.unwrap_or(0.0) * length + 1e-12
+                    let g = g.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    1e-9 * model.total_mass() * g * length + 1e-12
                 }
                 None => 1e-12,
             },

@@ -353,11 +353,7 @@ impl Model {
         held.dedup_by_key(|h| h.0);
         let l = self.element.length;
         let down = {
-            let g = self.effects.iter().find_map(|e| match e {
-                Effect::Gravity { acceleration, .. } => Some(*acceleration),
-                _ => None,
-            });
-            let g = g.unwrap_or([0.0, 0.0, -1.0]);
+            let g = self.gravity_acceleration().unwrap_or([0.0, 0.0, -1.0]);
             let n = dot3(g, g).sqrt();
             g.map(|x| x / n)
         };
@@ -471,6 +467,14 @@ impl Model {
     /// Coordinates of element `el` out of a full coordinate vector.
     pub fn element_coordinates(&self, q: &[f64], el: usize) -> ElementVector {
         q[NODE_DOFS * el..NODE_DOFS * el + 24].try_into().unwrap()
+    }
+
+    /// The gravitational acceleration (m/s²), when the model has gravity.
+    pub fn gravity_acceleration(&self) -> Option<[f64; 3]> {
+        self.effects.iter().find_map(|e| match e {
+            Effect::Gravity { acceleration, .. } => Some(*acceleration),
+            _ => None,
+        })
     }
 
     /// The gravity force (full coordinates), when the model has gravity.

@@ -68,18 +68,30 @@ fn residual(
     pattern: &Pattern,
     k: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64, f64) {
-    let mut k = k;
-    let (mut qe, energy) = assemble(model, pattern, q, k.as_deref_mut());
-    if let Some(c) = model.contact() {
-        // Statics: normal contact only (no velocities, no friction).
-        let v = vec![0.0; q.len()];
-        let qc = crate::assembly::assemble_contact(model, c, pattern, q, &v, k, None).force;
-        qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
-    }
+    let (qe, energy) = internal_force(model, pattern, q, k);
     let full: Vec<f64> = qe.iter().zip(ext).map(|(a, b)| a - b).collect();
     let r = model.gather(&full);
     let scale = norm(&model.gather(ext)).max(norm(&model.gather(&qe)));
     (r, scale, energy)
+}
+
+/// Elastic minus contact force (full coordinates, N), its Jacobian added to
+/// `k`, and the strain energy. Statics has normal contact only (no
+/// velocities, so no friction).
+fn internal_force(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    k: Option<&mut [f64]>,
+) -> (Vec<f64>, f64) {
+    let mut k = k;
+    let (mut qe, energy) = assemble(model, pattern, q, k.as_deref_mut());
+    if let Some(c) = model.contact() {
+        let v = vec![0.0; q.len()];
+        let qc = crate::assembly::assemble_contact(model, c, pattern, q, &v, k, None).force;
+        qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
+    }
+    (qe, energy)
 }
 
 /// Solve for static equilibrium from the model's initial coordinates
@@ -213,12 +225,7 @@ pub fn solve_static_from(
         }
     }
     // Reactions: at equilibrium Q_e − Q_ext − Q_c is the support force on the held coordinates.
-    let mut qe = assemble(model, &pattern, &q, None).0;
-    if let Some(c) = model.contact() {
-        let v = vec![0.0; q.len()];
-        let qc = crate::assembly::assemble_contact(model, c, &pattern, &q, &v, None, None).force;
-        qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
-    }
+    let (qe, _) = internal_force(model, &pattern, &q, None);
     let ext = model.external_force(1.0);
     let reactions = model
         .supports

@@ -29,7 +29,7 @@ fn svk(nu: f64) -> Material {
 /// The pendulum of `scenes/pendulum.toml` with `n` elements.
 pub fn pendulum(n: usize) -> Model {
     let section = Section::circular(&[(0.0, 0.01, svk(0.0)), (0.01, 0.02, svk(0.0))], 3);
-    let el = ElementIntegration::new(1.0 / n as f64, 5, section);
+    let el = ElementIntegration::new(1.0 / n as f64, 3, section);
     Model::new(
         el,
         n,
@@ -103,7 +103,7 @@ fn time_us(mut f: impl FnMut()) -> f64 {
 }
 
 /// Force and Jacobian time (µs) of one element.
-fn element_times(el: &ElementIntegration) -> (f64, f64) {
+pub fn element_times(el: &ElementIntegration) -> (f64, f64) {
     let l = el.length;
     let mut e = reference_coordinates(
         [0.0; 3],

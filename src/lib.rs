@@ -5,4 +5,5 @@ pub mod bench;
 pub mod output;
 pub mod plot;
 pub mod run;
+pub mod study;
 pub mod vtk;

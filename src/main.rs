@@ -53,6 +53,27 @@ enum Command {
         #[arg(long)]
         quick: bool,
     },
+    /// What accuracy costs in time: sweep a scene's settings (elements,
+    /// quadrature, time step, ρ∞, Newton kind, contact resolution), measure
+    /// error and wall time, write report.md with plots into --out. Several
+    /// scenes: one subdirectory each and an index (README.md).
+    Study {
+        /// The scene file(s).
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        /// Report directory.
+        #[arg(long, default_value = "study")]
+        out: PathBuf,
+        /// quick: a few runs per sweep (seconds); standard: the full sweeps (minutes).
+        #[arg(long, value_enum, default_value = "standard")]
+        level: ancf::study::plan::Level,
+        /// Runs at the same time, each single-threaded (default: the cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// No progress lines.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2).
     Quadrature {
         /// Inner radius, m (0 for a disk).
@@ -188,6 +209,13 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Command::Study {
+            scenes,
+            out,
+            level,
+            jobs,
+            quiet,
+        } => study(&scenes, &out, level, jobs, quiet),
         Command::Quadrature {
             inner,
             outer,
@@ -235,4 +263,65 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
     }
+}
+
+/// `ancf study`: every scene is checked before any run starts.
+fn study(
+    scenes: &[PathBuf],
+    out: &std::path::Path,
+    level: ancf::study::plan::Level,
+    jobs: Option<usize>,
+    quiet: bool,
+) -> ExitCode {
+    if cfg!(debug_assertions) {
+        eprintln!("warning: a debug build; study timings need `cargo run --release -- study`");
+    }
+    for scene in scenes {
+        if let Err(code) = load(scene) {
+            return code;
+        }
+    }
+    if jobs == Some(0) {
+        eprintln!("error: --jobs: must be at least 1");
+        return ExitCode::from(2);
+    }
+    let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let several = scenes.len() > 1;
+    let mut index = String::from(
+        "# Accuracy and cost\n\nReports of `ancf study` (error against wall time for the settings users choose):\n\n",
+    );
+    for scene in scenes {
+        let stem = scene
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        let dir = if several {
+            out.join(&stem)
+        } else {
+            out.to_path_buf()
+        };
+        let opts = ancf::study::StudyOptions {
+            out: dir.clone(),
+            level,
+            jobs,
+            quiet,
+        };
+        match ancf::study::study(scene, &opts) {
+            Ok(report) => {
+                println!("{}: report in {}", scene.display(), report.display());
+                index.push_str(&format!("* [{stem}]({stem}/report.md)\n"));
+            }
+            Err(e) => {
+                eprintln!("error: {}: {e}", scene.display());
+                return ExitCode::from(1);
+            }
+        }
+    }
+    if several {
+        let path = out.join("README.md");
+        if let Err(e) = std::fs::write(&path, index) {
+            eprintln!("error: {}: {e}", path.display());
+            return ExitCode::from(1);
+        }
+    }
+    ExitCode::SUCCESS
 }

@@ -274,3 +274,108 @@ pub fn configurations_plot(
     root.present().map_err(e)?;
     Ok(())
 }
+
+/// Error against cost on log–log axes (issue 5): one marker colour per
+/// group, the Pareto front (no cheaper run is more accurate) as a black
+/// line. Points with a non-positive coordinate are left out (log scale).
+pub fn pareto_plot(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    groups: &[Series],
+    front: &[(f64, f64)],
+) -> Result<(), String> {
+    register_font();
+    let ok = |&(x, y): &(f64, f64)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite();
+    let all: Vec<(f64, f64)> = groups
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter(ok)
+        .collect();
+    if all.is_empty() {
+        return Err(format!("{}: nothing to plot", path.display()));
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
+    for &(x, y) in &all {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    // Whole decades around the data (with a margin, so no marker sits on
+    // an axis), at least one decade wide.
+    let decade_below = |v: f64| 10f64.powf((v / 1.3).log10().floor());
+    let decade_above = |v: f64| 10f64.powf((v * 1.3).log10().ceil());
+    let (x0, x1) = (decade_below(x0), decade_above(x1));
+    let (y0, y1) = (decade_below(y0), decade_above(y1));
+    let x1 = if x1 <= x0 { x0 * 10.0 } else { x1 };
+    let y1 = if y1 <= y0 { y0 * 10.0 } else { y1 };
+    let root = BitMapBackend::new(path, (1000, 680)).into_drawing_area();
+    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(90)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 16))
+        .axis_desc_style(("sans-serif", 18))
+        .draw()
+        .map_err(e)?;
+    let front: Vec<(f64, f64)> = front.iter().copied().filter(ok).collect();
+    if front.len() > 1 {
+        chart
+            .draw_series(LineSeries::new(front.clone(), BLACK.stroke_width(2)))
+            .map_err(e)?
+            .label("Pareto front")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
+    }
+    // Colours repeat after nine groups: the marker shape changes then.
+    for (i, s) in groups.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(ok).collect();
+        if i < COLORS.len() {
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, color.filled())))
+                .map_err(e)?
+                .label(s.label)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+        } else {
+            chart
+                .draw_series(
+                    pts.iter()
+                        .map(|&p| TriangleMarker::new(p, 7, color.filled())),
+                )
+                .map_err(e)?
+                .label(s.label)
+                .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, color.filled()));
+        }
+    }
+    chart
+        .draw_series(
+            front
+                .iter()
+                .map(|&p| Circle::new(p, 8, BLACK.stroke_width(2))),
+        )
+        .map_err(e)?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        // Cheap and accurate is the corner no run reaches.
+        .position(SeriesLabelPosition::LowerLeft)
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)?;
+    Ok(())
+}

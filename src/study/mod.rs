@@ -1,0 +1,319 @@
+//! `ancf study`: what accuracy costs in time, on the user's own scene
+//! (issue 5). The study sweeps the settings that matter for the scene
+//! ([`plan`]), runs every setting with the ordinary run pipeline (each run
+//! single-threaded in its own one-thread rayon pool, runs in parallel on
+//! worker threads), measures its error
+//! against an analytic value ([`reference`]) or a finer reference run, and
+//! writes a Markdown report with log–log error-against-time plots
+//! ([`report`]).
+
+pub mod plan;
+pub mod reference;
+pub mod report;
+
+use crate::run::{RunOptions, run_scene};
+use ancf_core::scene::{Scene, SceneFile};
+use plan::{Level, Plan, Setting};
+use std::path::{Path, PathBuf};
+
+/// Options of one study.
+#[derive(Clone, Debug)]
+pub struct StudyOptions {
+    /// Report directory (created if absent).
+    pub out: PathBuf,
+    pub level: Level,
+    /// Runs at the same time (each single-threaded). Default: the cores.
+    pub jobs: usize,
+    /// No progress lines on stderr.
+    pub quiet: bool,
+}
+
+/// Tip position and energy at one sample time.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sample {
+    /// s
+    pub time: f64,
+    /// Last node's position, m.
+    pub tip: [f64; 3],
+    /// Total mechanical energy plus friction dissipation, J.
+    pub energy: f64,
+    /// Kinetic energy, J.
+    pub kinetic: f64,
+}
+
+/// One finished run of a study.
+#[derive(Clone, Debug, Default)]
+pub struct Outcome {
+    /// "completed", "failed" or "refused" (the scene check refused it).
+    pub status: String,
+    pub message: String,
+    /// Wall time of the run, s (the fastest of the repeats of short runs).
+    pub wall_s: f64,
+    /// Final tip displacement, m.
+    pub tip: [f64; 3],
+    /// Dynamic runs: the rows at the study's sample times.
+    pub samples: Vec<Sample>,
+    /// Contact runs: peak total normal force (N), the time of the largest
+    /// rod peak (s) and the largest penetration (m).
+    pub peak_force: Option<f64>,
+    pub peak_time: Option<f64>,
+    pub max_penetration: Option<f64>,
+    /// Contact runs: total normal impulse over all rods (N s) and the first
+    /// contact time (s).
+    pub impulse: Option<f64>,
+    pub first_contact: Option<f64>,
+    /// Newton iterations per step (dynamic) or per load step (static).
+    pub iterations_per_step: f64,
+}
+
+impl Outcome {
+    pub fn completed(&self) -> bool {
+        self.status == "completed"
+    }
+}
+
+/// Read `timeseries.csv` of a run.
+fn read_samples(dir: &Path) -> Result<Vec<Sample>, String> {
+    let path = dir.join("timeseries.csv");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name);
+    let (Some(t), Some(x), Some(total), Some(kin)) =
+        (col("time"), col("tip_x"), col("total"), col("kinetic"))
+    else {
+        return Err(format!("{}: unexpected header", path.display()));
+    };
+    let dissipated = col("dissipated");
+    lines
+        .map(|l| {
+            let v: Vec<f64> = l
+                .split(',')
+                .map(|s| s.parse().unwrap_or(f64::NAN))
+                .collect();
+            Ok(Sample {
+                time: v[t],
+                tip: [v[x], v[x + 1], v[x + 2]],
+                energy: v[total] + dissipated.map_or(0.0, |d| v[d]),
+                kinetic: v[kin],
+            })
+        })
+        .collect()
+}
+
+/// Run one setting in `dir`, which is removed afterwards (call it inside a
+/// one-thread rayon pool for a single-threaded timing).
+/// Short runs are repeated (up to 5 times, 0.5 s in all) and the fastest
+/// time kept: the timings of millisecond-scale static solves are otherwise
+/// noise.
+pub fn run_setting(
+    file: &SceneFile,
+    setting: &Setting,
+    sample_interval: Option<f64>,
+    dir: &Path,
+) -> Outcome {
+    let variant = setting.apply(file, sample_interval);
+    let scene = match Scene::from_file(&variant) {
+        Ok(s) => s,
+        Err(e) => {
+            return Outcome {
+                status: "refused".into(),
+                message: e.to_string(),
+                ..Default::default()
+            };
+        }
+    };
+    let opts = RunOptions {
+        out: dir.to_path_buf(),
+        quiet: true,
+    };
+    let mut best: Option<crate::output::Summary> = None;
+    let mut total = 0.0;
+    for _ in 0..5 {
+        let summary = match run_scene(&scene, &opts) {
+            Ok(s) => s,
+            Err(e) => {
+                return Outcome {
+                    status: "failed".into(),
+                    message: e,
+                    ..Default::default()
+                };
+            }
+        };
+        total += summary.wall_time_s;
+        let done = summary.status != "completed" || total > 0.5;
+        if best
+            .as_ref()
+            .is_none_or(|b| summary.wall_time_s < b.wall_time_s)
+        {
+            best = Some(summary);
+        }
+        if done {
+            break;
+        }
+    }
+    let summary = best.expect("at least one run");
+    let samples = if summary.analysis == "dynamic" {
+        read_samples(dir).unwrap_or_default()
+    } else {
+        Vec::new()
+    };
+    let _ = std::fs::remove_dir_all(dir);
+    let impulse = summary
+        .contact
+        .as_ref()
+        .map(|c| c.rods.iter().map(|r| r.impulse).sum());
+    let first_contact = summary.contact.as_ref().and_then(|c| c.first_time);
+    let (peak_force, peak_time, max_penetration) = match &summary.contact {
+        Some(c) => {
+            let peak_rod = c
+                .rods
+                .iter()
+                .max_by(|a, b| a.peak_force.total_cmp(&b.peak_force));
+            (
+                Some(c.max_normal_force),
+                peak_rod.map(|r| r.peak_time),
+                Some(c.max_penetration),
+            )
+        }
+        None => (None, None, None),
+    };
+    Outcome {
+        status: summary.status.clone(),
+        message: summary.message.clone(),
+        wall_s: summary.wall_time_s,
+        tip: summary.tip.displacement,
+        samples,
+        peak_force,
+        peak_time,
+        max_penetration,
+        impulse,
+        first_contact,
+        iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
+    }
+}
+
+/// Run every setting of `plan` and the reference, `jobs` at a time.
+/// Returns the outcomes per family (in the plan's order) and the reference's.
+fn execute(
+    file: &SceneFile,
+    plan: &Plan,
+    need_reference_run: bool,
+    opts: &StudyOptions,
+    work: &Path,
+) -> (Vec<Vec<Outcome>>, Option<Outcome>) {
+    let mut jobs: Vec<(usize, usize, &Setting)> = Vec::new();
+    for (fi, fam) in plan.families.iter().enumerate() {
+        for (si, s) in fam.settings.iter().enumerate() {
+            jobs.push((fi, si, s));
+        }
+    }
+    let reference_index = plan.families.len();
+    if need_reference_run {
+        jobs.push((reference_index, 0, &plan.reference));
+    }
+    // Longest first (a rough cost model: elements × steps), so the reference
+    // run does not start last.
+    let cost = |s: &Setting| s.elements as f64 / s.time_step.unwrap_or(1.0) * s.axial as f64;
+    jobs.sort_by(|a, b| cost(b.2).total_cmp(&cost(a.2)));
+    // Worker threads pull jobs from a shared counter. Each worker runs its
+    // jobs inside its own one-thread rayon pool, so a run's assembly stays
+    // serial and exactly `jobs` runs share the cores. (A rayon `par_iter`
+    // over the jobs would not do: a rayon worker waiting on another pool
+    // keeps stealing jobs, and more runs than cores would share the clock.)
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let total = jobs.len();
+    let results = std::sync::Mutex::new(Vec::with_capacity(total));
+    std::thread::scope(|scope| {
+        for _ in 0..opts.jobs.max(1).min(total.max(1)) {
+            scope.spawn(|| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(1)
+                    .build()
+                    .expect("a one-thread pool");
+                loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(&(fi, si, s)) = jobs.get(k) else {
+                        break;
+                    };
+                    let dir = work.join(format!("run{k}"));
+                    let o = pool.install(|| run_setting(file, s, plan.sample_interval, &dir));
+                    let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                    if !opts.quiet {
+                        eprintln!(
+                            "  [{n}/{total}] {:<9} {:>8.2} s  {}",
+                            o.status,
+                            o.wall_s,
+                            s.label()
+                        );
+                    }
+                    results
+                        .lock()
+                        .expect("no panics while held")
+                        .push(((fi, si), o));
+                }
+            });
+        }
+    });
+    let results = results.into_inner().expect("workers finished");
+    let mut families: Vec<Vec<Outcome>> = plan
+        .families
+        .iter()
+        .map(|f| vec![Outcome::default(); f.settings.len()])
+        .collect();
+    let mut reference = None;
+    for ((fi, si), o) in results {
+        if fi == reference_index {
+            reference = Some(o);
+        } else {
+            families[fi][si] = o;
+        }
+    }
+    (families, reference)
+}
+
+/// Run the study of the scene in `path` and write its report into `opts.out`.
+/// Returns the report's path.
+pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::from_toml(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file: SceneFile = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let plan = plan::plan(&file, &scene, opts.level);
+    let analytic = reference::analytic(&scene);
+    std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    let work = opts.out.join(".runs");
+    let runs: usize = plan.families.iter().map(|f| f.settings.len()).sum();
+    if !opts.quiet {
+        eprintln!(
+            "study of {}: {runs} runs{} on {} threads",
+            path.display(),
+            if analytic.is_none() {
+                " + a reference run"
+            } else {
+                ""
+            },
+            opts.jobs
+        );
+    }
+    let start = std::time::Instant::now();
+    let (outcomes, reference_run) = execute(&file, &plan, analytic.is_none(), opts, &work);
+    let _ = std::fs::remove_dir_all(&work);
+    let kernels = match opts.level {
+        Level::Standard => Some(report::kernel_costs(&scene)),
+        Level::Quick => None,
+    };
+    let input = report::ReportInput {
+        scene_path: path,
+        scene: &scene,
+        plan: &plan,
+        outcomes: &outcomes,
+        analytic: analytic.as_ref(),
+        reference_run: reference_run.as_ref(),
+        kernels: kernels.as_deref(),
+        level: opts.level,
+        jobs: opts.jobs,
+        study_wall_s: start.elapsed().as_secs_f64(),
+    };
+    report::write(&input, &opts.out)
+}

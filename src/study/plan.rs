@@ -1,0 +1,367 @@
+//! Which settings a study sweeps for a scene (issue 5): the choices a user
+//! makes — elements, quadrature orders, time step, ρ∞, Newton kind, contact
+//! stations and stiffness — each as a [`Setting`] applied to the scene file.
+
+use ancf_core::scene::{
+    AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
+    station_spacing,
+};
+
+/// How much to sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Level {
+    /// A few runs per sweep (seconds): checks a scene and the report's shape.
+    Quick,
+    /// The full sweeps of issue 5 (minutes): what `docs/accuracy/` holds.
+    Standard,
+}
+
+/// One point of a sweep: every choice the study varies, resolved.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Setting {
+    pub elements: usize,
+    /// Gauss points along the element.
+    pub axial: usize,
+    /// Ring-rule order of the section.
+    pub section: usize,
+    /// Dynamic scenes: time step h, s.
+    pub time_step: Option<f64>,
+    /// Dynamic scenes: generalized-α ρ∞.
+    pub spectral_radius: Option<f64>,
+    /// Dynamic scenes: full or modified Newton.
+    pub full_newton: Option<bool>,
+    /// Contact scenes: test stations per element.
+    pub stations: Option<usize>,
+    /// Contact scenes: every rod's penalty stiffness ε_N times this factor.
+    pub stiffness_factor: Option<f64>,
+}
+
+impl Setting {
+    /// The scene's own setting.
+    pub fn of_scene(scene: &Scene) -> Setting {
+        let m = &scene.model;
+        let (time_step, spectral_radius, full_newton) = match &scene.analysis {
+            ancf_core::scene::Analysis::Dynamic { settings, .. } => (
+                Some(settings.time_step),
+                Some(settings.spectral_radius),
+                Some(settings.newton == ancf_core::dynamics::NewtonKind::Full),
+            ),
+            ancf_core::scene::Analysis::Static { .. } => (None, None, None),
+        };
+        Setting {
+            elements: m.n_elements,
+            axial: m.element.axial.nodes.len(),
+            section: m.element.section.order,
+            time_step,
+            spectral_radius,
+            full_newton,
+            stations: m.contact().map(|c| c.settings.stations),
+            stiffness_factor: m.contact().map(|_| 1.0),
+        }
+    }
+
+    /// Short description for tables: what a user would write in the scene.
+    pub fn label(&self) -> String {
+        let mut s = format!(
+            "{} el, axial {}, section {}",
+            self.elements, self.axial, self.section
+        );
+        if let Some(h) = self.time_step {
+            s += &format!(", h {h:.3e} s");
+        }
+        if let Some(r) = self.spectral_radius {
+            s += &format!(", ρ∞ {r}");
+        }
+        if let Some(f) = self.full_newton {
+            s += if f {
+                ", full Newton"
+            } else {
+                ", modified Newton"
+            };
+        }
+        if let Some(n) = self.stations {
+            s += &format!(", {n} stations");
+        }
+        if let Some(f) = self.stiffness_factor {
+            s += &format!(", ε_N ×{f}");
+        }
+        s
+    }
+
+    /// The scene file with this setting, written only at multiples of
+    /// `sample_interval` (dynamic), without VTK, plots or checkpoints.
+    pub fn apply(&self, base: &SceneFile, sample_interval: Option<f64>) -> SceneFile {
+        let mut f = base.clone();
+        f.wire.elements = self.elements;
+        f.wire.quadrature = Some(QuadratureSpec {
+            axial: Some(self.axial),
+            section: Some(self.section),
+        });
+        if let Some(h) = self.time_step {
+            f.analysis.time_step = Some(h);
+        }
+        if let Some(r) = self.spectral_radius {
+            f.analysis.spectral_radius = Some(r);
+        }
+        if let Some(full) = self.full_newton {
+            f.analysis.newton = Some(if full {
+                NewtonSpec::Full
+            } else {
+                NewtonSpec::Modified
+            });
+        }
+        if let Some(n) = self.stations {
+            let c = f.contact.get_or_insert(ContactSpec {
+                max_penetration: None,
+                stations: None,
+                angles: None,
+                slip_velocity: None,
+            });
+            c.stations = Some(n);
+        }
+        if let Some(k) = self.stiffness_factor {
+            for r in &mut f.rod {
+                r.contact_stiffness *= k;
+            }
+        }
+        let every = match (sample_interval, self.time_step) {
+            (Some(dt), Some(h)) => Some(((dt / h).round() as usize).max(1)),
+            _ => None,
+        };
+        f.output = Some(OutputSpec {
+            every,
+            checkpoint_every: Some(0),
+            vtk: Some(false),
+            plots: Some(false),
+        });
+        f
+    }
+}
+
+/// What a family of runs measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FamilyKind {
+    /// Static: tip displacement.
+    Static,
+    /// Dynamic: tip trajectory and energy.
+    Dynamic,
+    /// Contact resolution: penetration, peak contact force and its time.
+    Contact,
+}
+
+/// A sweep: a named list of settings shown in one table and one plot.
+#[derive(Clone, Debug)]
+pub struct Family {
+    pub name: String,
+    pub kind: FamilyKind,
+    pub settings: Vec<Setting>,
+}
+
+/// Everything a study runs for one scene.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub families: Vec<Family>,
+    /// The converged reference run (when no analytic value applies).
+    pub reference: Setting,
+    /// Dynamic scenes: the times at which trajectories are compared, s
+    /// (the coarsest time step, so every run has a row there).
+    pub sample_interval: Option<f64>,
+}
+
+fn push_unique(v: &mut Vec<Setting>, s: Setting) {
+    if !v.contains(&s) {
+        v.push(s);
+    }
+}
+
+/// Stations per element that keep the scene's station spacing (m) on
+/// `elements` elements (the validation requires spacing ≤ rod radius).
+fn stations_for(base: &Setting, length: f64, elements: usize) -> Option<usize> {
+    let s0 = base.stations?;
+    let spacing = station_spacing(s0, length / base.elements as f64);
+    Some(
+        (1..=64)
+            .find(|&n| station_spacing(n, length / elements as f64) <= spacing * (1.0 + 1e-12))
+            .unwrap_or(64),
+    )
+}
+
+/// The sweeps for `scene` (whose file is `file`).
+pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
+    let base = Setting::of_scene(scene);
+    let length = file.wire.length;
+    let quick = level == Level::Quick;
+    if file.analysis.kind == AnalysisKind::Static {
+        let elements: &[usize] = if quick {
+            &[1, 2, 4]
+        } else {
+            &[1, 2, 4, 8, 16, 32, 64]
+        };
+        let axial: &[usize] = if quick { &[3, 5] } else { &[2, 3, 4, 5] };
+        let section: &[usize] = if quick { &[3] } else { &[2, 3, 4, 5] };
+        let mut settings = Vec::new();
+        for &s in section {
+            for &a in axial {
+                for &n in elements {
+                    settings.push(Setting {
+                        elements: n,
+                        axial: a,
+                        section: s,
+                        ..base.clone()
+                    });
+                }
+            }
+        }
+        let reference = Setting {
+            elements: 2 * elements.last().unwrap(),
+            axial: 5,
+            section: 5,
+            ..base.clone()
+        };
+        return Plan {
+            families: vec![Family {
+                name: "Mesh and quadrature".into(),
+                kind: FamilyKind::Static,
+                settings,
+            }],
+            reference,
+            sample_interval: None,
+        };
+    }
+
+    // Dynamic: time step × elements at the scene's ρ∞ and Newton kind, then
+    // ρ∞ and the other Newton kind at the scene's element count.
+    let h0 = base.time_step.expect("dynamic scene has a time step");
+    let contact = base.stations.is_some();
+    let h_factors: &[f64] = if quick {
+        &[2.0, 1.0]
+    } else if contact {
+        &[2.0, 1.0, 0.5, 0.25]
+    } else {
+        &[4.0, 2.0, 1.0, 0.5, 0.25]
+    };
+    // ρ∞, Newton kind and axial order are varied at these step factors
+    // (contact runs cost seconds each: two steps say enough there).
+    let variant_factors: &[f64] = if contact { &[1.0, 0.5] } else { h_factors };
+    let n_factors: &[f64] = if quick {
+        &[1.0, 2.0]
+    } else if contact {
+        &[0.5, 1.0, 2.0]
+    } else {
+        &[0.5, 1.0, 2.0, 4.0]
+    };
+    let at = |h: f64, n: usize| Setting {
+        elements: n,
+        time_step: Some(h),
+        stations: stations_for(&base, length, n).or(base.stations),
+        ..base.clone()
+    };
+    let element_counts: Vec<usize> = {
+        let mut v: Vec<usize> = n_factors
+            .iter()
+            .map(|f| ((base.elements as f64 * f).round() as usize).max(1))
+            .collect();
+        v.dedup();
+        v
+    };
+    let mut stepping = Vec::new();
+    for &n in &element_counts {
+        for &hf in h_factors {
+            push_unique(&mut stepping, at(h0 * hf, n));
+        }
+    }
+    if !quick {
+        let rho0 = base.spectral_radius.unwrap_or(1.0);
+        for rho in [1.0, 0.9, 0.8] {
+            if rho != rho0 {
+                for &hf in variant_factors {
+                    push_unique(
+                        &mut stepping,
+                        Setting {
+                            spectral_radius: Some(rho),
+                            ..at(h0 * hf, base.elements)
+                        },
+                    );
+                }
+            }
+        }
+        for &hf in variant_factors {
+            push_unique(
+                &mut stepping,
+                Setting {
+                    full_newton: base.full_newton.map(|f| !f),
+                    ..at(h0 * hf, base.elements)
+                },
+            );
+        }
+        for axial in 2..=5 {
+            if axial != base.axial {
+                for &hf in variant_factors {
+                    push_unique(
+                        &mut stepping,
+                        Setting {
+                            axial,
+                            ..at(h0 * hf, base.elements)
+                        },
+                    );
+                }
+            }
+        }
+    }
+    let h_min = h0 * h_factors.iter().copied().fold(f64::INFINITY, f64::min);
+    let h_max = h0 * h_factors.iter().copied().fold(0.0, f64::max);
+    let n_max = *element_counts.iter().max().unwrap();
+    let mut families = vec![Family {
+        name: "Time stepping and mesh".into(),
+        kind: FamilyKind::Dynamic,
+        settings: stepping,
+    }];
+    if let Some(s0) = base.stations {
+        let stations: Vec<usize> = if quick {
+            vec![s0]
+        } else {
+            vec![s0, 2 * s0, (4 * s0).min(64)]
+        };
+        let factors: &[f64] = if quick {
+            &[0.1, 1.0]
+        } else {
+            &[0.01, 0.1, 1.0, 10.0, 100.0]
+        };
+        let mut contact = Vec::new();
+        for &s in &stations {
+            for &k in factors {
+                push_unique(
+                    &mut contact,
+                    Setting {
+                        stations: Some(s),
+                        stiffness_factor: Some(k),
+                        ..base.clone()
+                    },
+                );
+            }
+        }
+        families.push(Family {
+            name: "Contact resolution".into(),
+            kind: FamilyKind::Contact,
+            settings: contact,
+        });
+    }
+    let reference = Setting {
+        elements: 2 * n_max,
+        axial: base.axial.max(5),
+        section: base.section,
+        // Contact runs: h_min/2 (a contact reference at h_min/4 and twice
+        // the elements takes ten minutes; the contact errors are far larger
+        // than what the factor 2 leaves).
+        time_step: Some(if contact { h_min / 2.0 } else { h_min / 4.0 }),
+        spectral_radius: Some(1.0),
+        full_newton: Some(true),
+        stations: stations_for(&base, length, 2 * n_max).map(|s| (2 * s).min(64)),
+        stiffness_factor: base.stiffness_factor,
+    };
+    Plan {
+        families,
+        reference,
+        sample_interval: Some(h_max),
+    }
+}

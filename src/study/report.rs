@@ -1,0 +1,781 @@
+//! The study's report: errors against the reference, the Pareto front of
+//! error against wall time, the cheapest setting reaching 1 %, 0.1 % and
+//! 0.01 %, written as `report.md` with PNG plots and `runs.csv`.
+
+use super::plan::{FamilyKind, Level, Plan, Setting};
+use super::reference::Analytic;
+use super::{Outcome, Sample};
+use crate::plot::{Series, pareto_plot};
+use ancf_core::element::ElementIntegration;
+use ancf_core::scene::Scene;
+use ancf_core::section::{Section, SectionShape};
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The error levels every table answers for.
+pub const THRESHOLDS: [f64; 3] = [1e-2, 1e-3, 1e-4];
+
+/// Element kernel cost at one quadrature setting, µs per element.
+#[derive(Clone, Debug)]
+pub struct KernelCost {
+    pub axial: usize,
+    pub section: usize,
+    /// Section points per axial station on the generated path.
+    pub points: usize,
+    pub preintegrated: bool,
+    pub generated_force: f64,
+    pub generated_jacobian: f64,
+    pub generic_force: f64,
+    pub generic_jacobian: f64,
+}
+
+/// The scene's section at another ring-rule order.
+fn section_with_order(s: &Section, order: usize) -> Section {
+    match &s.shape {
+        SectionShape::Circular { radii } => {
+            let layers: Vec<(f64, f64, ancf_core::material::Material)> = radii
+                .iter()
+                .zip(&s.layers)
+                .map(|(&(a, b), l)| (a, b, l.material.clone()))
+                .collect();
+            Section::circular(&layers, order)
+        }
+        SectionShape::Rectangular { width, height } => {
+            Section::rectangular(*width, *height, s.layers[0].material.clone(), order)
+        }
+    }
+}
+
+/// Element force and Jacobian cost against the quadrature orders, generated
+/// kernel against the generic loop (single thread, medians of repeats).
+pub fn kernel_costs(scene: &Scene) -> Vec<KernelCost> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    let el = &scene.model.element;
+    let mut out = Vec::new();
+    pool.install(|| {
+        for section in 2..=5 {
+            for axial in 2..=5 {
+                let sec = section_with_order(&el.section, section);
+                let gen_el = ElementIntegration::new(el.length, axial, sec);
+                let generic = gen_el.clone().with_generic_kernel();
+                let (gf, gj) = crate::bench::element_times(&gen_el);
+                let (nf, nj) = crate::bench::element_times(&generic);
+                out.push(KernelCost {
+                    axial,
+                    section,
+                    points: gen_el.plan.points(),
+                    preintegrated: gen_el.plan.is_preintegrated(),
+                    generated_force: gf,
+                    generated_jacobian: gj,
+                    generic_force: nf,
+                    generic_jacobian: nj,
+                });
+            }
+        }
+    });
+    out
+}
+
+/// Everything the report is written from.
+pub struct ReportInput<'a> {
+    pub scene_path: &'a Path,
+    pub scene: &'a Scene,
+    pub plan: &'a Plan,
+    pub outcomes: &'a [Vec<Outcome>],
+    pub analytic: Option<&'a Analytic>,
+    pub reference_run: Option<&'a Outcome>,
+    pub kernels: Option<&'a [KernelCost]>,
+    pub level: Level,
+    pub jobs: usize,
+    pub study_wall_s: f64,
+}
+
+/// Errors of one run against the reference (relative unless stated).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Errors {
+    /// Static: tip displacement. Dynamic: tip trajectory, max over the
+    /// sample times of |x − x_ref| over the largest tip excursion of the reference.
+    pub tip: Option<f64>,
+    /// Dynamic: the first sample time at which the tip is farther than 1 %
+    /// of the excursion from the reference tip (None: never), s.
+    pub divergence_time: Option<f64>,
+    /// Dynamic: max |E + D − E(0)| over the reference's largest kinetic energy.
+    pub energy: Option<f64>,
+    /// Contact: peak total normal force.
+    pub peak_force: Option<f64>,
+    /// Contact: |t_peak − t_peak,ref|, s.
+    pub peak_time: Option<f64>,
+    /// Contact: total normal impulse.
+    pub impulse: Option<f64>,
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// The reference a run is compared with.
+struct Reference<'a> {
+    tip: [f64; 3],
+    samples: HashMap<i64, Sample>,
+    interval: f64,
+    excursion: f64,
+    kinetic: f64,
+    contact: Option<&'a Outcome>,
+}
+
+impl<'a> Reference<'a> {
+    fn new(input: &'a ReportInput) -> Option<Self> {
+        if let Some(a) = input.analytic {
+            return Some(Reference {
+                tip: a.displacement,
+                samples: HashMap::new(),
+                interval: 1.0,
+                excursion: 0.0,
+                kinetic: 0.0,
+                contact: None,
+            });
+        }
+        let r = input.reference_run.filter(|r| r.completed())?;
+        let interval = input.plan.sample_interval.unwrap_or(1.0);
+        let samples: HashMap<i64, Sample> = r
+            .samples
+            .iter()
+            .map(|s| ((s.time / interval).round() as i64, *s))
+            .collect();
+        let first = r.samples.first().map_or([0.0; 3], |s| s.tip);
+        Some(Reference {
+            tip: r.tip,
+            excursion: r
+                .samples
+                .iter()
+                .map(|s| norm(sub(s.tip, first)))
+                .fold(0.0, f64::max),
+            kinetic: r.samples.iter().map(|s| s.kinetic).fold(0.0, f64::max),
+            samples,
+            interval,
+            contact: r.peak_force.is_some().then_some(r),
+        })
+    }
+
+    fn errors(&self, o: &Outcome) -> Errors {
+        if !o.completed() {
+            return Errors::default();
+        }
+        let mut e = Errors::default();
+        if o.samples.is_empty() {
+            e.tip = Some(norm(sub(o.tip, self.tip)) / norm(self.tip));
+        } else {
+            let mut worst: f64 = 0.0;
+            let mut matched = 0;
+            for s in &o.samples {
+                let k = (s.time / self.interval).round() as i64;
+                if (s.time - k as f64 * self.interval).abs() > 1e-6 * self.interval {
+                    continue;
+                }
+                if let Some(r) = self.samples.get(&k) {
+                    let d = norm(sub(s.tip, r.tip));
+                    if d > 0.01 * self.excursion && e.divergence_time.is_none() {
+                        e.divergence_time = Some(s.time);
+                    }
+                    worst = worst.max(d);
+                    matched += 1;
+                }
+            }
+            if matched > 0 && self.excursion > 0.0 {
+                e.tip = Some(worst / self.excursion);
+            }
+            let e0 = o.samples[0].energy;
+            if self.kinetic > 0.0 {
+                e.energy = Some(
+                    o.samples
+                        .iter()
+                        .map(|s| (s.energy - e0).abs())
+                        .fold(0.0, f64::max)
+                        / self.kinetic,
+                );
+            }
+        }
+        if let (Some(r), Some(f)) = (self.contact, o.peak_force) {
+            let fr = r.peak_force.unwrap_or(0.0);
+            if fr > 0.0 {
+                e.peak_force = Some((f - fr).abs() / fr);
+            }
+            if let (Some(t), Some(tr)) = (o.peak_time, r.peak_time) {
+                e.peak_time = Some((t - tr).abs());
+            }
+            if let (Some(i), Some(ir)) = (o.impulse, r.impulse) {
+                e.impulse = Some((i - ir).abs() / ir.abs().max(1e-300));
+            }
+        }
+        e
+    }
+}
+
+/// A run joins the Pareto front only when it is more accurate than every
+/// faster run by more than this fraction of their error: settings that give
+/// the same result (section orders of pre-integrated layers) at timings
+/// differing by noise are not a front.
+const FRONT_MARGIN: f64 = 0.01;
+
+/// Runs on the Pareto front of (wall time, error): no faster run is as accurate.
+/// Returns indices sorted by wall time.
+pub fn pareto_front(points: &[(f64, Option<f64>)]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..points.len())
+        .filter(|&i| points[i].1.is_some_and(f64::is_finite))
+        .collect();
+    idx.sort_by(|&a, &b| {
+        points[a]
+            .0
+            .total_cmp(&points[b].0)
+            .then(points[a].1.unwrap().total_cmp(&points[b].1.unwrap()))
+    });
+    let mut best = f64::INFINITY;
+    let mut front = Vec::new();
+    for i in idx {
+        let e = points[i].1.unwrap();
+        if e < best * (1.0 - FRONT_MARGIN) {
+            best = e;
+            front.push(i);
+        }
+    }
+    front
+}
+
+/// The cheapest run whose error is at most `threshold`.
+pub fn cheapest(points: &[(f64, Option<f64>)], threshold: f64) -> Option<usize> {
+    (0..points.len())
+        .filter(|&i| points[i].1.is_some_and(|e| e <= threshold))
+        .min_by(|&a, &b| points[a].0.total_cmp(&points[b].0))
+}
+
+/// Runs within this fraction of the fastest qualifying run's wall time
+/// count as equally fast (timing noise between runs sharing the cores).
+const TIME_TIE: f64 = 0.10;
+
+/// The cheapest run reaching `threshold`; among runs as fast within
+/// [`TIME_TIE`], the scene's own section and axial order first, then the
+/// lowest orders, then fewest elements (a user should not pick section
+/// order 5 over 3 because of timing noise when the results are the same).
+pub fn cheapest_setting(
+    base: &Setting,
+    settings: &[Setting],
+    points: &[(f64, Option<f64>)],
+    threshold: f64,
+) -> Option<usize> {
+    let fastest = points[cheapest(points, threshold)?].0;
+    (0..points.len())
+        .filter(|&i| {
+            points[i].1.is_some_and(|e| e <= threshold) && points[i].0 <= fastest * (1.0 + TIME_TIE)
+        })
+        .min_by_key(|&i| {
+            let s = &settings[i];
+            (
+                s.section != base.section,
+                s.axial != base.axial,
+                s.section,
+                s.axial,
+                s.elements,
+            )
+        })
+}
+
+/// Seconds with three significant digits (static solves take microseconds).
+fn secs(t: f64) -> String {
+    if t >= 0.1 {
+        format!("{t:.2}")
+    } else {
+        format!("{t:.2e}")
+    }
+}
+
+fn pct(e: Option<f64>) -> String {
+    match e {
+        Some(e) if e.is_finite() => format!("{:.3e}", e * 100.0),
+        _ => "–".into(),
+    }
+}
+
+fn threshold_table(
+    md: &mut String,
+    base: &Setting,
+    what: &str,
+    settings: &[Setting],
+    points: &[(f64, Option<f64>)],
+) {
+    let _ = writeln!(
+        md,
+        "\nCheapest setting whose {what} error is at most (runs within 10 % of the fastest count as equally fast; \
+         the scene's own orders, else the lowest, are named among them):\n\n| error ≤ | setting | wall time (s) | error (%) |\n|---|---|---|---|"
+    );
+    for t in THRESHOLDS {
+        match cheapest_setting(base, settings, points, t) {
+            Some(i) => {
+                let _ = writeln!(
+                    md,
+                    "| {} % | {} | {} | {} |",
+                    t * 100.0,
+                    settings[i].label(),
+                    secs(points[i].0),
+                    pct(points[i].1)
+                );
+            }
+            None => {
+                let _ = writeln!(md, "| {} % | not reached by any run | – | – |", t * 100.0);
+            }
+        }
+    }
+}
+
+/// How the runs of a family are grouped in its plot.
+fn group_key(kind: FamilyKind, s: &Setting, base: &Setting) -> String {
+    match kind {
+        FamilyKind::Static => format!("axial order {}", s.axial),
+        FamilyKind::Contact => format!("{} stations", s.stations.unwrap_or(0)),
+        FamilyKind::Dynamic => {
+            if s.spectral_radius != base.spectral_radius {
+                format!(
+                    "{} el, ρ∞ = {}",
+                    s.elements,
+                    s.spectral_radius.unwrap_or(0.0)
+                )
+            } else if s.axial != base.axial {
+                format!("{} el, axial order {}", s.elements, s.axial)
+            } else if s.full_newton != base.full_newton {
+                format!(
+                    "{} el, {} Newton",
+                    s.elements,
+                    if s.full_newton == Some(true) {
+                        "full"
+                    } else {
+                        "modified"
+                    }
+                )
+            } else {
+                format!("{} elements", s.elements)
+            }
+        }
+    }
+}
+
+fn plot_family(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    kind: FamilyKind,
+    settings: &[Setting],
+    base: &Setting,
+    points: &[(f64, Option<f64>)],
+) -> Result<(), String> {
+    let mut keys: Vec<String> = Vec::new();
+    let mut groups: Vec<Vec<(f64, f64)>> = Vec::new();
+    for (s, &(t, e)) in settings.iter().zip(points) {
+        let Some(e) = e else { continue };
+        let key = group_key(kind, s, base);
+        let i = keys.iter().position(|k| *k == key).unwrap_or_else(|| {
+            keys.push(key);
+            groups.push(Vec::new());
+            keys.len() - 1
+        });
+        groups[i].push((t, e * 100.0));
+    }
+    let series: Vec<Series> = keys
+        .iter()
+        .zip(groups)
+        .map(|(k, points)| Series { label: k, points })
+        .collect();
+    let front: Vec<(f64, f64)> = pareto_front(points)
+        .into_iter()
+        .map(|i| (points[i].0, points[i].1.unwrap() * 100.0))
+        .collect();
+    pareto_plot(
+        path,
+        title,
+        "wall time per run (s)",
+        y_label,
+        &series,
+        &front,
+    )
+}
+
+fn scene_name(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into())
+}
+
+/// Write `report.md`, the plots and `runs.csv` into `out`; returns the report path.
+pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
+    let name = scene_name(input.scene_path);
+    let base = Setting::of_scene(input.scene);
+    let reference = Reference::new(input);
+    let mut md = String::new();
+    let _ = writeln!(md, "# Accuracy and cost: `{name}`\n");
+    let _ = writeln!(
+        md,
+        "Generated by `ancf study {} --out {}{}` ({} runs in {:.0} s on {} thread(s); each run single-threaded, \
+         its wall time the fastest of up to 5 repeats when it takes under 0.5 s). Machine: {} logical cores. \
+         Timings from runs sharing the cores are a little slower than a lone run; compare them with each other.\n",
+        input.scene_path.display(),
+        out.display(),
+        if input.level == Level::Quick {
+            " --level quick"
+        } else {
+            ""
+        },
+        input.outcomes.iter().map(Vec::len).sum::<usize>(),
+        input.study_wall_s,
+        input.jobs,
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+    );
+    let _ = writeln!(md, "The scene's own setting: {}.\n", base.label());
+    match (input.analytic, input.reference_run) {
+        (Some(a), _) => {
+            let _ = writeln!(md, "**Reference**: analytic — {}.\n", a.description);
+        }
+        (None, Some(r)) => {
+            let _ = writeln!(
+                md,
+                "**Reference**: a finer run computed by the study — {} ({}, {:.1} s). Errors much below the finest \
+                 sweep run's are not resolved by it.\n",
+                input.plan.reference.label(),
+                r.status,
+                r.wall_s
+            );
+        }
+        (None, None) => {}
+    }
+    let Some(reference) = reference else {
+        let why = input
+            .reference_run
+            .map_or("no reference".to_string(), |r| r.message.clone());
+        let _ = writeln!(
+            md,
+            "**The reference run did not complete**: {why}. No errors can be given.\n"
+        );
+        let path = out.join("report.md");
+        std::fs::write(&path, md).map_err(|e| format!("{}: {e}", path.display()))?;
+        return Err(format!("the reference run did not complete: {why}"));
+    };
+    let _ = writeln!(
+        md,
+        "Errors: {}. Each table names the cheapest setting reaching 1 %, 0.1 % and 0.01 %; \
+         the plots show every completed run, the Pareto front (no faster run is more accurate) as a black line.\n",
+        match input.plan.sample_interval {
+            None => "relative error of the tip displacement vector".to_string(),
+            Some(dt) => format!(
+                "tip trajectory — the largest distance from the reference tip over the samples every {dt:.3e} s, \
+                 over the reference tip's largest excursion ({:.4} m); energy — the largest |E(t) + D(t) − E(0)| \
+                 (total mechanical energy plus friction dissipation) over the reference's largest kinetic energy \
+                 ({:.4e} J); \"trajectory off by 1 % from\" — the first sample time at which the tip is farther than 1 % \
+                 of that excursion from the reference tip (never: it stays closer)",
+                reference.excursion, reference.kinetic
+            ),
+        }
+    );
+    let mut csv = String::from(
+        "family,elements,axial,section,time_step,spectral_radius,full_newton,stations,stiffness_factor,status,wall_s,\
+         iterations_per_step,tip_error,divergence_time,energy_error,peak_force,peak_force_error,peak_time,peak_time_error,\
+         max_penetration,impulse,impulse_error,first_contact\n",
+    );
+    let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6e}"));
+    for (fi, fam) in input.plan.families.iter().enumerate() {
+        let outcomes = &input.outcomes[fi];
+        let errors: Vec<Errors> = outcomes.iter().map(|o| reference.errors(o)).collect();
+        let slug: String = fam
+            .name
+            .to_lowercase()
+            .chars()
+            .map(|c| if c.is_alphanumeric() { c } else { '_' })
+            .collect();
+        let _ = writeln!(md, "## {}\n", fam.name);
+        let primary: Vec<(f64, Option<f64>)> = outcomes
+            .iter()
+            .zip(&errors)
+            .map(|(o, e)| {
+                let v = match fam.kind {
+                    FamilyKind::Contact => e.peak_force,
+                    _ => e.tip,
+                };
+                (o.wall_s, v)
+            })
+            .collect();
+        let (what, y_label) = match (fam.kind, input.plan.sample_interval) {
+            (FamilyKind::Contact, _) => ("peak contact force", "peak contact force error (%)"),
+            (_, None) => ("tip displacement", "tip displacement error (%)"),
+            _ => ("tip trajectory", "tip trajectory error (%)"),
+        };
+        let png = format!("{slug}_{}.png", what.replace(' ', "_"));
+        let title = format!("{name}: {what} error against wall time");
+        plot_family(
+            &out.join(&png),
+            &title,
+            y_label,
+            fam.kind,
+            &fam.settings,
+            &base,
+            &primary,
+        )?;
+        let _ = writeln!(md, "![{what} error against wall time]({png})");
+        if fam.kind == FamilyKind::Static {
+            section_order_note(&mut md, &fam.settings, &primary, &base);
+        }
+        threshold_table(&mut md, &base, what, &fam.settings, &primary);
+        if outcomes.iter().any(|o| o.impulse.is_some()) {
+            let impulse: Vec<(f64, Option<f64>)> = outcomes
+                .iter()
+                .zip(&errors)
+                .map(|(o, e)| (o.wall_s, e.impulse))
+                .collect();
+            threshold_table(&mut md, &base, "contact impulse", &fam.settings, &impulse);
+        }
+        if fam.kind == FamilyKind::Contact {
+            let _ = writeln!(
+                md,
+                "\nThe reference uses the scene's contact stiffness ε_N: for other values the error includes the \
+                 change of the penalty model itself; the penetration column shows how close each is to rigid contact."
+            );
+        }
+        if fam.kind == FamilyKind::Dynamic {
+            let energy: Vec<(f64, Option<f64>)> = outcomes
+                .iter()
+                .zip(&errors)
+                .map(|(o, e)| (o.wall_s, e.energy))
+                .collect();
+            if energy.iter().any(|p| p.1.is_some()) {
+                let png = format!("{slug}_energy.png");
+                plot_family(
+                    &out.join(&png),
+                    &format!("{name}: energy error against wall time"),
+                    "energy error (% of max kinetic energy)",
+                    fam.kind,
+                    &fam.settings,
+                    &base,
+                    &energy,
+                )?;
+                let _ = writeln!(md, "\n![energy error against wall time]({png})");
+                threshold_table(&mut md, &base, "energy", &fam.settings, &energy);
+            }
+        }
+        // Every run.
+        let contact = outcomes.iter().any(|o| o.peak_force.is_some());
+        let _ = write!(
+            md,
+            "\nAll runs:\n\n| setting | status | wall time (s) | Newton its/step | {} error (%) |",
+            if fam.kind == FamilyKind::Static {
+                "tip"
+            } else {
+                "trajectory"
+            }
+        );
+        if fam.kind != FamilyKind::Static {
+            md.push_str(" energy error (%) | trajectory off by 1 % from (s) |");
+        }
+        if contact {
+            md.push_str(
+                " first contact (s) | peak force (N) | peak force error (%) | peak time error (ms) | impulse (N s) | \
+                 impulse error (%) | penetration / wire radius |",
+            );
+        }
+        md.push('\n');
+        let columns =
+            5 + 2 * usize::from(fam.kind != FamilyKind::Static) + if contact { 7 } else { 0 };
+        md.push_str(&"|---".repeat(columns));
+        md.push_str("|\n");
+        let radius = input.scene.model.element.section.outer_radius();
+        for ((s, o), e) in fam.settings.iter().zip(outcomes).zip(&errors) {
+            let status = if o.completed() {
+                "completed".to_string()
+            } else {
+                format!("{}: {}", o.status, o.message.replace('|', "/"))
+            };
+            let _ = write!(
+                md,
+                "| {} | {} | {} | {:.1} | {} |",
+                s.label(),
+                status,
+                secs(o.wall_s),
+                o.iterations_per_step,
+                pct(e.tip)
+            );
+            if fam.kind != FamilyKind::Static {
+                let _ = write!(
+                    md,
+                    " {} | {} |",
+                    pct(e.energy),
+                    match (o.completed(), e.divergence_time) {
+                        (false, _) => "–".to_string(),
+                        (true, None) => "never".to_string(),
+                        (true, Some(t)) => format!("{t:.4}"),
+                    }
+                );
+            }
+            if contact {
+                let _ = write!(
+                    md,
+                    " {} | {} | {} | {} | {} | {} | {} |",
+                    o.first_contact.map_or("–".into(), |t| format!("{t:.4}")),
+                    o.peak_force.map_or("–".into(), |f| format!("{f:.1}")),
+                    pct(e.peak_force),
+                    e.peak_time
+                        .map_or("–".into(), |t| format!("{:.2}", t * 1e3)),
+                    o.impulse.map_or("–".into(), |i| format!("{i:.3}")),
+                    pct(e.impulse),
+                    o.max_penetration
+                        .filter(|_| o.completed())
+                        .map_or("–".into(), |p| format!("{:.3}", p / radius)),
+                );
+            }
+            md.push('\n');
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{}",
+                slug,
+                s.elements,
+                s.axial,
+                s.section,
+                opt(s.time_step),
+                opt(s.spectral_radius),
+                s.full_newton.map_or(String::new(), |f| f.to_string()),
+                s.stations.map_or(String::new(), |n| n.to_string()),
+                opt(s.stiffness_factor),
+                o.status,
+                o.wall_s,
+                o.iterations_per_step,
+                opt(e.tip),
+                opt(e.divergence_time),
+                opt(e.energy),
+                opt(o.peak_force),
+                opt(e.peak_force),
+                opt(o.peak_time),
+                opt(e.peak_time),
+                opt(o.max_penetration),
+                opt(o.impulse),
+                opt(e.impulse),
+                opt(o.first_contact),
+            );
+        }
+        md.push('\n');
+    }
+    if let Some(k) = input.kernels {
+        kernel_section(&mut md, k);
+    }
+    let path = out.join("report.md");
+    std::fs::write(&path, md).map_err(|e| format!("{}: {e}", path.display()))?;
+    let runs = out.join("runs.csv");
+    std::fs::write(&runs, csv).map_err(|e| format!("{}: {e}", runs.display()))?;
+    Ok(path)
+}
+
+/// How much the section order changes the result, per order, against the
+/// scene's own order (pre-integrated St. Venant–Kirchhoff layers: nothing
+/// from order 3 on; order 2 is not exact for them).
+fn section_order_note(
+    md: &mut String,
+    settings: &[Setting],
+    points: &[(f64, Option<f64>)],
+    base: &Setting,
+) {
+    let mut orders: Vec<usize> = settings.iter().map(|s| s.section).collect();
+    orders.sort_unstable();
+    orders.dedup();
+    let mut parts = Vec::new();
+    for &order in orders.iter().filter(|&&o| o != base.section) {
+        let mut largest: Option<f64> = None;
+        for (i, a) in settings
+            .iter()
+            .enumerate()
+            .filter(|(_, a)| a.section == order)
+        {
+            let twin = settings.iter().position(|b| {
+                b.section == base.section && b.elements == a.elements && b.axial == a.axial
+            });
+            if let (Some(x), Some(Some(y))) = (points[i].1, twin.map(|j| points[j].1)) {
+                let d = (x - y).abs() / x.abs().max(y.abs()).max(1e-300);
+                largest = Some(largest.map_or(d, |l: f64| l.max(d)));
+            }
+        }
+        if let Some(l) = largest {
+            parts.push(format!("order {order}: {l:.1e}"));
+        }
+    }
+    if !parts.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nLargest relative change of the error against section order {} at the same elements and axial order: {}. \
+             (St. Venant–Kirchhoff layers are pre-integrated exactly from order 3 on: there the section order \
+             changes neither result nor cost, and timing differences between such runs are noise.)",
+            base.section,
+            parts.join(", ")
+        );
+    }
+}
+
+fn kernel_section(md: &mut String, k: &[KernelCost]) {
+    let _ = writeln!(
+        md,
+        "## Element cost against quadrature order\n\n\
+         One element of this scene's section, force alone and force with Jacobian, µs per evaluation \
+         (single thread, medians). *Generated*: the kernel `build.rs` unrolls for the axial order (St. \
+         Venant–Kirchhoff layers pre-integrated over the section, so independent of the section order); \
+         *generic*: the loop over every quadrature point.\n\n\
+         | axial | section | points per station (generated) | pre-integrated | generated force | generated Jacobian | generic force | generic Jacobian | Jacobian speed-up |\n\
+         |---|---|---|---|---|---|---|---|---|"
+    );
+    for c in k {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1}× |",
+            c.axial,
+            c.section,
+            c.points,
+            if c.preintegrated { "yes" } else { "no" },
+            c.generated_force,
+            c.generated_jacobian,
+            c.generic_force,
+            c.generic_jacobian,
+            c.generic_jacobian / c.generated_jacobian
+        );
+    }
+    md.push('\n');
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pareto_front_keeps_only_runs_more_accurate_than_every_faster_one() {
+        // (wall time, error): the 2nd is slower and worse than the 1st, the
+        // 4th ties the 3rd within the margin, the 5th failed.
+        let pts = [
+            (1.0, Some(1e-1)),
+            (2.0, Some(2e-1)),
+            (3.0, Some(1e-2)),
+            (4.0, Some(0.999e-2)),
+            (5.0, None),
+            (6.0, Some(1e-3)),
+        ];
+        assert_eq!(pareto_front(&pts), vec![0, 2, 5]);
+    }
+
+    #[test]
+    fn cheapest_run_per_threshold() {
+        let pts = [
+            (3.0, Some(5e-3)),
+            (1.0, Some(2e-2)),
+            (2.0, Some(8e-3)),
+            (0.5, None),
+        ];
+        assert_eq!(cheapest(&pts, 1e-2), Some(2));
+        assert_eq!(cheapest(&pts, 1e-1), Some(1));
+        assert_eq!(cheapest(&pts, 1e-3), None);
+    }
+}

@@ -1,0 +1,154 @@
+//! Issue 5: `ancf study` on a user's own scene — a reduced study (`--level
+//! quick`) of a small static and a small dynamic scene: the report has its
+//! parts, and the error falls as the resolution rises.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ancf-study-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// `runs.csv` as rows of (column → value).
+fn runs(dir: &Path) -> Vec<std::collections::HashMap<String, String>> {
+    let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+fn num(row: &std::collections::HashMap<String, String>, key: &str) -> f64 {
+    row[key]
+        .parse()
+        .unwrap_or_else(|_| panic!("{key} = {:?}", row[key]))
+}
+
+fn study(scene: &Path, out: &Path) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_ancf"))
+        .args(["study", "--level", "quick", "--quiet", "--out"])
+        .arg(out)
+        .arg(scene)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "study failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::read_to_string(out.join("report.md")).unwrap()
+}
+
+fn assert_report_parts(report: &str, out: &Path) {
+    assert!(report.starts_with("# Accuracy and cost"), "{report}");
+    assert!(report.contains("**Reference**"));
+    for level in ["| 1 % |", "| 0.1 % |", "| 0.01 % |"] {
+        assert!(report.contains(level), "threshold row {level} missing");
+    }
+    // Every plot the report shows exists and is a PNG.
+    let mut plots = 0;
+    for line in report.lines().filter(|l| l.starts_with("![")) {
+        let file = &line[line.find('(').unwrap() + 1..line.len() - 1];
+        let bytes = std::fs::read(out.join(file)).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{file}");
+        plots += 1;
+    }
+    assert!(plots >= 1);
+    assert!(
+        !out.join(".runs").exists(),
+        "run directories are cleaned up"
+    );
+}
+
+#[test]
+fn issue5_static_study_reports_errors_that_fall_with_the_mesh() {
+    let out = tmp("static");
+    let report = study(Path::new("scenes/two_layer_cantilever.toml"), &out);
+    assert_report_parts(&report, &out);
+    assert!(report.contains("analytic — Timoshenko"), "{report}");
+    let rows = runs(&out);
+    assert_eq!(rows.len(), 6, "1, 2, 4 elements × axial 3, 5");
+    for axial in ["3", "5"] {
+        let errs: Vec<f64> = [1, 2, 4]
+            .iter()
+            .map(|n| {
+                let r = rows
+                    .iter()
+                    .find(|r| r["axial"] == axial && num(r, "elements") == *n as f64)
+                    .unwrap();
+                assert_eq!(r["status"], "completed");
+                num(r, "tip_error")
+            })
+            .collect();
+        // Cubic elements against beam theory: the error falls about 4× per halving.
+        assert!(
+            errs[0] > 3.0 * errs[1] && errs[1] > 3.0 * errs[2],
+            "axial {axial}: {errs:?}"
+        );
+    }
+}
+
+#[test]
+fn issue5_dynamic_study_reports_errors_that_fall_with_resolution() {
+    let out = tmp("dynamic");
+    let scene = out.join("small_pendulum.toml");
+    std::fs::write(
+        &scene,
+        r#"
+[analysis]
+kind = "dynamic"
+end_time = 0.3
+time_step = 5e-3
+spectral_radius = 1.0
+
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+
+[[material]]
+name = "steel"
+model = "st-venant-kirchhoff"
+density = 7800.0
+youngs_modulus = 2e9
+poisson_ratio = 0.0
+
+[wire]
+length = 1.0
+elements = 2
+layers = [ { material = "steel", outer_radius = 0.02 } ]
+
+[[support]]
+node = 0
+kind = "pin"
+"#,
+    )
+    .unwrap();
+    let report_dir = out.join("report");
+    let report = study(&scene, &report_dir);
+    assert_report_parts(&report, &report_dir);
+    assert!(report.contains("a finer run computed by the study"));
+    assert!(report.contains("energy error"));
+    let rows = runs(&report_dir);
+    assert_eq!(rows.len(), 4, "h ∈ {{1e-2, 5e-3}} × elements ∈ {{2, 4}}");
+    let err = |h: f64, n: f64| {
+        let r = rows
+            .iter()
+            .find(|r| (num(r, "time_step") - h).abs() < 1e-12 && num(r, "elements") == n)
+            .unwrap();
+        assert_eq!(r["status"], "completed");
+        num(r, "tip_error")
+    };
+    let coarse = err(1e-2, 2.0);
+    let fine = err(5e-3, 4.0);
+    assert!(coarse > 0.0 && fine > 0.0);
+    assert!(fine < coarse / 2.0, "coarse {coarse:e}, fine {fine:e}");
+}

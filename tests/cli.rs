@@ -147,7 +147,7 @@ fn static_run_reports_the_tip() {
     assert!(((-dz - theory) / theory).abs() < 5e-3, "{dz} vs {theory}");
     let nodes = std::fs::read_to_string(dir.join("final_nodes.csv")).unwrap();
     assert!(nodes.starts_with("node,x,y,z"));
-    assert_eq!(nodes.lines().count(), 1 + 9);
+    assert_eq!(nodes.lines().count(), 1 + 17);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

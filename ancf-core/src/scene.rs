@@ -327,16 +327,20 @@ fn finite3(field: &str, v: [f64; 3]) -> Result<[f64; 3], SceneError> {
     Ok(v)
 }
 
+impl SceneFile {
+    /// Parse TOML text (syntax, types and unknown keys; no validation).
+    pub fn from_toml(text: &str) -> Result<SceneFile, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError {
+            field: String::new(),
+            message: e.to_string().trim_end().to_string(),
+        })
+    }
+}
+
 impl Scene {
     /// Parse and validate a scene from TOML text.
     pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
-        let file: SceneFile = toml::from_str(text).map_err(|e| {
-            let msg = e.to_string();
-            SceneError {
-                field: String::new(),
-                message: msg.trim_end().to_string(),
-            }
-        })?;
+        let file = SceneFile::from_toml(text)?;
         let mut scene = Scene::from_file(&file)?;
         scene.source = text.to_string();
         Ok(scene)

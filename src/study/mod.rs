@@ -159,36 +159,24 @@ pub fn run_setting(
         Vec::new()
     };
     let _ = std::fs::remove_dir_all(dir);
-    let impulse = summary
-        .contact
-        .as_ref()
-        .map(|c| c.rods.iter().map(|r| r.impulse).sum());
-    let first_contact = summary.contact.as_ref().and_then(|c| c.first_time);
-    let (peak_force, peak_time, max_penetration) = match &summary.contact {
-        Some(c) => {
-            let peak_rod = c
-                .rods
-                .iter()
-                .max_by(|a, b| a.peak_force.total_cmp(&b.peak_force));
-            (
-                Some(c.max_normal_force),
-                peak_rod.map(|r| r.peak_time),
-                Some(c.max_penetration),
-            )
-        }
-        None => (None, None, None),
-    };
+    // Contact runs: the peak time is that of the rod with the largest peak.
+    let contact = summary.contact.as_ref();
+    let peak_rod = contact.and_then(|c| {
+        c.rods
+            .iter()
+            .max_by(|a, b| a.peak_force.total_cmp(&b.peak_force))
+    });
     Outcome {
         status: summary.status.clone(),
         message: summary.message.clone(),
         wall_s: summary.wall_time_s,
         tip: summary.tip.displacement,
         samples,
-        peak_force,
-        peak_time,
-        max_penetration,
-        impulse,
-        first_contact,
+        peak_force: contact.map(|c| c.max_normal_force),
+        peak_time: peak_rod.map(|r| r.peak_time),
+        max_penetration: contact.map(|c| c.max_penetration),
+        impulse: contact.map(|c| c.rods.iter().map(|r| r.impulse).sum()),
+        first_contact: contact.and_then(|c| c.first_time),
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
     }
 }
@@ -277,8 +265,8 @@ fn execute(
 /// Returns the report's path.
 pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let scene = Scene::from_toml(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let file: SceneFile = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file = SceneFile::from_toml(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::from_file(&file).map_err(|e| format!("{}: {e}", path.display()))?;
     let plan = plan::plan(&file, &scene, opts.level);
     let analytic = reference::analytic(&scene);
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;

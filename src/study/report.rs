@@ -2,7 +2,7 @@
 //! error against wall time, the cheapest setting reaching 1 %, 0.1 % and
 //! 0.01 %, written as `report.md` with PNG plots and `runs.csv`.
 
-use super::plan::{FamilyKind, Level, Plan, Setting};
+use super::plan::{Family, FamilyKind, Level, Plan, Setting};
 use super::reference::Analytic;
 use super::{Outcome, Sample};
 use crate::plot::{Series, pareto_plot};
@@ -485,7 +485,6 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
          iterations_per_step,tip_error,divergence_time,energy_error,peak_force,peak_force_error,peak_time,peak_time_error,\
          max_penetration,impulse,impulse_error,first_contact\n",
     );
-    let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6e}"));
     for (fi, fam) in input.plan.families.iter().enumerate() {
         let outcomes = &input.outcomes[fi];
         let errors: Vec<Errors> = outcomes.iter().map(|o| reference.errors(o)).collect();
@@ -496,17 +495,18 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
             .map(|c| if c.is_alphanumeric() { c } else { '_' })
             .collect();
         let _ = writeln!(md, "## {}\n", fam.name);
-        let primary: Vec<(f64, Option<f64>)> = outcomes
-            .iter()
-            .zip(&errors)
-            .map(|(o, e)| {
-                let v = match fam.kind {
-                    FamilyKind::Contact => e.peak_force,
-                    _ => e.tip,
-                };
-                (o.wall_s, v)
-            })
-            .collect();
+        // (wall time, error) of every run for one error measure.
+        let against_time = |metric: fn(&Errors) -> Option<f64>| -> Vec<(f64, Option<f64>)> {
+            outcomes
+                .iter()
+                .zip(&errors)
+                .map(|(o, e)| (o.wall_s, metric(e)))
+                .collect()
+        };
+        let primary = against_time(match fam.kind {
+            FamilyKind::Contact => |e| e.peak_force,
+            _ => |e| e.tip,
+        });
         let (what, y_label) = match (fam.kind, input.plan.sample_interval) {
             (FamilyKind::Contact, _) => ("peak contact force", "peak contact force error (%)"),
             (_, None) => ("tip displacement", "tip displacement error (%)"),
@@ -529,11 +529,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
         }
         threshold_table(&mut md, &base, what, &fam.settings, &primary);
         if outcomes.iter().any(|o| o.impulse.is_some()) {
-            let impulse: Vec<(f64, Option<f64>)> = outcomes
-                .iter()
-                .zip(&errors)
-                .map(|(o, e)| (o.wall_s, e.impulse))
-                .collect();
+            let impulse = against_time(|e| e.impulse);
             threshold_table(&mut md, &base, "contact impulse", &fam.settings, &impulse);
         }
         if fam.kind == FamilyKind::Contact {
@@ -544,11 +540,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
             );
         }
         if fam.kind == FamilyKind::Dynamic {
-            let energy: Vec<(f64, Option<f64>)> = outcomes
-                .iter()
-                .zip(&errors)
-                .map(|(o, e)| (o.wall_s, e.energy))
-                .collect();
+            let energy = against_time(|e| e.energy);
             if energy.iter().any(|p| p.1.is_some()) {
                 let png = format!("{slug}_energy.png");
                 plot_family(
@@ -564,104 +556,8 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
                 threshold_table(&mut md, &base, "energy", &fam.settings, &energy);
             }
         }
-        // Every run.
-        let contact = outcomes.iter().any(|o| o.peak_force.is_some());
-        let _ = write!(
-            md,
-            "\nAll runs:\n\n| setting | status | wall time (s) | Newton its/step | {} error (%) |",
-            if fam.kind == FamilyKind::Static {
-                "tip"
-            } else {
-                "trajectory"
-            }
-        );
-        if fam.kind != FamilyKind::Static {
-            md.push_str(" energy error (%) | trajectory off by 1 % from (s) |");
-        }
-        if contact {
-            md.push_str(
-                " first contact (s) | peak force (N) | peak force error (%) | peak time error (ms) | impulse (N s) | \
-                 impulse error (%) | penetration / wire radius |",
-            );
-        }
-        md.push('\n');
-        let columns =
-            5 + 2 * usize::from(fam.kind != FamilyKind::Static) + if contact { 7 } else { 0 };
-        md.push_str(&"|---".repeat(columns));
-        md.push_str("|\n");
         let radius = input.scene.model.element.section.outer_radius();
-        for ((s, o), e) in fam.settings.iter().zip(outcomes).zip(&errors) {
-            let status = if o.completed() {
-                "completed".to_string()
-            } else {
-                format!("{}: {}", o.status, o.message.replace('|', "/"))
-            };
-            let _ = write!(
-                md,
-                "| {} | {} | {} | {:.1} | {} |",
-                s.label(),
-                status,
-                secs(o.wall_s),
-                o.iterations_per_step,
-                pct(e.tip)
-            );
-            if fam.kind != FamilyKind::Static {
-                let _ = write!(
-                    md,
-                    " {} | {} |",
-                    pct(e.energy),
-                    match (o.completed(), e.divergence_time) {
-                        (false, _) => "–".to_string(),
-                        (true, None) => "never".to_string(),
-                        (true, Some(t)) => format!("{t:.4}"),
-                    }
-                );
-            }
-            if contact {
-                let _ = write!(
-                    md,
-                    " {} | {} | {} | {} | {} | {} | {} |",
-                    o.first_contact.map_or("–".into(), |t| format!("{t:.4}")),
-                    o.peak_force.map_or("–".into(), |f| format!("{f:.1}")),
-                    pct(e.peak_force),
-                    e.peak_time
-                        .map_or("–".into(), |t| format!("{:.2}", t * 1e3)),
-                    o.impulse.map_or("–".into(), |i| format!("{i:.3}")),
-                    pct(e.impulse),
-                    o.max_penetration
-                        .filter(|_| o.completed())
-                        .map_or("–".into(), |p| format!("{:.3}", p / radius)),
-                );
-            }
-            md.push('\n');
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{}",
-                slug,
-                s.elements,
-                s.axial,
-                s.section,
-                opt(s.time_step),
-                opt(s.spectral_radius),
-                s.full_newton.map_or(String::new(), |f| f.to_string()),
-                s.stations.map_or(String::new(), |n| n.to_string()),
-                opt(s.stiffness_factor),
-                o.status,
-                o.wall_s,
-                o.iterations_per_step,
-                opt(e.tip),
-                opt(e.divergence_time),
-                opt(e.energy),
-                opt(o.peak_force),
-                opt(e.peak_force),
-                opt(o.peak_time),
-                opt(e.peak_time),
-                opt(o.max_penetration),
-                opt(o.impulse),
-                opt(e.impulse),
-                opt(o.first_contact),
-            );
-        }
+        runs_table(&mut md, &mut csv, &slug, fam, outcomes, &errors, radius);
         md.push('\n');
     }
     if let Some(k) = input.kernels {
@@ -672,6 +568,114 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
     let runs = out.join("runs.csv");
     std::fs::write(&runs, csv).map_err(|e| format!("{}: {e}", runs.display()))?;
     Ok(path)
+}
+
+/// The table of every run of a family (Markdown) and its rows of `runs.csv`.
+fn runs_table(
+    md: &mut String,
+    csv: &mut String,
+    slug: &str,
+    fam: &Family,
+    outcomes: &[Outcome],
+    errors: &[Errors],
+    radius: f64,
+) {
+    let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6e}"));
+    let contact = outcomes.iter().any(|o| o.peak_force.is_some());
+    let _ = write!(
+        md,
+        "\nAll runs:\n\n| setting | status | wall time (s) | Newton its/step | {} error (%) |",
+        if fam.kind == FamilyKind::Static {
+            "tip"
+        } else {
+            "trajectory"
+        }
+    );
+    if fam.kind != FamilyKind::Static {
+        md.push_str(" energy error (%) | trajectory off by 1 % from (s) |");
+    }
+    if contact {
+        md.push_str(
+            " first contact (s) | peak force (N) | peak force error (%) | peak time error (ms) | impulse (N s) | \
+             impulse error (%) | penetration / wire radius |",
+        );
+    }
+    md.push('\n');
+    let columns = 5 + 2 * usize::from(fam.kind != FamilyKind::Static) + if contact { 7 } else { 0 };
+    md.push_str(&"|---".repeat(columns));
+    md.push_str("|\n");
+    for ((s, o), e) in fam.settings.iter().zip(outcomes).zip(errors) {
+        let status = if o.completed() {
+            "completed".to_string()
+        } else {
+            format!("{}: {}", o.status, o.message.replace('|', "/"))
+        };
+        let _ = write!(
+            md,
+            "| {} | {} | {} | {:.1} | {} |",
+            s.label(),
+            status,
+            secs(o.wall_s),
+            o.iterations_per_step,
+            pct(e.tip)
+        );
+        if fam.kind != FamilyKind::Static {
+            let _ = write!(
+                md,
+                " {} | {} |",
+                pct(e.energy),
+                match (o.completed(), e.divergence_time) {
+                    (false, _) => "–".to_string(),
+                    (true, None) => "never".to_string(),
+                    (true, Some(t)) => format!("{t:.4}"),
+                }
+            );
+        }
+        if contact {
+            let _ = write!(
+                md,
+                " {} | {} | {} | {} | {} | {} | {} |",
+                o.first_contact.map_or("–".into(), |t| format!("{t:.4}")),
+                o.peak_force.map_or("–".into(), |f| format!("{f:.1}")),
+                pct(e.peak_force),
+                e.peak_time
+                    .map_or("–".into(), |t| format!("{:.2}", t * 1e3)),
+                o.impulse.map_or("–".into(), |i| format!("{i:.3}")),
+                pct(e.impulse),
+                o.max_penetration
+                    .filter(|_| o.completed())
+                    .map_or("–".into(), |p| format!("{:.3}", p / radius)),
+            );
+        }
+        md.push('\n');
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{}",
+            slug,
+            s.elements,
+            s.axial,
+            s.section,
+            opt(s.time_step),
+            opt(s.spectral_radius),
+            s.full_newton.map_or(String::new(), |f| f.to_string()),
+            s.stations.map_or(String::new(), |n| n.to_string()),
+            opt(s.stiffness_factor),
+            o.status,
+            o.wall_s,
+            o.iterations_per_step,
+            opt(e.tip),
+            opt(e.divergence_time),
+            opt(e.energy),
+            opt(o.peak_force),
+            opt(e.peak_force),
+            opt(o.peak_time),
+            opt(e.peak_time),
+            opt(o.max_penetration),
+            opt(o.impulse),
+            opt(e.impulse),
+            opt(o.first_contact),
+        );
+    }
 }
 
 /// How much the section order changes the result, per order, against the

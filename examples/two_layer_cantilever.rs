@@ -49,11 +49,7 @@ fn tip(section: &Section, n: usize, kind: SupportKind, force: [f64; 3]) -> [f64;
 
 /// Exact St. Venant–Kirchhoff bar: EA · λ(λ² − 1)/2 = F; elongation (λ − 1) L.
 fn svk_bar(ea: f64, f: f64) -> f64 {
-    let mut lam = 1.0 + f / ea;
-    for _ in 0..50 {
-        lam -= (ea * lam * (lam * lam - 1.0) / 2.0 - f) / (ea * (3.0 * lam * lam - 1.0) / 2.0);
-    }
-    (lam - 1.0) * L
+    ancf::study::reference::svk_bar_strain(ea, f) * L
 }
 
 fn table(title: &str, theory: f64, values: impl Fn(usize) -> f64) {

@@ -38,13 +38,7 @@ fn tip_displacement(model: &Model, steps: usize) -> [f64; 3] {
 
 /// Exact St. Venant–Kirchhoff bar: Σ E_k A_k · λ(λ² − 1)/2 = F, elongation (λ − 1) L.
 fn svk_bar_elongation(ea: f64, f: f64) -> f64 {
-    let mut lam = 1.0 + f / ea;
-    for _ in 0..50 {
-        let g = ea * lam * (lam * lam - 1.0) / 2.0 - f;
-        let dg = ea * (3.0 * lam * lam - 1.0) / 2.0;
-        lam -= g / dg;
-    }
-    (lam - 1.0) * LENGTH
+    ancf::study::reference::svk_bar_strain(ea, f) * LENGTH
 }
 
 fn paper_section(e1: f64, e2: f64) -> Section {

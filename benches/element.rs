@@ -3,64 +3,35 @@
 //! points and (b) a two-layer circle, 3 axial points, ring rule n = 3.
 //! Run: `cargo bench --bench element`
 
-use ancf_core::element::{ElementIntegration, reference_coordinates};
-use ancf_core::material::{Material, MaterialModel};
+use ancf::bench::{deformed_element, rubber, svk};
+use ancf_core::element::ElementIntegration;
+use ancf_core::material::Material;
 use ancf_core::section::Section;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
-fn svk() -> Material {
-    Material {
-        locking: Default::default(),
-        density: 7200.0,
-        model: MaterialModel::StVenantKirchhoff {
-            youngs_modulus: 2e9,
-            poisson_ratio: 0.3,
-            bending_factor: 1.0,
-        },
-    }
-}
-
+/// The bench's cover: `ancf bench`'s rubber with the default locking remedy.
 fn mooney_rivlin() -> Material {
     Material {
         locking: Default::default(),
-        density: 1100.0,
-        model: MaterialModel::MooneyRivlin {
-            mu10: 5e5,
-            mu01: 1e5,
-            penalty: 1e3,
-        },
+        ..rubber()
     }
-}
-
-fn deformed(l: f64) -> [f64; 24] {
-    let mut e = reference_coordinates(
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        l,
-    );
-    for (i, v) in e.iter_mut().enumerate() {
-        *v += 0.01 * ((i * 7919 % 23) as f64 / 23.0 - 0.5);
-    }
-    e
 }
 
 fn bench(c: &mut Criterion) {
     let l = 0.25;
     let cases = [
-        ("rect_3x2x2_svk", Section::rectangular(0.02, 0.02, svk(), 2)),
+        ("rect_3x2x2_svk", Section::rectangular(0.02, 0.02, svk(0.3), 2)),
         (
             "circle2_3xn3_svk",
-            Section::circular(&[(0.0, 0.01, svk()), (0.01, 0.02, svk())], 3),
+            Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, svk(0.3))], 3),
         ),
         (
             "circle2_3xn3_svk_mr",
-            Section::circular(&[(0.0, 0.01, svk()), (0.01, 0.02, mooney_rivlin())], 3),
+            Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, mooney_rivlin())], 3),
         ),
     ];
-    let e = deformed(l);
+    let e = deformed_element(l);
     for (name, section) in cases {
         let generated = ElementIntegration::new(l, 3, section);
         let generic = generated.clone().with_generic_kernel();

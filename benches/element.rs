@@ -21,7 +21,10 @@ fn mooney_rivlin() -> Material {
 fn bench(c: &mut Criterion) {
     let l = 0.25;
     let cases = [
-        ("rect_3x2x2_svk", Section::rectangular(0.02, 0.02, svk(0.3), 2)),
+        (
+            "rect_3x2x2_svk",
+            Section::rectangular(0.02, 0.02, svk(0.3), 2),
+        ),
         (
             "circle2_3xn3_svk",
             Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, svk(0.3))], 3),

@@ -1,10 +1,22 @@
 //! The command line as a user runs it: quadrature tables, check, run and its outputs.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn ancf() -> Command {
     Command::new(env!("CARGO_BIN_EXE_ancf"))
+}
+
+/// `ancf run SCENE --out DIR --quiet`, ready to run or spawn.
+fn run_quiet(scene: &Path, out: &Path) -> Command {
+    let mut c = ancf();
+    c.arg("run").arg(scene).arg("--out").arg(out).arg("--quiet");
+    c
+}
+
+/// A run's `summary.json`.
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -82,24 +94,13 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
     let path = dir.join("short.toml");
     std::fs::write(&path, scene).unwrap();
     let out_dir = dir.join("out");
-    let out = ancf()
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ])
-        .output()
-        .unwrap();
+    let out = run_quiet(&path, &out_dir).output().unwrap();
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
-            .unwrap();
+    let summary = summary(&out_dir);
     assert_eq!(summary["status"], "completed");
     assert_eq!(summary["analysis"], "dynamic");
     assert_eq!(summary["elements"], 4);
@@ -128,19 +129,11 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
 #[test]
 fn static_run_reports_the_tip() {
     let dir = tmp("static");
-    let out = ancf()
-        .args([
-            "run",
-            "scenes/two_layer_cantilever.toml",
-            "--out",
-            dir.to_str().unwrap(),
-            "--quiet",
-        ])
+    let out = run_quiet(Path::new("scenes/two_layer_cantilever.toml"), &dir)
         .output()
         .unwrap();
     assert!(out.status.success());
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let summary = summary(&dir);
     assert_eq!(summary["status"], "completed");
     let dz = summary["tip"]["displacement"][2].as_f64().unwrap();
     let theory = 1.0 / (3.0 * 2e9 * std::f64::consts::PI * 0.02f64.powi(4) / 4.0);
@@ -162,24 +155,13 @@ fn impact_run_writes_contact_outputs_vtk_and_plots() {
     let path = dir.join("impact.toml");
     std::fs::write(&path, scene).unwrap();
     let out_dir = dir.join("out");
-    let out = ancf()
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ])
-        .output()
-        .unwrap();
+    let out = run_quiet(&path, &out_dir).output().unwrap();
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
-            .unwrap();
+    let summary = summary(&out_dir);
     let contact = &summary["contact"];
     let first = contact["first_time"]
         .as_f64()
@@ -261,14 +243,7 @@ fn bench_json_has_the_documented_keys() {
 #[test]
 fn interrupted_run_keeps_its_output() {
     let dir = tmp("interrupt");
-    let mut child = ancf()
-        .args([
-            "run",
-            "scenes/wire_rod_impact.toml",
-            "--out",
-            dir.to_str().unwrap(),
-            "--quiet",
-        ])
+    let mut child = run_quiet(Path::new("scenes/wire_rod_impact.toml"), &dir)
         .spawn()
         .unwrap();
     // Wait until a few rows exist, then interrupt.
@@ -288,8 +263,7 @@ fn interrupted_run_keeps_its_output() {
         .unwrap();
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let summary = summary(&dir);
     assert_eq!(summary["status"], "interrupted");
     assert!(summary["message"].as_str().unwrap().contains("interrupted"));
     let t = summary["time"].as_f64().unwrap();
@@ -314,29 +288,9 @@ fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
     let path = dir.join("scene.toml");
     std::fs::write(&path, scene).unwrap();
     let (a, b) = (dir.join("a"), dir.join("b"));
-    let run = |out: &std::path::Path| {
-        ancf()
-            .args([
-                "run",
-                path.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-                "--quiet",
-            ])
-            .output()
-            .unwrap()
-    };
+    let run = |out: &Path| run_quiet(&path, out).output().unwrap();
     assert!(run(&a).status.success());
-    let mut child = ancf()
-        .args([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            b.to_str().unwrap(),
-            "--quiet",
-        ])
-        .spawn()
-        .unwrap();
+    let mut child = run_quiet(&path, &b).spawn().unwrap();
     for _ in 0..400 {
         std::thread::sleep(std::time::Duration::from_millis(20));
         if b.join("checkpoint.json").exists() {
@@ -373,10 +327,7 @@ fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
         );
         assert!(x == y, "{file} differs after resuming");
     }
-    let json = |d: &std::path::Path| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
-    };
-    let (mut sa, mut sb) = (json(&a), json(&b));
+    let (mut sa, mut sb) = (summary(&a), summary(&b));
     sa["wall_time_s"] = serde_json::Value::Null;
     sb["wall_time_s"] = serde_json::Value::Null;
     assert_eq!(sa, sb);

@@ -48,16 +48,6 @@ fn eval(c: &Contact, e: &[f64; 24], v: &[f64; 24]) -> ([f64; 24], [f64; 576], [f
     (q, kq, kv, s.energy)
 }
 
-fn rel(a: &[f64], b: &[f64]) -> f64 {
-    let d: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
-}
-
 /// No test point within `margin` of the rod surface, so FD does not cross the kink at g = 0.
 fn away_from_boundary(c: &Contact, e: &[f64; 24], margin: f64) -> bool {
     let r = &c.rods[0];

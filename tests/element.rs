@@ -38,17 +38,6 @@ fn cases() -> Vec<(&'static str, Section)> {
     ]
 }
 
-fn rel(a: &[f64], b: &[f64]) -> f64 {
-    let d: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    let n: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
-    d / n
-}
-
 fn force_jacobian(el: &ElementIntegration, e: &[f64; 24]) -> ([f64; 24], [f64; 576], f64) {
     let mut q = [0.0; 24];
     let mut k = [0.0; 576];

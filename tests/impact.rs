@@ -16,6 +16,16 @@ struct Run {
     max_penetration: f64,
 }
 
+impl Run {
+    /// The energy exchanged: the largest |gravity potential| of the run, J.
+    fn energy_scale(&self) -> f64 {
+        self.energies
+            .iter()
+            .map(|(_, e)| e.gravity.abs())
+            .fold(0.0, f64::max)
+    }
+}
+
 fn run(scene: &Scene, end: f64) -> Run {
     let Analysis::Dynamic { settings, .. } = &scene.analysis else {
         panic!("dynamic scene")
@@ -53,11 +63,7 @@ fn run(scene: &Scene, end: f64) -> Run {
 /// Largest |E + dissipated − E(0)| relative to the energy exchanged (max |gravity potential|).
 fn relative_drift(r: &Run) -> f64 {
     let e0 = r.energies[0].1.total();
-    let scale = r
-        .energies
-        .iter()
-        .map(|(_, e)| e.gravity.abs())
-        .fold(0.0, f64::max);
+    let scale = r.energy_scale();
     r.energies
         .iter()
         .map(|(_, e)| (e.total() + e.dissipated - e0).abs())
@@ -178,11 +184,7 @@ fn issue6_coarse_steps_through_contact_do_not_gain_energy() {
     let r = run(&s, 0.4);
     assert!(r.first_contact.is_some());
     let e0 = r.energies[0].1.total();
-    let scale = r
-        .energies
-        .iter()
-        .map(|(_, e)| e.gravity.abs())
-        .fold(0.0, f64::max);
+    let scale = r.energy_scale();
     for (t, e) in &r.energies {
         let balance = e.total() + e.dissipated;
         assert!(balance.is_finite(), "non-finite energy at {t}");

@@ -106,3 +106,14 @@ pub fn rigid_motion(e: &ElementVector, r: &[[f64; 3]; 3], t: [f64; 3]) -> Elemen
 pub fn element(section: Section, l: f64, axial_order: usize) -> ElementIntegration {
     ElementIntegration::new(l, axial_order, section)
 }
+
+/// Relative difference ‖a − b‖ / ‖b‖ (Euclidean), for finite-difference checks.
+pub fn rel(a: &[f64], b: &[f64]) -> f64 {
+    let d: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
+}

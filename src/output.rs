@@ -2,22 +2,19 @@
 //! rows are flushed as they are produced), so a failed run keeps what it
 //! computed.
 
+use ancf_core::dynamics::Energies;
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-/// Energies reported in the summary (J).
+/// Energies reported in the summary (J): the last written state's
+/// kinetic, strain, gravity, loads, contact and dissipated energies (the
+/// keys of [`Energies`]), then `total` and `max_drift`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct EnergySummary {
-    pub kinetic: f64,
-    pub strain: f64,
-    pub gravity: f64,
-    pub loads: f64,
-    /// Contact penalty energy.
-    pub contact: f64,
-    /// Dissipated by friction since t = 0 (not in `total`).
-    pub dissipated: f64,
+    #[serde(flatten)]
+    pub last: Energies,
     /// Mechanical energy: kinetic + strain + gravity + loads + contact.
     pub total: f64,
     /// Largest |E(t) + dissipated(t) − E(0)| over the written steps, J.

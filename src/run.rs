@@ -678,15 +678,9 @@ fn run_dynamic(
     summary.newton_iterations = p.newton_iterations;
     summary.factorizations = p.factorizations;
     summary.time = p.state.time;
-    let last = p.last;
     summary.energy = Some(EnergySummary {
-        kinetic: last.kinetic,
-        strain: last.strain,
-        gravity: last.gravity,
-        loads: last.loads,
-        contact: last.contact,
-        dissipated: last.dissipated,
-        total: last.total(),
+        last: p.last,
+        total: p.last.total(),
         max_drift: p.max_drift,
     });
     if let Some(cs) = p.contact.as_mut() {

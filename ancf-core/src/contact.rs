@@ -219,129 +219,124 @@ impl Contact {
         let mut sample = ContactSample::default();
         let mut deepest: Option<DeepestPoint> = None;
         let rod = &self.rods[ri];
-        {
-            if !self.may_touch(rod, e) {
-                return (sample, None);
+        if !self.may_touch(rod, e) {
+            return (sample, None);
+        }
+        let d = rod.axis;
+        for (pi, tp) in self.points.iter().enumerate() {
+            let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * e[3 * i + c]).sum());
+            let rel = [
+                p[0] - rod.center[0],
+                p[1] - rod.center[1],
+                p[2] - rod.center[2],
+            ];
+            let along = dot(&rel, &d);
+            if let Some(len) = rod.length
+                && along.abs() > 0.5 * len
+            {
+                continue;
             }
-            let d = rod.axis;
-            for (pi, tp) in self.points.iter().enumerate() {
-                let p: [f64; 3] =
-                    std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * e[3 * i + c]).sum());
-                let rel = [
-                    p[0] - rod.center[0],
-                    p[1] - rod.center[1],
-                    p[2] - rod.center[2],
-                ];
-                let along = dot(&rel, &d);
-                if let Some(len) = rod.length
-                    && along.abs() > 0.5 * len
-                {
-                    continue;
+            let perp = [
+                rel[0] - along * d[0],
+                rel[1] - along * d[1],
+                rel[2] - along * d[2],
+            ];
+            let dist = dot(&perp, &perp).sqrt();
+            let g = dist - rod.radius;
+            if g >= 0.0 || dist == 0.0 {
+                continue;
+            }
+            let n = [perp[0] / dist, perp[1] / dist, perp[2] / dist];
+            let kn = rod.contact_stiffness * tp.area;
+            let fnorm = kn * (-g);
+            sample.energy += 0.5 * kn * g * g;
+            sample.max_penetration = sample.max_penetration.max(-g);
+            sample.normal_force += fnorm;
+            sample.active += 1;
+            if deepest.is_none_or(|dp| -g > dp.penetration) {
+                deepest = Some(DeepestPoint {
+                    point: pi,
+                    rod: ri,
+                    penetration: -g,
+                });
+            }
+            let mut f = [fnorm * n[0], fnorm * n[1], fnorm * n[2]];
+            // ∂n/∂p = (I − n nᵀ − d dᵀ) / |p⊥|
+            let nmat =
+                |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - d[a] * d[b]) / dist;
+            // −∂f_n/∂p = kn (n nᵀ − (−g) ∂n/∂p)
+            let mut dfdp = [[0.0; 3]; 3]; // ∂f/∂p
+            for a in 0..3 {
+                for b in 0..3 {
+                    dfdp[a][b] = -kn * n[a] * n[b] + fnorm * nmat(a, b);
                 }
-                let perp = [
-                    rel[0] - along * d[0],
-                    rel[1] - along * d[1],
-                    rel[2] - along * d[2],
-                ];
-                let dist = dot(&perp, &perp).sqrt();
-                let g = dist - rod.radius;
-                if g >= 0.0 || dist == 0.0 {
-                    continue;
+            }
+            let mut dfdv = [[0.0; 3]; 3];
+            if rod.friction > 0.0 {
+                let vp: [f64; 3] =
+                    std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * v[3 * i + c]).sum());
+                let vn = dot(&vp, &n);
+                let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
+                let eps = self.settings.slip_velocity;
+                let s = (dot(&vt, &vt) + eps * eps).sqrt();
+                let t = [vt[0] / s, vt[1] / s, vt[2] / s];
+                let mu = rod.friction;
+                for c in 0..3 {
+                    f[c] -= mu * fnorm * t[c];
                 }
-                let n = [perp[0] / dist, perp[1] / dist, perp[2] / dist];
-                let kn = rod.contact_stiffness * tp.area;
-                let fnorm = kn * (-g);
-                sample.energy += 0.5 * kn * g * g;
-                sample.max_penetration = sample.max_penetration.max(-g);
-                sample.normal_force += fnorm;
-                sample.active += 1;
-                if deepest.is_none_or(|dp| -g > dp.penetration) {
-                    deepest = Some(DeepestPoint {
-                        point: pi,
-                        rod: ri,
-                        penetration: -g,
-                    });
-                }
-                let mut f = [fnorm * n[0], fnorm * n[1], fnorm * n[2]];
-                // ∂n/∂p = (I − n nᵀ − d dᵀ) / |p⊥|
-                let nmat =
-                    |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - d[a] * d[b]) / dist;
-                // −∂f_n/∂p = kn (n nᵀ − (−g) ∂n/∂p)
-                let mut dfdp = [[0.0; 3]; 3]; // ∂f/∂p
+                sample.friction_power += mu * fnorm * dot(&vt, &vt) / s;
+                // A = ∂t/∂v_t = (I − v_t v_tᵀ / s²) / s
+                let amat =
+                    |a: usize, b: usize| ((a == b) as u8 as f64 - vt[a] * vt[b] / (s * s)) / s;
+                // ∂t/∂n = −A (n v_pᵀ + (v_p·n) I)
+                let mut dtdn = [[0.0; 3]; 3];
                 for a in 0..3 {
                     for b in 0..3 {
-                        dfdp[a][b] = -kn * n[a] * n[b] + fnorm * nmat(a, b);
+                        dtdn[a][b] = -(0..3)
+                            .map(|c| amat(a, c) * (n[c] * vp[b] + if c == b { vn } else { 0.0 }))
+                            .sum::<f64>();
                     }
                 }
-                let mut dfdv = [[0.0; 3]; 3];
-                if rod.friction > 0.0 {
-                    let vp: [f64; 3] =
-                        std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * v[3 * i + c]).sum());
-                    let vn = dot(&vp, &n);
-                    let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
-                    let eps = self.settings.slip_velocity;
-                    let s = (dot(&vt, &vt) + eps * eps).sqrt();
-                    let t = [vt[0] / s, vt[1] / s, vt[2] / s];
-                    let mu = rod.friction;
-                    for c in 0..3 {
-                        f[c] -= mu * fnorm * t[c];
-                    }
-                    sample.friction_power += mu * fnorm * dot(&vt, &vt) / s;
-                    // A = ∂t/∂v_t = (I − v_t v_tᵀ / s²) / s
-                    let amat =
-                        |a: usize, b: usize| ((a == b) as u8 as f64 - vt[a] * vt[b] / (s * s)) / s;
-                    // ∂t/∂n = −A (n v_pᵀ + (v_p·n) I)
-                    let mut dtdn = [[0.0; 3]; 3];
-                    for a in 0..3 {
-                        for b in 0..3 {
-                            dtdn[a][b] = -(0..3)
-                                .map(|c| {
-                                    amat(a, c) * (n[c] * vp[b] + if c == b { vn } else { 0.0 })
-                                })
-                                .sum::<f64>();
-                        }
-                    }
-                    for a in 0..3 {
-                        for b in 0..3 {
-                            // ∂f_t/∂p = −μ [ t (∂F_n/∂p) + F_n (∂t/∂n)(∂n/∂p) ], ∂F_n/∂p = −kn nᵀ
-                            let dtdp: f64 = (0..3).map(|c| dtdn[a][c] * nmat(c, b)).sum();
-                            dfdp[a][b] += -mu * (t[a] * (-kn * n[b]) + fnorm * dtdp);
-                            // ∂f_t/∂v_p = −μ F_n A P, P = I − n nᵀ
-                            let ap: f64 = (0..3)
-                                .map(|c| amat(a, c) * ((c == b) as u8 as f64 - n[c] * n[b]))
-                                .sum();
-                            dfdv[a][b] = -mu * fnorm * ap;
-                        }
+                for a in 0..3 {
+                    for b in 0..3 {
+                        // ∂f_t/∂p = −μ [ t (∂F_n/∂p) + F_n (∂t/∂n)(∂n/∂p) ], ∂F_n/∂p = −kn nᵀ
+                        let dtdp: f64 = (0..3).map(|c| dtdn[a][c] * nmat(c, b)).sum();
+                        dfdp[a][b] += -mu * (t[a] * (-kn * n[b]) + fnorm * dtdp);
+                        // ∂f_t/∂v_p = −μ F_n A P, P = I − n nᵀ
+                        let ap: f64 = (0..3)
+                            .map(|c| amat(a, c) * ((c == b) as u8 as f64 - n[c] * n[b]))
+                            .sum();
+                        dfdv[a][b] = -mu * fnorm * ap;
                     }
                 }
+            }
+            for i in 0..8 {
+                for c in 0..3 {
+                    q[3 * i + c] += tp.s[i] * f[c];
+                }
+            }
+            let add = |m: &mut ElementMatrix, blk: &[[f64; 3]; 3]| {
                 for i in 0..8 {
-                    for c in 0..3 {
-                        q[3 * i + c] += tp.s[i] * f[c];
-                    }
-                }
-                let add = |m: &mut ElementMatrix, blk: &[[f64; 3]; 3]| {
-                    for i in 0..8 {
-                        for j in 0..8 {
-                            let sij = tp.s[i] * tp.s[j];
-                            if sij == 0.0 {
-                                continue;
-                            }
-                            for a in 0..3 {
-                                for b in 0..3 {
-                                    m[(3 * i + a) * 24 + 3 * j + b] -= sij * blk[a][b];
-                                }
+                    for j in 0..8 {
+                        let sij = tp.s[i] * tp.s[j];
+                        if sij == 0.0 {
+                            continue;
+                        }
+                        for a in 0..3 {
+                            for b in 0..3 {
+                                m[(3 * i + a) * 24 + 3 * j + b] -= sij * blk[a][b];
                             }
                         }
                     }
-                };
-                if let Some(k) = kq.as_deref_mut() {
-                    add(k, &dfdp);
                 }
-                if rod.friction > 0.0
-                    && let Some(k) = kv.as_deref_mut()
-                {
-                    add(k, &dfdv);
-                }
+            };
+            if let Some(k) = kq.as_deref_mut() {
+                add(k, &dfdp);
+            }
+            if rod.friction > 0.0
+                && let Some(k) = kv.as_deref_mut()
+            {
+                add(k, &dfdv);
             }
         }
         (sample, deepest)

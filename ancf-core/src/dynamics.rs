@@ -140,7 +140,10 @@ pub struct Integrator<'m> {
     solver: SparseSolver,
     /// Step size of the current factorization, if it is valid for reuse.
     factored_for: Option<f64>,
+    /// External force Q_ext (all coordinates, N) and its norm on the
+    /// unknowns (a residual scale; constant, so computed once).
     ext: Vec<f64>,
+    ext_norm: f64,
     /// Residual entries below this are round-off (N), see [`Model::roundoff_force`].
     roundoff: f64,
     /// Rayleigh damping matrix α M + β K₀ in pattern slots (empty without it).
@@ -181,6 +184,7 @@ impl<'m> Integrator<'m> {
             }
             _ => Vec::new(),
         };
+        let ext = model.external_force(1.0);
         Ok(Integrator {
             params: AlphaParameters::new(settings.spectral_radius),
             model,
@@ -188,7 +192,8 @@ impl<'m> Integrator<'m> {
             mass,
             solver,
             factored_for: None,
-            ext: model.external_force(1.0),
+            ext_norm: norm(&model.gather(&ext)),
+            ext,
             roundoff: model.roundoff_force(),
             rayleigh,
             energy_start: 0.0,
@@ -398,13 +403,11 @@ impl<'m> Integrator<'m> {
         let am: Vec<f64> = (0..n)
             .map(|c| (1.0 - alpha_m) * a1[c] + alpha_m * s.a[c])
             .collect();
-        let (kq, kv) = match jac {
+        let (mut kq, mut kv) = match jac {
             Some((kq, kv)) => (Some(kq), Some(kv)),
             None => (None, None),
         };
-        let mut kq = kq;
         let (mut qe, _) = assemble(model, &self.pattern, &qm, kq.as_deref_mut());
-        let mut kv = kv;
         if let Some(c) = model.contact() {
             let kvc = if c.has_friction() {
                 kv.as_deref_mut()
@@ -420,7 +423,7 @@ impl<'m> Integrator<'m> {
         let ma = model.mass_times(&am);
         let r_full: Vec<f64> = (0..n).map(|c| ma[c] + qe[c] - self.ext[c]).collect();
         let scale = norm(&model.gather(&ma))
-            .max(norm(&model.gather(&self.ext)))
+            .max(self.ext_norm)
             .max(norm(&model.gather(&qe)));
         let mut r = model.gather(&r_full);
         if model.damping().is_some() {

@@ -291,9 +291,7 @@ fn study(
         "# Accuracy and cost\n\nReports of `ancf study` (error against wall time for the settings users choose):\n\n",
     );
     for scene in scenes {
-        let stem = scene
-            .file_stem()
-            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        let stem = ancf::study::report::scene_name(scene);
         let dir = if several {
             out.join(&stem)
         } else {

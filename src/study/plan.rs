@@ -253,7 +253,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     let at = |h: f64, n: usize| Setting {
         elements: n,
         time_step: Some(h),
-        stations: stations_for(&base, length, n).or(base.stations),
+        stations: stations_for(&base, length, n),
         ..base.clone()
     };
     let element_counts: Vec<usize> = {

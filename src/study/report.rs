@@ -405,7 +405,8 @@ fn plot_family(
     )
 }
 
-fn scene_name(path: &Path) -> String {
+/// A scene's name in reports: its file name without extension.
+pub fn scene_name(path: &Path) -> String {
     path.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into())

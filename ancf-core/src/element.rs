@@ -448,11 +448,11 @@ pub fn structured_element<const N: usize>(
 ) -> f64 {
     let l = ei.length;
     let mut energy = 0.0;
+    if let Some(pre) = &ei.plan.preintegrated {
+        energy += pre.evaluate(nodes, weights, l, e, q, k.as_deref_mut());
+    }
     for a in 0..N {
         let (xi, wx) = (nodes[a], weights[a] * l);
-        if let Some(pre) = &ei.plan.preintegrated {
-            energy += pre.evaluate(xi, l, wx, e, q, k.as_deref_mut());
-        }
         for group in &ei.plan.groups {
             for p in &group.points {
                 let g = shape_gradients(xi, p.y, p.z, l);

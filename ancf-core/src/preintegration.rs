@@ -16,7 +16,7 @@
 
 use crate::element::{ElementMatrix, ElementVector};
 use crate::quadrature::SectionPoint;
-use nalgebra::{Matrix6, SMatrix, SVector};
+use nalgebra::{Matrix6, SMatrix, SVector, Vector3};
 
 type M15 = SMatrix<f64, 15, 15>;
 type V15 = SVector<f64, 15>;
@@ -111,6 +111,11 @@ type Vector6 = nalgebra::Vector6<f64>;
 /// linear term to cancel, so a stress-free state gives exactly zero (the
 /// x-space form ½ xᵀAx + bᵀx + U₀ lost 1e-16 of E·V there — found by the
 /// objectivity property test). A = Jᵀ M J is the Hessian in x.
+///
+/// The evaluation works on sparse lists built once per element type (M has
+/// 35 non-zeros of 225 for an isotropic law; the Hessian blocks need 45
+/// outer products u_l u_rᵀ of 15 × 25 possible): see `BENCHMARKS.md`
+/// (issue 7) for what this saved.
 #[derive(Clone, Debug)]
 pub struct PreIntegrated {
     m: M15,
@@ -118,12 +123,147 @@ pub struct PreIntegrated {
     s0: V15,
     /// Jᵀ M J, the (constant) Hessian in x.
     pub a: M15,
-    /// J row by row: (column, coefficient) of its single non-zero.
-    jmap: [(usize, f64); 15],
+    /// M by its blocks (`add_section` cannot fill anything else): the
+    /// centre strains with α and γ (`CENTRE`, 8 × 8), the y-slopes and the
+    /// z-slopes (3 × 3 each) and β alone — 83 products instead of 225
+    /// (instruction counts in BENCHMARKS.md, issue 7).
+    m_centre: [[f64; 8]; 8],
+    m_slope_y: [[f64; 3]; 3],
+    m_slope_z: [[f64; 3]; 3],
+    m_beta: f64,
+    /// The material part of the Hessian in u: block (i ≤ j) of the five
+    /// vectors gets coef · u_l u_rᵀ for each (l, r, coef) in
+    /// `hessian_terms[hessian_ranges[gram(i, j)]]` (grouped by block, so
+    /// each block is summed in registers).
+    hessian_terms: Vec<(usize, usize, f64)>,
+    hessian_ranges: [(usize, usize); 15],
 }
+
+/// J row by row, (Gram column, coefficient) of its single non-zero: the
+/// strain moments E_xx, E_yy, E_zz, 2E_yz, 2E_xz, 2E_xy at the centre, the
+/// y-slopes and z-slopes of E_xx, 2E_xz, 2E_xy, and α, β, γ (checked against
+/// `strain_maps` in `zero`). Each Gram entry appears once.
+const STRAIN_MOMENTS: [(usize, f64); 15] = [
+    (gram(0, 0), 0.5),
+    (gram(3, 3), 0.5),
+    (gram(4, 4), 0.5),
+    (gram(3, 4), 1.0),
+    (gram(0, 4), 1.0),
+    (gram(0, 3), 1.0),
+    (gram(0, 1), 1.0),
+    (gram(1, 4), 1.0),
+    (gram(1, 3), 1.0),
+    (gram(0, 2), 1.0),
+    (gram(2, 4), 1.0),
+    (gram(2, 3), 1.0),
+    (gram(1, 1), 0.5),
+    (gram(1, 2), 1.0),
+    (gram(2, 2), 0.5),
+];
+
+/// The strain moments that M couples with each other: the centre strains
+/// and α, γ (E_xx's y² and z² terms multiply the centre's stresses).
+const CENTRE: [usize; 8] = [0, 1, 2, 3, 4, 5, 12, 14];
 
 /// Voigt rows that a y- or z-slope of the strain can have (xx, xz, xy).
 const SLOPE_ROWS: [usize; 3] = [0, 4, 5];
+
+/// The map u = T(ξ) e, entry by entry: the five vectors (r_x at the
+/// centerline, a = ∂r_y/∂x, b = ∂r_z/∂x, r_y, r_z) are each a combination of
+/// two or four of the element's eight nodal vectors (r, r_x, r_y, r_z at
+/// node 1, then node 2). `T_VECTOR[p]`, `T_NODE[p]` name entry p; its
+/// coefficient depends on ξ (`t_coefficients`).
+const T_VECTOR: [usize; 12] = [0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4];
+const T_NODE: [usize; 12] = [0, 1, 4, 5, 2, 6, 3, 7, 2, 6, 3, 7];
+
+/// Coefficients of the twelve entries of T at ξ for an element of length l.
+fn t_coefficients(xi: f64, l: f64) -> [f64; 12] {
+    let d1 = (-6.0 * xi + 6.0 * xi * xi) / l;
+    let h1 = 1.0 - 4.0 * xi + 3.0 * xi * xi;
+    let h2 = -2.0 * xi + 3.0 * xi * xi;
+    let il = 1.0 / l;
+    [
+        d1,
+        h1,
+        -d1,
+        h2,
+        -il,
+        il,
+        -il,
+        il,
+        1.0 - xi,
+        xi,
+        1.0 - xi,
+        xi,
+    ]
+}
+
+/// One of K's 36 upper node blocks (node a ≤ node b): the sum over the
+/// pairs (p1, p2) of T entries at these nodes of T_p1 T_p2 H_ij, each term
+/// (p1, p2, 5 i + j).
+#[derive(Clone, Copy)]
+struct NodeBlock {
+    a: usize,
+    b: usize,
+    len: usize,
+    terms: [(usize, usize, usize); 4],
+}
+
+/// The upper node blocks of K with their T-entry pairs (82 pairs in all:
+/// a node carries one or two of T's entries).
+const NODE_BLOCKS: [NodeBlock; 36] = {
+    let mut out = [NodeBlock {
+        a: 0,
+        b: 0,
+        len: 0,
+        terms: [(0, 0, 0); 4],
+    }; 36];
+    let mut n = 0;
+    let mut a = 0;
+    while a < 8 {
+        let mut b = a;
+        while b < 8 {
+            out[n].a = a;
+            out[n].b = b;
+            let mut p1 = 0;
+            while p1 < 12 {
+                let mut p2 = 0;
+                while p2 < 12 {
+                    if T_NODE[p1] == a && T_NODE[p2] == b {
+                        let len = out[n].len;
+                        out[n].terms[len] = (p1, p2, 5 * T_VECTOR[p1] + T_VECTOR[p2]);
+                        out[n].len = len + 1;
+                    }
+                    p2 += 1;
+                }
+                p1 += 1;
+            }
+            n += 1;
+            b += 1;
+        }
+        a += 1;
+    }
+    out
+};
+
+/// The pair (i, j), i ≤ j, of a Gram index.
+const GRAM_PAIRS: [(usize, usize); 15] = [
+    (0, 0),
+    (0, 1),
+    (0, 2),
+    (0, 3),
+    (0, 4),
+    (1, 1),
+    (1, 2),
+    (1, 3),
+    (1, 4),
+    (2, 2),
+    (2, 3),
+    (2, 4),
+    (3, 3),
+    (3, 4),
+    (4, 4),
+];
 
 impl PreIntegrated {
     pub fn zero() -> Self {
@@ -141,24 +281,23 @@ impl PreIntegrated {
         j.set_row(12, &al.transpose());
         j.set_row(13, &be.transpose());
         j.set_row(14, &ga.transpose());
-        let jmap = std::array::from_fn(|r| {
-            let nz: Vec<(usize, f64)> = (0..15)
-                .filter(|&c| j[(r, c)] != 0.0)
-                .map(|c| (c, j[(r, c)]))
-                .collect();
-            assert_eq!(
-                nz.len(),
-                1,
-                "each strain moment is one Gram entry times a constant"
-            );
-            nz[0]
-        });
+        for (r, &(col, coef)) in STRAIN_MOMENTS.iter().enumerate() {
+            for c in 0..15 {
+                let expect = if c == col { coef } else { 0.0 };
+                assert_eq!(j[(r, c)], expect, "STRAIN_MOMENTS row {r} disagrees with J");
+            }
+        }
         PreIntegrated {
             m: M15::zeros(),
             j,
             s0,
             a: M15::zeros(),
-            jmap,
+            m_centre: [[0.0; 8]; 8],
+            m_slope_y: [[0.0; 3]; 3],
+            m_slope_z: [[0.0; 3]; 3],
+            m_beta: 0.0,
+            hessian_terms: Vec::new(),
+            hessian_ranges: [(0, 0); 15],
         }
     }
 
@@ -192,6 +331,63 @@ impl PreIntegrated {
         m[(12, 14)] += d00 * mo.y2z2;
         m[(14, 12)] += d00 * mo.y2z2;
         self.a = self.j.transpose() * self.m * self.j;
+        self.build_sparse_lists();
+    }
+
+    /// The non-zeros of M and the Hessian's outer-product terms, from M.
+    fn build_sparse_lists(&mut self) {
+        let m = &self.m;
+        let block = |rows: &[usize], r: usize, c: usize| m[(rows[r], rows[c])];
+        self.m_centre = std::array::from_fn(|r| std::array::from_fn(|c| block(&CENTRE, r, c)));
+        self.m_slope_y = std::array::from_fn(|r| std::array::from_fn(|c| m[(6 + r, 6 + c)]));
+        self.m_slope_z = std::array::from_fn(|r| std::array::from_fn(|c| m[(9 + r, 9 + c)]));
+        self.m_beta = m[(13, 13)];
+        let in_block = |r: usize, c: usize| {
+            (CENTRE.contains(&r) && CENTRE.contains(&c))
+                || ((6..9).contains(&r) && (6..9).contains(&c))
+                || ((9..12).contains(&r) && (9..12).contains(&c))
+                || (r == 13 && c == 13)
+        };
+        for r in 0..15 {
+            for c in 0..15 {
+                assert!(
+                    in_block(r, c) || m[(r, c)] == 0.0,
+                    "M({r}, {c}) outside its blocks"
+                );
+            }
+        }
+        // H_ij = Σ_(g1, g2) A_g1g2 (∂x_g1/∂u_i)(∂x_g2/∂u_j)ᵀ with
+        // ∂x_(mn)/∂u_i = δ_im u_n + δ_in u_m: each non-zero of A adds
+        // A · u_n u_qᵀ to block (m, p), and so on for the four index pairings.
+        let mut terms: Vec<(usize, usize, usize, f64)> = Vec::new();
+        for (g1, &(m, n)) in GRAM_PAIRS.iter().enumerate() {
+            for (g2, &(p, q)) in GRAM_PAIRS.iter().enumerate() {
+                let a = self.a[(g1, g2)];
+                if a == 0.0 {
+                    continue;
+                }
+                for (i, l) in [(m, n), (n, m)] {
+                    for (j, r) in [(p, q), (q, p)] {
+                        if i > j {
+                            continue;
+                        }
+                        let block = gram(i, j);
+                        match terms.iter_mut().find(|t| (t.0, t.1, t.2) == (block, l, r)) {
+                            Some(t) => t.3 += a,
+                            None => terms.push((block, l, r, a)),
+                        }
+                    }
+                }
+            }
+        }
+        self.hessian_terms.clear();
+        for (g, range) in self.hessian_ranges.iter_mut().enumerate() {
+            let start = self.hessian_terms.len();
+            let of_block = terms.iter().filter(|t| t.0 == g);
+            self.hessian_terms
+                .extend(of_block.map(|&(_, l, r, coef)| (l, r, coef)));
+            *range = (start, self.hessian_terms.len());
+        }
     }
 
     /// Add a linear law D at the centerline with weight w (m²).
@@ -205,142 +401,176 @@ impl PreIntegrated {
         );
     }
 
-    /// Energy, force and Jacobian of the pre-integrated laws at the axial
-    /// station ξ with weight `wx` (m), added to `q` and `k`.
-    pub fn evaluate(
+    /// Energy, force and Jacobian of the pre-integrated laws over the axial
+    /// rule (`nodes` ξ ∈ [0, 1], `weights` summing to 1) of an element of
+    /// length `l` (m), added to `q` and `k`.
+    pub fn evaluate<const N: usize>(
         &self,
-        xi: f64,
+        nodes: &[f64; N],
+        weights: &[f64; N],
         l: f64,
-        wx: f64,
         e: &ElementVector,
         q: &mut ElementVector,
         k: Option<&mut ElementMatrix>,
     ) -> f64 {
-        // u = T e: (node, coefficient) pairs for each of the five vectors.
-        let d1 = (-6.0 * xi + 6.0 * xi * xi) / l;
-        let t: [[(usize, f64); 4]; 5] = [
-            [
-                (0, d1),
-                (1, 1.0 - 4.0 * xi + 3.0 * xi * xi),
-                (4, -d1),
-                (5, -2.0 * xi + 3.0 * xi * xi),
-            ],
-            [(2, -1.0 / l), (6, 1.0 / l), (0, 0.0), (0, 0.0)],
-            [(3, -1.0 / l), (7, 1.0 / l), (0, 0.0), (0, 0.0)],
-            [(2, 1.0 - xi), (6, xi), (0, 0.0), (0, 0.0)],
-            [(3, 1.0 - xi), (7, xi), (0, 0.0), (0, 0.0)],
-        ];
-        let mut u = [[0.0f64; 3]; 5];
-        for (i, row) in t.iter().enumerate() {
-            for &(node, c) in row {
-                for k in 0..3 {
-                    u[i][k] += c * e[3 * node + k];
-                }
+        let mut energy = 0.0;
+        let Some(k) = k else {
+            for (&xi, &w) in nodes.iter().zip(weights) {
+                energy += self.station(xi, l, w * l, e, q).energy;
             }
-        }
-        let dot = |i: usize, j: usize| u[i][0] * u[j][0] + u[i][1] * u[j][1] + u[i][2] * u[j][2];
-        let mut x = V15::zeros();
-        for i in 0..5 {
-            for j in i..5 {
-                x[gram(i, j)] = dot(i, j);
-            }
-        }
-        // J has one non-zero per row: apply it as a map.
-        let mut strain = self.s0;
-        for (r, &(col, coef)) in self.jmap.iter().enumerate() {
-            strain[r] += coef * x[col];
-        }
-        let ms = self.m * strain;
-        let mut sigma = V15::zeros();
-        for (r, &(col, coef)) in self.jmap.iter().enumerate() {
-            sigma[col] += coef * ms[r];
-        }
-        let energy = wx * 0.5 * strain.dot(&ms);
-        // ∂U/∂u_i = Σ_j S_ij u_j with S_ii = 2σ_ii, S_ij = σ_ij.
-        let s = |i: usize, j: usize| {
-            if i == j {
-                2.0 * sigma[gram(i, i)]
-            } else {
-                sigma[gram(i, j)]
-            }
+            return energy;
         };
-        let mut gu = [[0.0f64; 3]; 5];
-        for i in 0..5 {
-            for j in 0..5 {
-                let sij = s(i, j);
-                for k in 0..3 {
-                    gu[i][k] += sij * u[j][k];
-                }
-            }
+        // With a Jacobian: the stations' Hessian blocks first, then each node
+        // block of K summed over the stations in registers and written once
+        // (accumulating station by station into memory stalled on store
+        // forwarding).
+        let mut h = [[[0.0f64; 9]; 25]; N];
+        let mut tc = [[0.0f64; 12]; N];
+        let wx = weights.map(|w| w * l);
+        for st in 0..N {
+            let f = self.station(nodes[st], l, wx[st], e, q);
+            energy += f.energy;
+            tc[st] = f.tc;
+            self.hessian_blocks(&f.u, &f.s, &mut h[st]);
         }
-        for (i, row) in t.iter().enumerate() {
-            for &(node, c) in row {
-                for k in 0..3 {
-                    q[3 * node + k] += wx * c * gu[i][k];
-                }
-            }
-        }
-        let Some(kmat) = k else { return energy };
-        // ∂x_(mn)/∂u_i = δ_im u_n + δ_in u_m (2u_i for m = n = i).
-        // H_ij = S_ij I + Σ_(mn),(pq) A_(mn)(pq) (∂x_mn/∂u_i)(∂x_pq/∂u_j)ᵀ.
-        // J[i] lists (gram index, vector index l, factor): ∂x/∂u_i = factor · u_l.
-        let mut jac: [[(usize, usize, f64); 5]; 5] = [[(0, 0, 0.0); 5]; 5];
-        for (i, ji) in jac.iter_mut().enumerate() {
-            for (l, slot) in ji.iter_mut().enumerate() {
-                *slot = (gram(i, l), l, if i == l { 2.0 } else { 1.0 });
-            }
-        }
-        let mut h = [[[[0.0f64; 3]; 3]; 5]; 5];
-        for i in 0..5 {
-            for j in i..5 {
-                let mut blk = [[0.0f64; 3]; 3];
-                for &(gi, l, fi) in &jac[i] {
-                    for &(gj, n, fj) in &jac[j] {
-                        let c = self.a[(gi, gj)] * fi * fj;
-                        if c == 0.0 {
-                            continue;
-                        }
-                        for r in 0..3 {
-                            for cc in 0..3 {
-                                blk[r][cc] += c * u[l][r] * u[n][cc];
-                            }
-                        }
-                    }
-                }
-                let sij = s(i, j);
-                for r in 0..3 {
-                    blk[r][r] += sij;
-                }
-                h[i][j] = blk;
-                if i != j {
-                    for r in 0..3 {
-                        for cc in 0..3 {
-                            h[j][i][cc][r] = blk[r][cc];
-                        }
+        for blk in &NODE_BLOCKS {
+            let mut acc = [0.0f64; 9];
+            for ((wx, tc), h) in wx.iter().zip(&tc).zip(&h) {
+                for &(p1, p2, hi) in &blk.terms[..blk.len] {
+                    let c = wx * tc[p1] * tc[p2];
+                    for (x, hv) in acc.iter_mut().zip(&h[hi]) {
+                        *x += c * hv;
                     }
                 }
             }
-        }
-        for (i, ti) in t.iter().enumerate() {
-            for &(ni, ci) in ti {
-                if ci == 0.0 {
-                    continue;
-                }
-                for (j, tj) in t.iter().enumerate() {
-                    for &(nj, cj) in tj {
-                        if cj == 0.0 {
-                            continue;
-                        }
-                        let c = wx * ci * cj;
-                        for r in 0..3 {
-                            for cc in 0..3 {
-                                kmat[(3 * ni + r) * 24 + 3 * nj + cc] += c * h[i][j][r][cc];
-                            }
-                        }
+            let (a, b) = (blk.a, blk.b);
+            for r in 0..3 {
+                for c in 0..3 {
+                    k[(3 * a + r) * 24 + 3 * b + c] += acc[3 * r + c];
+                    if a != b {
+                        k[(3 * b + c) * 24 + 3 * a + r] += acc[3 * r + c];
                     }
                 }
             }
         }
         energy
     }
+
+    /// The Hessian blocks H_ij (index 5 i + j, row-major 3 × 3) of the
+    /// section energy in the five vectors u, given the stress-like
+    /// coefficients s: H_ij = S_ij I + Σ coef u_l u_rᵀ for i ≤ j, H_ji = H_ijᵀ
+    /// (the lower blocks stored too: a transpose flag in the scatter loop
+    /// cost more than the copies).
+    fn hessian_blocks(&self, u: &[Vector3<f64>; 5], s: &[f64; 15], h: &mut [[f64; 9]; 25]) {
+        for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
+            let mut acc = [0.0f64; 9];
+            acc[0] = s[g];
+            acc[4] = s[g];
+            acc[8] = s[g];
+            let (start, end) = self.hessian_ranges[g];
+            for &(l, r, coef) in &self.hessian_terms[start..end] {
+                for a in 0..3 {
+                    let ul = coef * u[l][a];
+                    for b in 0..3 {
+                        acc[3 * a + b] += ul * u[r][b];
+                    }
+                }
+            }
+            h[5 * i + j] = acc;
+            if i != j {
+                h[5 * j + i] = [
+                    acc[0], acc[3], acc[6], acc[1], acc[4], acc[7], acc[2], acc[5], acc[8],
+                ];
+            }
+        }
+    }
+
+    /// One axial station ξ with weight `wx` (m): adds the force to `q`.
+    fn station(
+        &self,
+        xi: f64,
+        l: f64,
+        wx: f64,
+        e: &ElementVector,
+        q: &mut ElementVector,
+    ) -> Station {
+        let tc = t_coefficients(xi, l);
+        let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = tc;
+        // u = T e, written out (nodal vectors r, r_x, r_y, r_z at node 1, 2).
+        let nv = |n: usize| Vector3::new(e[3 * n], e[3 * n + 1], e[3 * n + 2]);
+        let (r1, r1x, r1y, r1z) = (nv(0), nv(1), nv(2), nv(3));
+        let (r2, r2x, r2y, r2z) = (nv(4), nv(5), nv(6), nv(7));
+        let u = [
+            (r1 - r2) * d1 + r1x * h1 + r2x * h2,
+            (r2y - r1y) * il,
+            (r2z - r1z) * il,
+            r1y * xi0 + r2y * xi1,
+            r1z * xi0 + r2z * xi1,
+        ];
+        let x: [f64; 15] = std::array::from_fn(|g| u[GRAM_PAIRS[g].0].dot(&u[GRAM_PAIRS[g].1]));
+        // s = s₀ + J x (J has one non-zero per row), then M s on M's
+        // non-zeros, row by row (a sum in a register: accumulating into
+        // memory made the loop wait on store forwarding).
+        let strain: [f64; 15] = std::array::from_fn(|r| {
+            let (col, coef) = STRAIN_MOMENTS[r];
+            self.s0[r] + coef * x[col]
+        });
+        let mut ms = [0.0f64; 15];
+        let sc: [f64; 8] = CENTRE.map(|r| strain[r]);
+        for (r, row) in CENTRE.iter().zip(&self.m_centre) {
+            ms[*r] = row.iter().zip(&sc).map(|(m, s)| m * s).sum();
+        }
+        for r in 0..3 {
+            ms[6 + r] = (0..3).map(|c| self.m_slope_y[r][c] * strain[6 + c]).sum();
+            ms[9 + r] = (0..3).map(|c| self.m_slope_z[r][c] * strain[9 + c]).sum();
+        }
+        ms[13] = self.m_beta * strain[13];
+        let mut energy = 0.0;
+        let mut sigma = [0.0f64; 15];
+        for r in 0..15 {
+            energy += strain[r] * ms[r];
+            let (col, coef) = STRAIN_MOMENTS[r];
+            sigma[col] = coef * ms[r];
+        }
+        // ∂U/∂u_i = Σ_j S_ij u_j with S_ii = 2σ_ii, S_ij = σ_ij (i ≠ j).
+        let s: [f64; 15] = std::array::from_fn(|g| {
+            let (i, j) = GRAM_PAIRS[g];
+            if i == j { 2.0 * sigma[g] } else { sigma[g] }
+        });
+        let gu: [Vector3<f64>; 5] = std::array::from_fn(|i| {
+            (0..5).fold(Vector3::zeros(), |acc, j| acc + u[j] * s[gram(i, j)])
+        });
+        // q += wx Tᵀ gu, written out.
+        let g0 = gu[0] * wx;
+        let (ga, gb) = (gu[1] * (wx * il), gu[2] * (wx * il));
+        let (gy, gz) = (gu[3] * wx, gu[4] * wx);
+        let mut add = |n: usize, v: Vector3<f64>| {
+            q[3 * n] += v.x;
+            q[3 * n + 1] += v.y;
+            q[3 * n + 2] += v.z;
+        };
+        add(0, g0 * d1);
+        add(1, g0 * h1);
+        add(2, gy * xi0 - ga);
+        add(3, gz * xi0 - gb);
+        add(4, -g0 * d1);
+        add(5, g0 * h2);
+        add(6, gy * xi1 + ga);
+        add(7, gz * xi1 + gb);
+        Station {
+            energy: wx * 0.5 * energy,
+            tc,
+            u,
+            s,
+        }
+    }
+}
+
+/// What one axial station leaves for the Jacobian: its energy (J), T's
+/// coefficients, the five vectors and S (S_ii = 2σ_ii, S_ij = σ_ij).
+struct Station {
+    energy: f64,
+    tc: [f64; 12],
+    u: [Vector3<f64>; 5],
+    s: [f64; 15],
 }

@@ -12,6 +12,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod band_cholesky;
 pub mod contact;
 pub mod damping;
 pub mod dynamics;

@@ -1,18 +1,92 @@
-//! Sparse factorization of the Newton matrix with faer: the symbolic
-//! analysis is done once per pattern ([`SparseSolver::new`]); every
-//! refactorization is numeric only. LLᵀ is tried first (2–4× cheaper on the
-//! beam pattern, see CRATES.md); a matrix that is not positive definite
-//! (buckling, contact with friction) falls back to LU, whose symbolic
-//! analysis is then also kept.
+//! Factorization of the Newton matrix: the structural analysis is done once
+//! per pattern ([`SparseSolver::new`]); every refactorization is numeric
+//! only. A symmetric matrix tries LLᵀ first — as a band
+//! ([`BandCholesky`]: a wire's pattern is banded, and the band form was
+//! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md) or, for a wider
+//! pattern, faer's sparse LLᵀ. A matrix that is not positive definite
+//! (buckling) or not symmetric (friction, Kelvin–Voigt damping) goes to
+//! faer's sparse LU, whose symbolic analysis is then also kept.
 
 use crate::assembly::Pattern;
+use crate::band_cholesky::BandCholesky;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
-use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
-use faer::{ColMut, Side, linalg::solvers::Solve};
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
+use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
+use faer::{ColMut, Conj, MatMut, Par, Side, linalg::solvers::Solve};
+
+/// Largest half-bandwidth factored as a band (a wire's is 23); wider
+/// patterns go to faer's sparse LLᵀ.
+const MAX_BAND: usize = 48;
+
+/// faer's sparse LLᵀ at its low level: the symbolic factor, the factor's
+/// values and one workspace for factorization and solves, all allocated
+/// once (the mid-level `Llt` allocates both on every refactorization).
+struct SparseLlt {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+    workspace: MemBuffer,
+}
+
+impl SparseLlt {
+    fn new(pattern: &Pattern) -> Result<Self, FactorError> {
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.symbolic.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| FactorError(format!("symbolic Cholesky: {e:?}")))?;
+        let workspace = MemBuffer::try_new(StackReq::any_of(&[
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]))
+        .map_err(|e| FactorError(format!("Cholesky workspace: {e:?}")))?;
+        Ok(SparseLlt {
+            values: vec![0.0; symbolic.len_val()],
+            symbolic,
+            workspace,
+        })
+    }
+
+    /// Whether the factorization succeeded (the matrix is positive definite).
+    fn factorize(&mut self, mat: SparseColMatRef<'_, usize, f64>) -> bool {
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut self.values,
+                mat,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut self.workspace),
+                Default::default(),
+            )
+            .is_ok()
+    }
+
+    fn solve_in_place(&mut self, b: &mut [f64]) {
+        let n = b.len();
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(b, n, 1),
+            Par::Seq,
+            MemStack::new(&mut self.workspace),
+        )
+    }
+}
+
+/// The LLᵀ factorization a pattern uses.
+enum Cholesky {
+    Band(BandCholesky),
+    Sparse(Box<SparseLlt>),
+}
 
 enum Factor {
     None,
-    Llt(Llt<usize, f64>),
+    Llt,
     Lu(Box<Lu<usize, f64>>),
 }
 
@@ -25,7 +99,7 @@ pub enum FactorKind {
 
 pub struct SparseSolver {
     pattern: Pattern,
-    symbolic_llt: SymbolicLlt<usize>,
+    llt: Cholesky,
     symbolic_lu: Option<SymbolicLu<usize>>,
     factor: Factor,
     /// Number of numeric factorizations done.
@@ -37,11 +111,15 @@ pub struct FactorError(pub String);
 
 impl SparseSolver {
     pub fn new(pattern: &Pattern) -> Result<Self, FactorError> {
-        let symbolic_llt = SymbolicLlt::try_new(pattern.symbolic.as_ref(), Side::Lower)
-            .map_err(|e| FactorError(format!("symbolic Cholesky: {e:?}")))?;
+        let sym = pattern.symbolic.as_ref();
+        let llt = if BandCholesky::bandwidth(sym.col_ptr(), sym.row_idx()) <= MAX_BAND {
+            Cholesky::Band(BandCholesky::new(sym.nrows(), sym.col_ptr(), sym.row_idx()))
+        } else {
+            Cholesky::Sparse(Box::new(SparseLlt::new(pattern)?))
+        };
         Ok(SparseSolver {
             pattern: pattern.clone(),
-            symbolic_llt,
+            llt,
             symbolic_lu: None,
             factor: Factor::None,
             factorizations: 0,
@@ -65,11 +143,15 @@ impl SparseSolver {
         let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
         // A symmetric matrix that is not positive definite (buckling) fails
         // LLᵀ and falls through to LU.
-        if symmetric
-            && let Ok(llt) = Llt::try_new_with_symbolic(self.symbolic_llt.clone(), mat, Side::Lower)
-        {
-            self.factor = Factor::Llt(llt);
-            return Ok(FactorKind::Cholesky);
+        if symmetric {
+            let positive_definite = match &mut self.llt {
+                Cholesky::Band(band) => band.factorize(values).is_ok(),
+                Cholesky::Sparse(sparse) => sparse.factorize(mat),
+            };
+            if positive_definite {
+                self.factor = Factor::Llt;
+                return Ok(FactorKind::Cholesky);
+            }
         }
         if self.symbolic_lu.is_none() {
             self.symbolic_lu = Some(
@@ -88,12 +170,12 @@ impl SparseSolver {
     }
 
     /// Solve A x = b in place with the last factorization.
-    pub fn solve_in_place(&self, b: &mut [f64]) {
-        let col = ColMut::from_slice_mut(b);
-        match &self.factor {
-            Factor::Llt(f) => f.solve_in_place(col),
-            Factor::Lu(f) => f.solve_in_place(col),
-            Factor::None => panic!("solve before factorize"),
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        match (&self.factor, &mut self.llt) {
+            (Factor::Llt, Cholesky::Band(band)) => band.solve_in_place(b),
+            (Factor::Llt, Cholesky::Sparse(sparse)) => sparse.solve_in_place(b),
+            (Factor::Lu(f), _) => f.solve_in_place(ColMut::from_slice_mut(b)),
+            (Factor::None, _) => panic!("solve before factorize"),
         }
     }
 }

@@ -1,0 +1,226 @@
+//! Cholesky factorization of a symmetric positive definite band matrix.
+//!
+//! The wire's Newton matrix is banded by construction: unknowns are
+//! numbered node by node and every element, contact and damping term couples
+//! two neighbouring nodes only, so the half-bandwidth is at most 23 (two
+//! 12-coordinate nodes). A band factorization costs n p² / 2 multiply-adds
+//! with contiguous inner products and no index lookups; faer's general
+//! sparse LLᵀ (simplicial or supernodal) on the same matrices was 3–8×
+//! slower (BENCHMARKS.md, issue 7), which is why this file exists.
+//!
+//! Storage (LAPACK's lower band layout): column j of L keeps the rows
+//! j … j + p contiguously at `l[j (p + 1) + (i − j)]` (rows past n − 1 stay
+//! zero). The factorization is right-looking: each column, once scaled,
+//! updates the next p columns with contiguous multiply-adds that do not
+//! wait on each other (a row-by-row, dot-product form was latency-bound).
+
+/// L of A = L Lᵀ for a band matrix, with the map from the sparse pattern's
+/// value slots to the band, computed once per pattern.
+#[derive(Clone, Debug)]
+pub struct BandCholesky {
+    n: usize,
+    /// Half-bandwidth p: A_ij = 0 for |i − j| > p.
+    p: usize,
+    /// (pattern value index, band index) for every lower-triangle entry.
+    slots: Vec<(usize, usize)>,
+    l: Vec<f64>,
+    /// 1 / L_jj: the solves multiply (a division on their sequential
+    /// critical path cost 20 % of a 4096-element solve).
+    inv_diag: Vec<f64>,
+}
+
+/// The factorization met a non-positive pivot: the matrix is not positive
+/// definite (or is singular to round-off).
+#[derive(Clone, Copy, Debug)]
+pub struct NotPositiveDefinite {
+    pub row: usize,
+}
+
+impl BandCholesky {
+    /// The half-bandwidth of a symmetric pattern given column by column
+    /// (compressed sparse columns: `col_ptr`, `row_idx`).
+    pub fn bandwidth(col_ptr: &[usize], row_idx: &[usize]) -> usize {
+        (0..col_ptr.len().saturating_sub(1))
+            .flat_map(|c| {
+                row_idx[col_ptr[c]..col_ptr[c + 1]]
+                    .iter()
+                    .map(move |&r| r.abs_diff(c))
+            })
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// The band structure of a symmetric n × n pattern (compressed sparse
+    /// columns, both triangles or the lower one).
+    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        let p = Self::bandwidth(col_ptr, row_idx);
+        let mut slots = Vec::new();
+        for c in 0..n {
+            for (idx, &r) in row_idx
+                .iter()
+                .enumerate()
+                .take(col_ptr[c + 1])
+                .skip(col_ptr[c])
+            {
+                if r >= c {
+                    slots.push((idx, c * (p + 1) + (r - c)));
+                }
+            }
+        }
+        BandCholesky {
+            n,
+            p,
+            slots,
+            l: vec![0.0; n * (p + 1)],
+            inv_diag: vec![0.0; n],
+        }
+    }
+
+    /// Half-bandwidth p.
+    pub fn half_bandwidth(&self) -> usize {
+        self.p
+    }
+
+    /// Factor the matrix whose pattern values are `values` (only the lower
+    /// triangle is read).
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), NotPositiveDefinite> {
+        let (n, w) = (self.n, self.p + 1);
+        self.l.fill(0.0);
+        for &(v, b) in &self.slots {
+            self.l[b] = values[v];
+        }
+        let l = &mut self.l;
+        for j in 0..n {
+            let d = l[j * w];
+            if d <= 0.0 || !d.is_finite() {
+                return Err(NotPositiveDefinite { row: j });
+            }
+            let d = d.sqrt();
+            l[j * w] = d;
+            let inv = 1.0 / d;
+            self.inv_diag[j] = inv;
+            let (done, rest) = l.split_at_mut((j + 1) * w);
+            let col = &mut done[j * w + 1..];
+            col.iter_mut().for_each(|x| *x *= inv);
+            // Columns k = j + 1 … j + p: A[i][k] −= L[i][j] L[k][j] for i ≥ k.
+            for (m, &lkj) in col.iter().enumerate().take(n - 1 - j) {
+                let k = j + 1 + m;
+                let target = &mut rest[(k - j - 1) * w..(k - j - 1) * w + (w - 1 - m)];
+                for (t, &lij) in target.iter_mut().zip(&col[m..]) {
+                    *t -= lij * lkj;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solve A x = b in place with the last factorization.
+    pub fn solve_in_place(&self, b: &mut [f64]) {
+        let (n, w) = (self.n, self.p + 1);
+        let l = &self.l;
+        // L y = b: y_j, then remove it from the rows below.
+        for j in 0..n {
+            let yj = b[j] * self.inv_diag[j];
+            b[j] = yj;
+            let below = (n - 1 - j).min(w - 1);
+            for (y, a) in b[j + 1..j + 1 + below].iter_mut().zip(&l[j * w + 1..]) {
+                *y -= a * yj;
+            }
+        }
+        // Lᵀ x = y, from the last row.
+        for j in (0..n).rev() {
+            let below = (n - 1 - j).min(w - 1);
+            let s = dot(&l[j * w + 1..j * w + 1 + below], &b[j + 1..j + 1 + below]);
+            b[j] = (b[j] - s) * self.inv_diag[j];
+        }
+    }
+}
+
+/// Σ a_k b_k with four partial sums: a single running sum waits on each
+/// addition's latency (the factorization was 4× slower that way, perf).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let (a4, b4) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = a4
+        .remainder()
+        .iter()
+        .zip(b4.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in a4.zip(b4) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A random symmetric positive definite band matrix, dense and as
+    /// compressed columns (both triangles).
+    fn band_spd(n: usize, p: usize, seed: u64) -> (Vec<f64>, Vec<usize>, Vec<usize>, Vec<f64>) {
+        let mut state = seed;
+        let mut rand = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..i {
+                if i - j <= p {
+                    let v = rand();
+                    a[i * n + j] = v;
+                    a[j * n + i] = v;
+                }
+            }
+            a[i * n + i] = 2.0 * p as f64 + 1.0;
+        }
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+        for c in 0..n {
+            for r in 0..n {
+                if r.abs_diff(c) <= p {
+                    row_idx.push(r);
+                    values.push(a[r * n + c]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        (a, col_ptr, row_idx, values)
+    }
+
+    #[test]
+    fn solves_band_systems_to_round_off() {
+        for (n, p) in [(1, 0), (5, 1), (40, 7), (60, 23), (10, 23)] {
+            let (a, col_ptr, row_idx, values) = band_spd(n, p, 7 + n as u64);
+            let mut chol = BandCholesky::new(n, &col_ptr, &row_idx);
+            assert_eq!(chol.half_bandwidth(), p.min(n.saturating_sub(1)));
+            chol.factorize(&values).expect("positive definite");
+            let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+            let mut b: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
+                .collect();
+            chol.solve_in_place(&mut b);
+            let err = b
+                .iter()
+                .zip(&x)
+                .map(|(u, v)| (u - v).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
+        }
+    }
+
+    #[test]
+    fn refuses_an_indefinite_matrix() {
+        let (_, col_ptr, row_idx, mut values) = band_spd(6, 2, 3);
+        // Make the (3, 3) pivot negative.
+        let diag = (col_ptr[3]..col_ptr[4]).find(|&k| row_idx[k] == 3).unwrap();
+        values[diag] = -1.0;
+        let mut chol = BandCholesky::new(6, &col_ptr, &row_idx);
+        assert!(chol.factorize(&values).is_err());
+    }
+}

@@ -98,7 +98,7 @@ pub fn assemble(
     q: &[f64],
     jacobian: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
-    if model.n_elements >= PARALLEL_MIN_ELEMENTS && rayon::current_num_threads() > 1 {
+    if uses_parallel_assembly(model) && rayon::current_num_threads() > 1 {
         assemble_parallel(model, pattern, q, jacobian)
     } else {
         assemble_serial(model, pattern, q, jacobian)
@@ -107,6 +107,17 @@ pub fn assemble(
 
 /// Below this many elements the serial loop is faster than splitting work.
 pub const PARALLEL_MIN_ELEMENTS: usize = 64;
+
+/// Whether elements are evaluated in parallel: only when they carry point
+/// work (Mooney–Rivlin layers, non-linear centerline laws). A fully
+/// pre-integrated element (1.2 µs for force and Jacobian) is cheaper than
+/// the parallel path's per-element buffer and serial scatter: with it, two
+/// threads were slower than one (0.73–0.97× at 256 elements, 0.80 → 0.97 s
+/// for 8 full-Newton steps at 4096; BENCHMARKS.md, issue 7).
+pub fn uses_parallel_assembly(model: &Model) -> bool {
+    let plan = &model.element.plan;
+    model.n_elements >= PARALLEL_MIN_ELEMENTS && (plan.points() > 0)
+}
 
 fn assemble_serial(
     model: &Model,

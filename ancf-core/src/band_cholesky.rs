@@ -138,7 +138,8 @@ impl BandCholesky {
 
 /// Σ a_k b_k with four partial sums: a single running sum waits on each
 /// addition's latency (the factorization was 4× slower that way, perf).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+#[inline]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0f64; 4];
     let (a4, b4) = (a.chunks_exact(4), b.chunks_exact(4));
     let tail: f64 = a4

@@ -159,6 +159,47 @@ impl Contact {
     pub fn may_touch(&self, rod: &Rod, e: &ElementVector) -> bool {
         let l = self.element_length;
         let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0;
+        // First a sphere around the centerline's Bézier control points
+        // r₁, r₁ + l/3 r₁ₓ, r₂ − l/3 r₂ₓ, r₂ (the cubic lies in their hull):
+        // if even that is out of reach, so is every sample below (the same
+        // answer, for a fraction of the work; the samples were 10 % of the
+        // impact run, perf).
+        let bezier: [[f64; 3]; 4] = std::array::from_fn(|k| {
+            std::array::from_fn(|c| match k {
+                0 => e[c],
+                1 => e[c] + l / 3.0 * e[3 + c],
+                2 => e[12 + c] - l / 3.0 * e[15 + c],
+                _ => e[12 + c],
+            })
+        });
+        let centre: [f64; 3] =
+            std::array::from_fn(|c| 0.25 * bezier.iter().map(|b| b[c]).sum::<f64>());
+        let radius = bezier
+            .iter()
+            .map(|b| {
+                let d = [b[0] - centre[0], b[1] - centre[1], b[2] - centre[2]];
+                dot(&d, &d)
+            })
+            .fold(0.0, f64::max)
+            .sqrt();
+        let rel = [
+            centre[0] - rod.center[0],
+            centre[1] - rod.center[1],
+            centre[2] - rod.center[2],
+        ];
+        let along = dot(&rel, &rod.axis);
+        let perp = [
+            rel[0] - along * rod.axis[0],
+            rel[1] - along * rod.axis[1],
+            rel[2] - along * rod.axis[2],
+        ];
+        if dot(&perp, &perp).sqrt() > reach + radius
+            || rod
+                .length
+                .is_some_and(|len| along.abs() > 0.5 * len + reach + radius)
+        {
+            return false;
+        }
         self.broad_phase.iter().any(|s| {
             let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| s[i] * e[3 * i + c]).sum());
             let rel = [

@@ -439,11 +439,17 @@ impl<'m> Integrator<'m> {
             info.rod_forces = cf.rod_forces;
         }
         let ma = model.mass_times(&am);
-        let r_full: Vec<f64> = (0..n).map(|c| ma[c] + qe[c] - self.ext[c]).collect();
-        let scale = norm(&model.gather(&ma))
-            .max(self.ext_norm)
-            .max(norm(&model.gather(&qe)));
-        let mut r = model.gather(&r_full);
+        // R, ‖M a‖ and ‖Q‖ on the unknowns in one pass (no gathered copies).
+        let mut r = vec![0.0; model.n_unknowns];
+        let (mut ma2, mut qe2) = (0.0, 0.0);
+        for (c, u) in model.dof_map.iter().enumerate() {
+            if let Some(u) = *u {
+                r[u] = ma[c] + qe[c] - self.ext[c];
+                ma2 += ma[c] * ma[c];
+                qe2 += qe[c] * qe[c];
+            }
+        }
+        let scale = ma2.sqrt().max(self.ext_norm).max(qe2.sqrt());
         if model.damping().is_some() {
             let (qd, power) = self.damping_force(&qm, &vm, kq, kv);
             r.iter_mut().zip(&qd).for_each(|(a, b)| *a += b);

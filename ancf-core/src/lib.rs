@@ -13,6 +13,7 @@
 
 pub mod assembly;
 pub mod band_cholesky;
+pub mod band_lu;
 pub mod contact;
 pub mod damping;
 pub mod dynamics;

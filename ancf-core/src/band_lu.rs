@@ -1,0 +1,180 @@
+//! LU factorization without pivoting of a band matrix, for the wire's
+//! non-symmetric Newton matrices (friction, Kelvin–Voigt damping).
+//!
+//! Those matrices are (1 − α_m) M + c_k K + c_d D: the mass matrix is
+//! symmetric positive definite and at the time steps contact needs it
+//! dominates, so the symmetric part stays positive definite and elimination
+//! in the natural order is stable. A pivot that is not finite or falls below
+//! 1e-10 of the largest diagonal entry is refused and the caller falls back
+//! to faer's pivoting sparse LU. On the impact scene faer's general sparse
+//! LU was 38 % of the run and its solves 14 % (perf, BENCHMARKS.md, issue 7).
+//!
+//! Storage: row i keeps the columns i − p … i + p at
+//! `a[i (2p + 1) + (j − i + p)]`; L (unit diagonal, not stored) and U
+//! overwrite A. Row operations are contiguous multiply-adds.
+
+/// L U of a band matrix with the map from the sparse pattern's value slots
+/// to the band, computed once per pattern.
+#[derive(Clone, Debug)]
+pub struct BandLu {
+    n: usize,
+    /// Half-bandwidth p (both sides): A_ij = 0 for |i − j| > p.
+    p: usize,
+    /// (pattern value index, band index) for every entry.
+    slots: Vec<(usize, usize)>,
+    a: Vec<f64>,
+    /// 1 / U_ii.
+    inv_pivot: Vec<f64>,
+}
+
+/// Elimination met a pivot that is zero, tiny or not finite at `row`.
+#[derive(Clone, Copy, Debug)]
+pub struct SmallPivot {
+    pub row: usize,
+}
+
+impl BandLu {
+    /// The band structure of an n × n pattern with both triangles stored
+    /// (compressed sparse columns) and half-bandwidth `p`.
+    pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        let w = 2 * p + 1;
+        let mut slots = Vec::new();
+        for c in 0..n {
+            for (idx, &r) in row_idx
+                .iter()
+                .enumerate()
+                .take(col_ptr[c + 1])
+                .skip(col_ptr[c])
+            {
+                assert!(r.abs_diff(c) <= p, "entry ({r}, {c}) outside the band");
+                slots.push((idx, r * w + (c + p - r)));
+            }
+        }
+        BandLu {
+            n,
+            p,
+            slots,
+            a: vec![0.0; n * w],
+            inv_pivot: vec![0.0; n],
+        }
+    }
+
+    /// Factor the matrix whose pattern values are `values`.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), SmallPivot> {
+        let (n, p, w) = (self.n, self.p, 2 * self.p + 1);
+        self.a.fill(0.0);
+        for &(v, b) in &self.slots {
+            self.a[b] = values[v];
+        }
+        let a = &mut self.a;
+        let scale = (0..n).map(|i| a[i * w + p].abs()).fold(0.0, f64::max);
+        for j in 0..n {
+            let pivot = a[j * w + p];
+            if !pivot.is_finite() || pivot.abs() <= 1e-10 * scale {
+                return Err(SmallPivot { row: j });
+            }
+            let inv = 1.0 / pivot;
+            self.inv_pivot[j] = inv;
+            let last = (j + p).min(n - 1);
+            let (upper, lower) = a.split_at_mut((j + 1) * w);
+            // Row j right of the diagonal: columns j + 1 … j + p.
+            let row_j = &upper[j * w + p + 1..j * w + w];
+            for i in j + 1..=last {
+                let row_i = &mut lower[(i - j - 1) * w..(i - j) * w];
+                // A_ij sits at j − i + p; the columns j + 1 … j + p follow it.
+                let at = j + p - i;
+                let l = row_i[at] * inv;
+                row_i[at] = l;
+                for (x, u) in row_i[at + 1..at + 1 + p].iter_mut().zip(row_j) {
+                    *x -= l * u;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solve A x = b in place with the last factorization.
+    pub fn solve_in_place(&self, b: &mut [f64]) {
+        let (n, p, w) = (self.n, self.p, 2 * self.p + 1);
+        let a = &self.a;
+        // Each unknown depends on the one just computed: that product is
+        // taken apart from the rest of the row's sum, which the processor
+        // can then form before the previous unknown is known (the solves
+        // are a sequential chain; a whole-row sum made them latency-bound).
+        // L y = b (unit diagonal).
+        for i in 1..n {
+            let first = i.saturating_sub(p);
+            let row = &a[i * w + (first + p - i)..i * w + p];
+            let (older, newest) = row.split_at(row.len() - 1);
+            let rest = dot(older, &b[first..i - 1]);
+            b[i] = (b[i] - rest) - newest[0] * b[i - 1];
+        }
+        // U x = y.
+        b[n - 1] *= self.inv_pivot[n - 1];
+        for i in (0..n - 1).rev() {
+            let last = (i + p).min(n - 1);
+            let row = &a[i * w + p + 1..i * w + p + 1 + (last - i)];
+            let rest = dot(&row[1..], &b[i + 2..=last]);
+            b[i] = ((b[i] - rest) - row[0] * b[i + 1]) * self.inv_pivot[i];
+        }
+    }
+}
+
+/// Σ a_k b_k with four partial sums (see `band_cholesky`).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    crate::band_cholesky::dot(a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_nonsymmetric_band_systems_to_round_off() {
+        for (n, p) in [(1, 0), (6, 1), (40, 7), (60, 23), (10, 23)] {
+            let mut state = 11 + n as u64;
+            let mut rand = || {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            let mut dense = vec![0.0; n * n];
+            let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+            for c in 0..n {
+                for r in 0..n {
+                    if r.abs_diff(c) <= p {
+                        let v = if r == c { 2.0 * p as f64 + 1.0 } else { rand() };
+                        dense[r * n + c] = v;
+                        row_idx.push(r);
+                        values.push(v);
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+            let mut lu = BandLu::new(n, p.min(n - 1), &col_ptr, &row_idx);
+            lu.factorize(&values).expect("non-singular");
+            let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).cos()).collect();
+            let mut b: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| dense[i * n + j] * x[j]).sum())
+                .collect();
+            lu.solve_in_place(&mut b);
+            let err = b
+                .iter()
+                .zip(&x)
+                .map(|(u, v)| (u - v).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
+        }
+    }
+
+    #[test]
+    fn refuses_a_zero_pivot() {
+        // [[0, 1], [1, 0]] needs pivoting.
+        let col_ptr = [0, 2, 4];
+        let row_idx = [0, 1, 0, 1];
+        let mut lu = BandLu::new(2, 1, &col_ptr, &row_idx);
+        assert!(lu.factorize(&[0.0, 1.0, 1.0, 0.0]).is_err());
+    }
+}

@@ -23,6 +23,10 @@ pub struct BandCholesky {
     p: usize,
     /// (pattern value index, band index) for every lower-triangle entry.
     slots: Vec<(usize, usize)>,
+    /// Rows of column j below the diagonal that can be non-zero in L (the
+    /// envelope, ≤ p): a block-tridiagonal matrix with 12 × 12 blocks fills
+    /// 12 … 23 of the 23, so the work is 40 % less than the full band's.
+    below: Vec<usize>,
     l: Vec<f64>,
     /// 1 / L_jj: the solves multiply (a division on their sequential
     /// critical path cost 20 % of a 4096-element solve).
@@ -70,6 +74,7 @@ impl BandCholesky {
         BandCholesky {
             n,
             p,
+            below: envelope(n, col_ptr, row_idx),
             slots,
             l: vec![0.0; n * (p + 1)],
             inv_diag: vec![0.0; n],
@@ -100,12 +105,13 @@ impl BandCholesky {
             let inv = 1.0 / d;
             self.inv_diag[j] = inv;
             let (done, rest) = l.split_at_mut((j + 1) * w);
-            let col = &mut done[j * w + 1..];
+            let len = self.below[j];
+            let col = &mut done[j * w + 1..j * w + 1 + len];
             col.iter_mut().for_each(|x| *x *= inv);
-            // Columns k = j + 1 … j + p: A[i][k] −= L[i][j] L[k][j] for i ≥ k.
-            for (m, &lkj) in col.iter().enumerate().take(n - 1 - j) {
+            // Columns k = j + 1 … j + len: A[i][k] −= L[i][j] L[k][j] for i ≥ k.
+            for (m, &lkj) in col.iter().enumerate() {
                 let k = j + 1 + m;
-                let target = &mut rest[(k - j - 1) * w..(k - j - 1) * w + (w - 1 - m)];
+                let target = &mut rest[(k - j - 1) * w..(k - j - 1) * w + (len - m)];
                 for (t, &lij) in target.iter_mut().zip(&col[m..]) {
                     *t -= lij * lkj;
                 }
@@ -122,18 +128,37 @@ impl BandCholesky {
         for j in 0..n {
             let yj = b[j] * self.inv_diag[j];
             b[j] = yj;
-            let below = (n - 1 - j).min(w - 1);
+            let below = self.below[j];
             for (y, a) in b[j + 1..j + 1 + below].iter_mut().zip(&l[j * w + 1..]) {
                 *y -= a * yj;
             }
         }
         // Lᵀ x = y, from the last row.
         for j in (0..n).rev() {
-            let below = (n - 1 - j).min(w - 1);
+            let below = self.below[j];
             let s = dot(&l[j * w + 1..j * w + 1 + below], &b[j + 1..j + 1 + below]);
             b[j] = (b[j] - s) * self.inv_diag[j];
         }
     }
+}
+
+/// For each column j of a symmetric pattern (compressed sparse columns),
+/// how many rows below the diagonal its Cholesky or LU factor can fill: the
+/// last non-zero row of columns 0 … j (fill stays inside that envelope),
+/// minus j.
+pub(crate) fn envelope(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+    let mut reach = 0;
+    (0..n)
+        .map(|j| {
+            let last = row_idx[col_ptr[j]..col_ptr[j + 1]]
+                .iter()
+                .copied()
+                .max()
+                .unwrap_or(j);
+            reach = reach.max(last).max(j);
+            reach - j
+        })
+        .collect()
 }
 
 /// Σ a_k b_k with four partial sums: a single running sum waits on each
@@ -157,7 +182,7 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A random symmetric positive definite band matrix, dense and as
@@ -213,6 +238,66 @@ mod tests {
                 .fold(0.0, f64::max);
             assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
         }
+    }
+
+    /// A block-tridiagonal SPD matrix (blocks of `b`, as a wire's nodes):
+    /// its envelope is narrower than its band, which the factor must use.
+    pub(crate) fn block_tridiagonal(
+        blocks: usize,
+        b: usize,
+        symmetric: bool,
+    ) -> (Vec<f64>, Vec<usize>, Vec<usize>, Vec<f64>) {
+        let n = blocks * b;
+        let mut a = vec![0.0; n * n];
+        for r in 0..n {
+            for c in 0..n {
+                if (r / b).abs_diff(c / b) <= 1 {
+                    let v = ((r * 7 + c * 3) % 11) as f64 / 11.0 - 0.5;
+                    let w = ((c * 7 + r * 3) % 11) as f64 / 11.0 - 0.5;
+                    a[r * n + c] = if r == c {
+                        4.0 * b as f64
+                    } else if symmetric {
+                        0.5 * (v + w)
+                    } else {
+                        v
+                    };
+                }
+            }
+        }
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+        for c in 0..n {
+            for r in 0..n {
+                if (r / b).abs_diff(c / b) <= 1 {
+                    row_idx.push(r);
+                    values.push(a[r * n + c]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        (a, col_ptr, row_idx, values)
+    }
+
+    #[test]
+    fn uses_the_envelope_of_a_block_tridiagonal_matrix() {
+        let (a, col_ptr, row_idx, values) = block_tridiagonal(6, 4, true);
+        let n = 24;
+        let below = envelope(n, &col_ptr, &row_idx);
+        assert_eq!(&below[..4], &[7, 6, 5, 4], "rows to the next block's end");
+        assert_eq!(below[n - 1], 0);
+        let mut chol = BandCholesky::new(n, &col_ptr, &row_idx);
+        assert_eq!(chol.half_bandwidth(), 7);
+        chol.factorize(&values).expect("positive definite");
+        let x: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
+        let mut b: Vec<f64> = (0..n)
+            .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
+            .collect();
+        chol.solve_in_place(&mut b);
+        let err = b
+            .iter()
+            .zip(&x)
+            .map(|(u, v)| (u - v).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-12, "error {err:e}");
     }
 
     #[test]

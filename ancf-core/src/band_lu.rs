@@ -22,6 +22,12 @@ pub struct BandLu {
     p: usize,
     /// (pattern value index, band index) for every entry.
     slots: Vec<(usize, usize)>,
+    /// The envelope (`band_cholesky::envelope`): rows of L below the
+    /// diagonal in column j, and columns of U right of it in row j (the
+    /// pattern is symmetric).
+    below: Vec<usize>,
+    /// First column of row i inside the envelope.
+    first: Vec<usize>,
     a: Vec<f64>,
     /// 1 / U_ii.
     inv_pivot: Vec<f64>,
@@ -50,9 +56,20 @@ impl BandLu {
                 slots.push((idx, r * w + (c + p - r)));
             }
         }
+        let below = crate::band_cholesky::envelope(n, col_ptr, row_idx);
+        let mut first = vec![0; n];
+        let mut j = 0;
+        for (i, f) in first.iter_mut().enumerate() {
+            while j + below[j] < i {
+                j += 1;
+            }
+            *f = j;
+        }
         BandLu {
             n,
             p,
+            below,
+            first,
             slots,
             a: vec![0.0; n * w],
             inv_pivot: vec![0.0; n],
@@ -75,17 +92,17 @@ impl BandLu {
             }
             let inv = 1.0 / pivot;
             self.inv_pivot[j] = inv;
-            let last = (j + p).min(n - 1);
+            let len = self.below[j];
             let (upper, lower) = a.split_at_mut((j + 1) * w);
-            // Row j right of the diagonal: columns j + 1 … j + p.
-            let row_j = &upper[j * w + p + 1..j * w + w];
-            for i in j + 1..=last {
+            // Row j right of the diagonal: columns j + 1 … j + len.
+            let row_j = &upper[j * w + p + 1..j * w + p + 1 + len];
+            for i in j + 1..=j + len {
                 let row_i = &mut lower[(i - j - 1) * w..(i - j) * w];
-                // A_ij sits at j − i + p; the columns j + 1 … j + p follow it.
+                // A_ij sits at j − i + p; the columns j + 1 … follow it.
                 let at = j + p - i;
                 let l = row_i[at] * inv;
                 row_i[at] = l;
-                for (x, u) in row_i[at + 1..at + 1 + p].iter_mut().zip(row_j) {
+                for (x, u) in row_i[at + 1..at + 1 + len].iter_mut().zip(row_j) {
                     *x -= l * u;
                 }
             }
@@ -103,7 +120,10 @@ impl BandLu {
         // are a sequential chain; a whole-row sum made them latency-bound).
         // L y = b (unit diagonal).
         for i in 1..n {
-            let first = i.saturating_sub(p);
+            let first = self.first[i];
+            if first == i {
+                continue;
+            }
             let row = &a[i * w + (first + p - i)..i * w + p];
             let (older, newest) = row.split_at(row.len() - 1);
             let rest = dot(older, &b[first..i - 1]);
@@ -112,7 +132,11 @@ impl BandLu {
         // U x = y.
         b[n - 1] *= self.inv_pivot[n - 1];
         for i in (0..n - 1).rev() {
-            let last = (i + p).min(n - 1);
+            let last = i + self.below[i];
+            if last == i {
+                b[i] *= self.inv_pivot[i];
+                continue;
+            }
             let row = &a[i * w + p + 1..i * w + p + 1 + (last - i)];
             let rest = dot(&row[1..], &b[i + 2..=last]);
             b[i] = ((b[i] - rest) - row[0] * b[i + 1]) * self.inv_pivot[i];
@@ -167,6 +191,26 @@ mod tests {
                 .fold(0.0, f64::max);
             assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
         }
+    }
+
+    #[test]
+    fn solves_a_nonsymmetric_block_tridiagonal_system() {
+        let (a, col_ptr, row_idx, values) =
+            crate::band_cholesky::tests::block_tridiagonal(6, 4, false);
+        let n = 24;
+        let mut lu = BandLu::new(n, 7, &col_ptr, &row_idx);
+        lu.factorize(&values).expect("non-singular");
+        let x: Vec<f64> = (0..n).map(|i| (i as f64).sqrt()).collect();
+        let mut b: Vec<f64> = (0..n)
+            .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
+            .collect();
+        lu.solve_in_place(&mut b);
+        let err = b
+            .iter()
+            .zip(&x)
+            .map(|(u, v)| (u - v).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-12, "error {err:e}");
     }
 
     #[test]

@@ -33,6 +33,11 @@ fn bench(c: &mut Criterion) {
             "circle2_3xn3_svk_mr",
             Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, mooney_rivlin())], 3),
         ),
+        // `ancf bench`'s per-point Mooney–Rivlin case (plain formulation).
+        (
+            "circle1_3xn3_mr_plain",
+            Section::circular(&[(0.0, 0.02, rubber())], 3),
+        ),
     ];
     let e = deformed_element(l);
     for (name, section) in cases {

@@ -96,8 +96,9 @@ pub fn green_lagrange(f: &[[f64; 3]; 3]) -> Vector6<f64> {
 }
 
 ancf_macros::structured_point_kernel! {
-    /// Generated point kernel: adds w·∂W/∂e to `q`, w·∂²W/∂e² to `k`,
-    /// returns w·W, for the gradient sparsity of the 3243 beam.
+    /// Generated point kernel: adds w·∂W/∂e to `q`, the upper triangle
+    /// (row ≤ column) of w·∂²W/∂e² to `k` (the caller mirrors it), returns
+    /// w·W, for the gradient sparsity of the 3243 beam.
     pub fn point_kernel;
     gradient_sparsity = [[x], [x], [x, y], [x, z], [x], [x], [x, y], [x, z]];
 }
@@ -451,18 +452,34 @@ pub fn structured_element<const N: usize>(
     if let Some(pre) = &ei.plan.preintegrated {
         energy += pre.evaluate(nodes, weights, l, e, q, k.as_deref_mut());
     }
+    if ei.plan.points() == 0 {
+        return energy;
+    }
+    // The point kernel writes K's upper triangle: summed over the points
+    // here, mirrored into k once.
+    let mut upper = k.as_ref().map(|_| [0.0; 576]);
     for a in 0..N {
         let (xi, wx) = (nodes[a], weights[a] * l);
         for group in &ei.plan.groups {
             for p in &group.points {
                 let g = shape_gradients(xi, p.y, p.z, l);
-                energy += point_kernel(e, &g, wx * p.weight, &group.law, q, k.as_deref_mut());
+                energy += point_kernel(e, &g, wx * p.weight, &group.law, q, upper.as_mut());
             }
         }
         if !ei.plan.centerline.is_empty() {
             let g = shape_gradients(xi, 0.0, 0.0, l);
             for (law, w) in &ei.plan.centerline {
-                energy += point_kernel(e, &g, wx * w, law, q, k.as_deref_mut());
+                energy += point_kernel(e, &g, wx * w, law, q, upper.as_mut());
+            }
+        }
+    }
+    if let (Some(k), Some(upper)) = (k, upper) {
+        for r in 0..24 {
+            k[r * 24 + r] += upper[r * 24 + r];
+            for c in r + 1..24 {
+                let v = upper[r * 24 + c];
+                k[r * 24 + c] += v;
+                k[c * 24 + r] += v;
             }
         }
     }

@@ -221,7 +221,19 @@ pub fn expand(spec: &KernelSpec) -> TokenStream {
             .unwrap()
     };
     let mut h_stmts = Vec::new();
+    // H_ba = H_abᵀ: computed once, the other copied (computed first: `used`
+    // is visited with a ≤ b before its mirror).
+    let mut used = used;
+    used.sort_by_key(|&(a, b)| (a > b, a, b));
     for &(a, b) in &used {
+        if a > b && used.contains(&(b, a)) {
+            for k in 0..3usize {
+                for m in 0..3usize {
+                    h_stmts.push(quote!(h[#a][#b][#k][#m] = h[#b][#a][#m][#k];));
+                }
+            }
+            continue;
+        }
         let s_ab = voigt_of(a, b);
         for k in 0..3usize {
             for m in 0..3usize {
@@ -239,7 +251,9 @@ pub fn expand(spec: &KernelSpec) -> TokenStream {
         }
     }
 
-    // Jacobian blocks, upper triangle of node pairs, mirrored.
+    // Jacobian: the upper triangle (row ≤ column) only; the caller mirrors
+    // it once per element (writing the mirror at every point doubled the
+    // kernel's memory traffic).
     let mut k_stmts = Vec::new();
     for i in 0..n {
         for j in i..n {
@@ -253,19 +267,8 @@ pub fn expand(spec: &KernelSpec) -> TokenStream {
                     let row = 3 * i + kk;
                     let col = 3 * j + m;
                     let at = row * 24 + col;
-                    let mirror = col * 24 + row;
-                    if i == j {
-                        if m >= kk {
-                            if m == kk {
-                                k_stmts.push(quote!(k[#at] += w * (#(#terms)+*);));
-                            } else {
-                                k_stmts.push(quote!({ let v = w * (#(#terms)+*); k[#at] += v; k[#mirror] += v; }));
-                            }
-                        }
-                    } else {
-                        k_stmts.push(
-                            quote!({ let v = w * (#(#terms)+*); k[#at] += v; k[#mirror] += v; }),
-                        );
+                    if i != j || m >= kk {
+                        k_stmts.push(quote!(k[#at] += w * (#(#terms)+*);));
                     }
                 }
             }

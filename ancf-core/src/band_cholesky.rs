@@ -55,27 +55,16 @@ impl BandCholesky {
     }
 
     /// The band structure of a symmetric n × n pattern (compressed sparse
-    /// columns, both triangles or the lower one).
-    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
-        let p = Self::bandwidth(col_ptr, row_idx);
-        let mut slots = Vec::new();
-        for c in 0..n {
-            for (idx, &r) in row_idx
-                .iter()
-                .enumerate()
-                .take(col_ptr[c + 1])
-                .skip(col_ptr[c])
-            {
-                if r >= c {
-                    slots.push((idx, c * (p + 1) + (r - c)));
-                }
-            }
-        }
+    /// columns, both triangles or the lower one) of half-bandwidth `p`
+    /// ([`BandCholesky::bandwidth`]).
+    pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
         BandCholesky {
             n,
             p,
             below: envelope(n, col_ptr, row_idx),
-            slots,
+            slots: pattern_slots(n, col_ptr, row_idx, |r, c| {
+                (r >= c).then(|| c * (p + 1) + (r - c))
+            }),
             l: vec![0.0; n * (p + 1)],
             inv_diag: vec![0.0; n],
         }
@@ -142,6 +131,20 @@ impl BandCholesky {
     }
 }
 
+/// (pattern value index, band index) for every entry of a compressed-column
+/// pattern that `band_index(row, column)` places in a band storage.
+pub(crate) fn pattern_slots(
+    n: usize,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    band_index: impl Fn(usize, usize) -> Option<usize>,
+) -> Vec<(usize, usize)> {
+    (0..n)
+        .flat_map(|c| (col_ptr[c]..col_ptr[c + 1]).map(move |idx| (idx, c)))
+        .filter_map(|(idx, c)| band_index(row_idx[idx], c).map(|b| (idx, b)))
+        .collect()
+}
+
 /// For each column j of a symmetric pattern (compressed sparse columns),
 /// how many rows below the diagonal its Cholesky or LU factor can fill: the
 /// last non-zero row of columns 0 … j (fill stays inside that envelope),
@@ -185,16 +188,68 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 pub(crate) mod tests {
     use super::*;
 
-    /// A random symmetric positive definite band matrix, dense and as
-    /// compressed columns (both triangles).
-    fn band_spd(n: usize, p: usize, seed: u64) -> (Vec<f64>, Vec<usize>, Vec<usize>, Vec<f64>) {
+    /// A test matrix: dense (row-major) and as compressed columns (values,
+    /// column pointers, row indices) over the entries `keep(row, column)`.
+    pub(crate) struct TestMatrix {
+        pub n: usize,
+        pub dense: Vec<f64>,
+        pub col_ptr: Vec<usize>,
+        pub row_idx: Vec<usize>,
+        pub values: Vec<f64>,
+    }
+
+    impl TestMatrix {
+        pub fn new(n: usize, dense: Vec<f64>, keep: impl Fn(usize, usize) -> bool) -> Self {
+            let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+            for c in 0..n {
+                for r in (0..n).filter(|&r| keep(r, c)) {
+                    row_idx.push(r);
+                    values.push(dense[r * n + c]);
+                }
+                col_ptr.push(row_idx.len());
+            }
+            TestMatrix {
+                n,
+                dense,
+                col_ptr,
+                row_idx,
+                values,
+            }
+        }
+
+        pub fn bandwidth(&self) -> usize {
+            BandCholesky::bandwidth(&self.col_ptr, &self.row_idx)
+        }
+
+        /// Largest error of `solve` on A x = b for a known x.
+        pub fn solve_error(&self, x: &[f64], solve: impl FnOnce(&mut [f64])) -> f64 {
+            let n = self.n;
+            let mut b: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| self.dense[i * n + j] * x[j]).sum())
+                .collect();
+            solve(&mut b);
+            b.iter()
+                .zip(x)
+                .map(|(u, v)| (u - v).abs())
+                .fold(0.0, f64::max)
+        }
+    }
+
+    /// Uniform numbers in [−0.5, 0.5) from a seed (a linear congruential
+    /// generator: reproducible, no dependency).
+    pub(crate) fn uniform(seed: u64) -> impl FnMut() -> f64 {
         let mut state = seed;
-        let mut rand = || {
+        move || {
             state = state
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        }
+    }
+
+    /// A random symmetric positive definite band matrix.
+    fn band_spd(n: usize, p: usize, seed: u64) -> TestMatrix {
+        let mut rand = uniform(seed);
         let mut a = vec![0.0; n * n];
         for i in 0..n {
             for j in 0..i {
@@ -206,107 +261,69 @@ pub(crate) mod tests {
             }
             a[i * n + i] = 2.0 * p as f64 + 1.0;
         }
-        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
-        for c in 0..n {
-            for r in 0..n {
-                if r.abs_diff(c) <= p {
-                    row_idx.push(r);
-                    values.push(a[r * n + c]);
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        (a, col_ptr, row_idx, values)
+        TestMatrix::new(n, a, |r, c| r.abs_diff(c) <= p)
     }
 
     #[test]
     fn solves_band_systems_to_round_off() {
         for (n, p) in [(1, 0), (5, 1), (40, 7), (60, 23), (10, 23)] {
-            let (a, col_ptr, row_idx, values) = band_spd(n, p, 7 + n as u64);
-            let mut chol = BandCholesky::new(n, &col_ptr, &row_idx);
+            let a = band_spd(n, p, 7 + n as u64);
+            let mut chol = BandCholesky::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
             assert_eq!(chol.half_bandwidth(), p.min(n.saturating_sub(1)));
-            chol.factorize(&values).expect("positive definite");
+            chol.factorize(&a.values).expect("positive definite");
             let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-            let mut b: Vec<f64> = (0..n)
-                .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
-                .collect();
-            chol.solve_in_place(&mut b);
-            let err = b
-                .iter()
-                .zip(&x)
-                .map(|(u, v)| (u - v).abs())
-                .fold(0.0, f64::max);
+            let err = a.solve_error(&x, |b| chol.solve_in_place(b));
             assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
         }
     }
 
-    /// A block-tridiagonal SPD matrix (blocks of `b`, as a wire's nodes):
-    /// its envelope is narrower than its band, which the factor must use.
-    pub(crate) fn block_tridiagonal(
-        blocks: usize,
-        b: usize,
-        symmetric: bool,
-    ) -> (Vec<f64>, Vec<usize>, Vec<usize>, Vec<f64>) {
+    /// A block-tridiagonal matrix (blocks of `b`, as a wire's nodes),
+    /// symmetric positive definite or not: its envelope is narrower than
+    /// its band, which the factors must use.
+    pub(crate) fn block_tridiagonal(blocks: usize, b: usize, symmetric: bool) -> TestMatrix {
         let n = blocks * b;
+        let coupled = |r: usize, c: usize| (r / b).abs_diff(c / b) <= 1;
         let mut a = vec![0.0; n * n];
         for r in 0..n {
-            for c in 0..n {
-                if (r / b).abs_diff(c / b) <= 1 {
-                    let v = ((r * 7 + c * 3) % 11) as f64 / 11.0 - 0.5;
-                    let w = ((c * 7 + r * 3) % 11) as f64 / 11.0 - 0.5;
-                    a[r * n + c] = if r == c {
-                        4.0 * b as f64
-                    } else if symmetric {
-                        0.5 * (v + w)
-                    } else {
-                        v
-                    };
-                }
+            for c in (0..n).filter(|&c| coupled(r, c)) {
+                let v = ((r * 7 + c * 3) % 11) as f64 / 11.0 - 0.5;
+                let w = ((c * 7 + r * 3) % 11) as f64 / 11.0 - 0.5;
+                a[r * n + c] = if r == c {
+                    4.0 * b as f64
+                } else if symmetric {
+                    0.5 * (v + w)
+                } else {
+                    v
+                };
             }
         }
-        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
-        for c in 0..n {
-            for r in 0..n {
-                if (r / b).abs_diff(c / b) <= 1 {
-                    row_idx.push(r);
-                    values.push(a[r * n + c]);
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        (a, col_ptr, row_idx, values)
+        TestMatrix::new(n, a, coupled)
     }
 
     #[test]
     fn uses_the_envelope_of_a_block_tridiagonal_matrix() {
-        let (a, col_ptr, row_idx, values) = block_tridiagonal(6, 4, true);
-        let n = 24;
-        let below = envelope(n, &col_ptr, &row_idx);
+        let a = block_tridiagonal(6, 4, true);
+        let n = a.n;
+        let below = envelope(n, &a.col_ptr, &a.row_idx);
         assert_eq!(&below[..4], &[7, 6, 5, 4], "rows to the next block's end");
         assert_eq!(below[n - 1], 0);
-        let mut chol = BandCholesky::new(n, &col_ptr, &row_idx);
-        assert_eq!(chol.half_bandwidth(), 7);
-        chol.factorize(&values).expect("positive definite");
+        assert_eq!(a.bandwidth(), 7);
+        let mut chol = BandCholesky::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+        chol.factorize(&a.values).expect("positive definite");
         let x: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
-        let mut b: Vec<f64> = (0..n)
-            .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
-            .collect();
-        chol.solve_in_place(&mut b);
-        let err = b
-            .iter()
-            .zip(&x)
-            .map(|(u, v)| (u - v).abs())
-            .fold(0.0, f64::max);
+        let err = a.solve_error(&x, |b| chol.solve_in_place(b));
         assert!(err < 1e-12, "error {err:e}");
     }
 
     #[test]
     fn refuses_an_indefinite_matrix() {
-        let (_, col_ptr, row_idx, mut values) = band_spd(6, 2, 3);
+        let mut a = band_spd(6, 2, 3);
         // Make the (3, 3) pivot negative.
-        let diag = (col_ptr[3]..col_ptr[4]).find(|&k| row_idx[k] == 3).unwrap();
-        values[diag] = -1.0;
-        let mut chol = BandCholesky::new(6, &col_ptr, &row_idx);
-        assert!(chol.factorize(&values).is_err());
+        let diag = (a.col_ptr[3]..a.col_ptr[4])
+            .find(|&k| a.row_idx[k] == 3)
+            .unwrap();
+        a.values[diag] = -1.0;
+        let mut chol = BandCholesky::new(6, a.bandwidth(), &a.col_ptr, &a.row_idx);
+        assert!(chol.factorize(&a.values).is_err());
     }
 }

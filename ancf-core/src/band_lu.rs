@@ -13,6 +13,8 @@
 //! `a[i (2p + 1) + (j − i + p)]`; L (unit diagonal, not stored) and U
 //! overwrite A. Row operations are contiguous multiply-adds.
 
+use crate::band_cholesky::{dot, envelope, pattern_slots};
+
 /// L U of a band matrix with the map from the sparse pattern's value slots
 /// to the band, computed once per pattern.
 #[derive(Clone, Debug)]
@@ -44,19 +46,11 @@ impl BandLu {
     /// (compressed sparse columns) and half-bandwidth `p`.
     pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
         let w = 2 * p + 1;
-        let mut slots = Vec::new();
-        for c in 0..n {
-            for (idx, &r) in row_idx
-                .iter()
-                .enumerate()
-                .take(col_ptr[c + 1])
-                .skip(col_ptr[c])
-            {
-                assert!(r.abs_diff(c) <= p, "entry ({r}, {c}) outside the band");
-                slots.push((idx, r * w + (c + p - r)));
-            }
-        }
-        let below = crate::band_cholesky::envelope(n, col_ptr, row_idx);
+        let slots = pattern_slots(n, col_ptr, row_idx, |r, c| {
+            assert!(r.abs_diff(c) <= p, "entry ({r}, {c}) outside the band");
+            Some(r * w + (c + p - r))
+        });
+        let below = envelope(n, col_ptr, row_idx);
         let mut first = vec![0; n];
         let mut j = 0;
         for (i, f) in first.iter_mut().enumerate() {
@@ -144,72 +138,37 @@ impl BandLu {
     }
 }
 
-/// Σ a_k b_k with four partial sums (see `band_cholesky`).
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    crate::band_cholesky::dot(a, b)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::band_cholesky::tests::{TestMatrix, block_tridiagonal, uniform};
 
     #[test]
     fn solves_nonsymmetric_band_systems_to_round_off() {
         for (n, p) in [(1, 0), (6, 1), (40, 7), (60, 23), (10, 23)] {
-            let mut state = 11 + n as u64;
-            let mut rand = || {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
+            let mut rand = uniform(11 + n as u64);
             let mut dense = vec![0.0; n * n];
-            let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
             for c in 0..n {
-                for r in 0..n {
-                    if r.abs_diff(c) <= p {
-                        let v = if r == c { 2.0 * p as f64 + 1.0 } else { rand() };
-                        dense[r * n + c] = v;
-                        row_idx.push(r);
-                        values.push(v);
-                    }
+                for r in (0..n).filter(|&r| r.abs_diff(c) <= p) {
+                    dense[r * n + c] = if r == c { 2.0 * p as f64 + 1.0 } else { rand() };
                 }
-                col_ptr.push(row_idx.len());
             }
-            let mut lu = BandLu::new(n, p.min(n - 1), &col_ptr, &row_idx);
-            lu.factorize(&values).expect("non-singular");
+            let a = TestMatrix::new(n, dense, |r, c| r.abs_diff(c) <= p);
+            let mut lu = BandLu::new(n, p.min(n - 1), &a.col_ptr, &a.row_idx);
+            lu.factorize(&a.values).expect("non-singular");
             let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).cos()).collect();
-            let mut b: Vec<f64> = (0..n)
-                .map(|i| (0..n).map(|j| dense[i * n + j] * x[j]).sum())
-                .collect();
-            lu.solve_in_place(&mut b);
-            let err = b
-                .iter()
-                .zip(&x)
-                .map(|(u, v)| (u - v).abs())
-                .fold(0.0, f64::max);
+            let err = a.solve_error(&x, |b| lu.solve_in_place(b));
             assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
         }
     }
 
     #[test]
     fn solves_a_nonsymmetric_block_tridiagonal_system() {
-        let (a, col_ptr, row_idx, values) =
-            crate::band_cholesky::tests::block_tridiagonal(6, 4, false);
-        let n = 24;
-        let mut lu = BandLu::new(n, 7, &col_ptr, &row_idx);
-        lu.factorize(&values).expect("non-singular");
-        let x: Vec<f64> = (0..n).map(|i| (i as f64).sqrt()).collect();
-        let mut b: Vec<f64> = (0..n)
-            .map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum())
-            .collect();
-        lu.solve_in_place(&mut b);
-        let err = b
-            .iter()
-            .zip(&x)
-            .map(|(u, v)| (u - v).abs())
-            .fold(0.0, f64::max);
+        let a = block_tridiagonal(6, 4, false);
+        let mut lu = BandLu::new(a.n, 7, &a.col_ptr, &a.row_idx);
+        lu.factorize(&a.values).expect("non-singular");
+        let x: Vec<f64> = (0..a.n).map(|i| (i as f64).sqrt()).collect();
+        let err = a.solve_error(&x, |b| lu.solve_in_place(b));
         assert!(err < 1e-12, "error {err:e}");
     }
 

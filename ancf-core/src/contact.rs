@@ -182,18 +182,24 @@ impl Contact {
             })
             .fold(0.0, f64::max)
             .sqrt();
-        let rel = [
-            centre[0] - rod.center[0],
-            centre[1] - rod.center[1],
-            centre[2] - rod.center[2],
-        ];
-        let along = dot(&rel, &rod.axis);
-        let perp = [
-            rel[0] - along * rod.axis[0],
-            rel[1] - along * rod.axis[1],
-            rel[2] - along * rod.axis[2],
-        ];
-        if dot(&perp, &perp).sqrt() > reach + radius
+        // A point's coordinate along the rod's axis from its centre and its
+        // distance from the axis (m).
+        let axis_coordinates = |p: &[f64; 3]| {
+            let rel = [
+                p[0] - rod.center[0],
+                p[1] - rod.center[1],
+                p[2] - rod.center[2],
+            ];
+            let along = dot(&rel, &rod.axis);
+            let perp = [
+                rel[0] - along * rod.axis[0],
+                rel[1] - along * rod.axis[1],
+                rel[2] - along * rod.axis[2],
+            ];
+            (along, dot(&perp, &perp).sqrt())
+        };
+        let (along, distance) = axis_coordinates(&centre);
+        if distance > reach + radius
             || rod
                 .length
                 .is_some_and(|len| along.abs() > 0.5 * len + reach + radius)
@@ -202,23 +208,13 @@ impl Contact {
         }
         self.broad_phase.iter().any(|s| {
             let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| s[i] * e[3 * i + c]).sum());
-            let rel = [
-                p[0] - rod.center[0],
-                p[1] - rod.center[1],
-                p[2] - rod.center[2],
-            ];
-            let along = dot(&rel, &rod.axis);
+            let (along, distance) = axis_coordinates(&p);
             if let Some(len) = rod.length
                 && along.abs() > 0.5 * len + reach
             {
                 return false;
             }
-            let perp = [
-                rel[0] - along * rod.axis[0],
-                rel[1] - along * rod.axis[1],
-                rel[2] - along * rod.axis[2],
-            ];
-            dot(&perp, &perp).sqrt() < reach
+            distance < reach
         })
     }
 

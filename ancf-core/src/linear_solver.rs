@@ -105,8 +105,6 @@ pub enum FactorKind {
 pub struct SparseSolver {
     pattern: Pattern,
     llt: Cholesky,
-    /// Half-bandwidth, when the pattern is factored as a band.
-    band: Option<usize>,
     /// The band LU for non-symmetric matrices, built at the first one (its
     /// storage is twice the Cholesky band's: 18 MB at 4096 elements).
     band_lu: Option<BandLu>,
@@ -123,18 +121,19 @@ impl SparseSolver {
     pub fn new(pattern: &Pattern) -> Result<Self, FactorError> {
         let sym = pattern.symbolic.as_ref();
         let p = BandCholesky::bandwidth(sym.col_ptr(), sym.row_idx());
-        let (llt, band) = if p <= MAX_BAND {
-            (
-                Cholesky::Band(BandCholesky::new(sym.nrows(), sym.col_ptr(), sym.row_idx())),
-                Some(p),
-            )
+        let llt = if p <= MAX_BAND {
+            Cholesky::Band(BandCholesky::new(
+                sym.nrows(),
+                p,
+                sym.col_ptr(),
+                sym.row_idx(),
+            ))
         } else {
-            (Cholesky::Sparse(Box::new(SparseLlt::new(pattern)?)), None)
+            Cholesky::Sparse(Box::new(SparseLlt::new(pattern)?))
         };
         Ok(SparseSolver {
             pattern: pattern.clone(),
             llt,
-            band,
             band_lu: None,
             symbolic_lu: None,
             factor: Factor::None,
@@ -168,12 +167,17 @@ impl SparseSolver {
                 self.factor = Factor::Llt;
                 return Ok(FactorKind::Cholesky);
             }
-        } else if let Some(p) = self.band
+        } else if let Cholesky::Band(chol) = &self.llt
             && self
                 .band_lu
                 .get_or_insert_with(|| {
                     let sym = self.pattern.symbolic.as_ref();
-                    BandLu::new(sym.nrows(), p, sym.col_ptr(), sym.row_idx())
+                    BandLu::new(
+                        sym.nrows(),
+                        chol.half_bandwidth(),
+                        sym.col_ptr(),
+                        sym.row_idx(),
+                    )
                 })
                 .factorize(values)
                 .is_ok()

@@ -112,9 +112,9 @@ type Vector6 = nalgebra::Vector6<f64>;
 /// x-space form ½ xᵀAx + bᵀx + U₀ lost 1e-16 of E·V there — found by the
 /// objectivity property test). A = Jᵀ M J is the Hessian in x.
 ///
-/// The evaluation works on sparse lists built once per element type (M has
-/// 35 non-zeros of 225 for an isotropic law; the Hessian blocks need 45
-/// outer products u_l u_rᵀ of 15 × 25 possible): see `BENCHMARKS.md`
+/// The evaluation works on structures built once per element type: M by
+/// its four non-zero blocks, and the Hessian blocks as 45 outer products
+/// u_l u_rᵀ (of 15 × 25 possible) for an isotropic law: see `BENCHMARKS.md`
 /// (issue 7) for what this saved.
 #[derive(Clone, Debug)]
 pub struct PreIntegrated {
@@ -122,7 +122,7 @@ pub struct PreIntegrated {
     j: M15,
     s0: V15,
     /// Jᵀ M J, the (constant) Hessian in x.
-    pub a: M15,
+    a: M15,
     /// M by its blocks (`add_section` cannot fill anything else): the
     /// centre strains with α and γ (`CENTRE`, 8 × 8), the y-slopes and the
     /// z-slopes (3 × 3 each) and β alone — 83 products instead of 225

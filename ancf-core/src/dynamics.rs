@@ -85,6 +85,50 @@ pub struct State {
     pub a: Vec<f64>,
     /// Energy dissipated by friction and damping since t = 0, J.
     pub dissipated: f64,
+    /// The step that produced this state: its size and the acceleration at
+    /// its start (the Newton predictor of the next step, see
+    /// [`predict`]). `None` at t = 0 and after a restart from equilibrium;
+    /// checkpoints written before it existed read as `None`.
+    #[serde(default)]
+    pub previous: Option<PreviousStep>,
+}
+
+/// Size (s) and start acceleration (full coordinates) of the step that led
+/// to a state.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PreviousStep {
+    pub h: f64,
+    pub a: Vec<f64>,
+}
+
+/// The Newton predictor for a₁ (full coordinates): the acceleration one
+/// step further back, a₋₁, when that step had the same size h, else a₀.
+///
+/// Why not a₀: with ρ∞ near 1 the modes with ω h ≫ 1 (axial and shear
+/// modes of short elements) are not damped, and generalized-α's
+/// amplification for them tends to −ρ∞, so their acceleration flips sign
+/// every step. For those, a₁ = a₋₁ is exact while a₁ = a₀ is off by twice
+/// their amplitude; the smooth part is off by 2 h ȧ instead of h ȧ. On the
+/// pendulum the flip sits at the node next to the pin (±8 m/s² in z at
+/// 1024 elements), and with the a₀ predictor it set the residual Newton
+/// started from: 1.3e3 N (1024 elements), 5.2e3 N (4096), so that modified
+/// Newton needed 4–7 iterations and, at 4096, a refactorization every other
+/// step. With a₋₁: 2–3 iterations, no refactorization (BENCHMARKS.md,
+/// issue 7). Only unknowns are predicted; prescribed coordinates keep a₀.
+pub fn predict(model: &Model, s: &State, h: f64) -> Vec<f64> {
+    let mut a1 = s.a.clone();
+    if let Some(prev) = s
+        .previous
+        .as_ref()
+        .filter(|p| p.h == h && p.a.len() == a1.len())
+    {
+        for (c, u) in model.dof_map.iter().enumerate() {
+            if u.is_some() {
+                a1[c] = prev.a[c];
+            }
+        }
+    }
+    a1
 }
 
 /// Energies of a state (J).
@@ -258,6 +302,7 @@ impl<'m> Integrator<'m> {
             v: v0,
             a: a_full,
             dissipated: 0.0,
+            previous: None,
         };
         self.set_energy_reference(&state);
         Ok(state)
@@ -551,8 +596,8 @@ impl<'m> Integrator<'m> {
         let velocity_jacobian = friction || model.damping().is_some();
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
-        // Predictor a₁ = a₀; `base` is the last accepted iterate.
-        let mut a1 = s.a.clone();
+        // Predictor (see `predict`); `base` is the last accepted iterate.
+        let mut a1 = predict(model, s, h);
         let mut base_a1 = a1.clone();
         let mut base_rn = f64::INFINITY;
         let mut da: Vec<f64> = Vec::new();
@@ -596,6 +641,7 @@ impl<'m> Integrator<'m> {
                     v: v1,
                     a: a1,
                     dissipated,
+                    previous: Some(PreviousStep { h, a: s.a.clone() }),
                 });
             }
             if evaluations >= max_evaluations || iterations >= self.settings.max_iterations {

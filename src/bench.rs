@@ -82,6 +82,23 @@ pub fn pendulum_step(model: &Model, newton: NewtonKind, steps: usize) -> (f64, f
     )
 }
 
+/// Time (µs) to assemble force and Jacobian (written over the previous
+/// values) at a deformed state (the reference stretched by 1 %), as a
+/// Newton iteration does, on the current rayon pool.
+pub fn assembly_us(model: &Model) -> f64 {
+    let pattern = ancf_core::assembly::Pattern::new(model);
+    let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
+    let mut k = pattern.zeros();
+    time_us(|| {
+        std::hint::black_box(ancf_core::assembly::assemble(
+            model,
+            &pattern,
+            std::hint::black_box(&q),
+            Some(&mut k),
+        ));
+    })
+}
+
 /// Median time (µs) of `f` over repeated batches.
 fn time_us(mut f: impl FnMut()) -> f64 {
     let mut batch = 1usize;
@@ -168,12 +185,16 @@ pub struct BenchReport {
     pub step_ms: BTreeMap<String, f64>,
     /// Full Newton, ms per step, keyed by element count.
     pub step_ms_full_newton: BTreeMap<String, f64>,
-    /// Full-Newton step time at 256 elements, 1 thread over 2 threads
-    /// (the SVK pendulum: its elements are pre-integrated and cheap, so the
-    /// assembly stays serial and this is ≈ 1).
+    /// Parallel assembly at 256 elements (SVK pendulum): the time to zero
+    /// the Jacobian and assemble force and Jacobian, 1 thread over 2 threads.
     pub parallel_speedup_256: f64,
-    /// The same with a plain Mooney–Rivlin cover (section points: the
-    /// assembly runs in parallel).
+    /// The same at 256, 1024 and 4096 elements, keyed by element count.
+    pub parallel_assembly_speedup: BTreeMap<String, f64>,
+    /// Whole full-Newton steps at 256 elements, 1 thread over 2 threads
+    /// (the factorization, solves and vector work are serial).
+    pub parallel_step_speedup_256: f64,
+    /// Whole full-Newton steps at 256 elements with a plain Mooney–Rivlin
+    /// cover (section points: the element work dominates).
     pub parallel_speedup_256_mooney_rivlin: f64,
     /// Simulated seconds per wall second for scenes/wire_rod_impact.toml, one thread.
     pub impact_realtime_factor: f64,
@@ -225,12 +246,20 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         }
     });
     let n_par = if quick { 64 } else { 256 };
-    let m = pendulum(n_par);
-    let one = single.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
     let two_pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .map_err(|e| e.to_string())?;
+    let assembly_sizes: &[usize] = if quick { &[64] } else { &[256, 1024, 4096] };
+    let mut parallel_assembly_speedup = BTreeMap::new();
+    for &n in assembly_sizes {
+        let m = pendulum(n);
+        let one = single.install(|| assembly_us(&m));
+        let two = two_pool.install(|| assembly_us(&m));
+        parallel_assembly_speedup.insert(n.to_string(), one / two);
+    }
+    let m = pendulum(n_par);
+    let one = single.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
     let two = two_pool.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
     let cover = pendulum_with(n_par, rubber());
     let mr_one = single.install(|| pendulum_step(&cover, NewtonKind::Full, 5).0);
@@ -270,7 +299,12 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         step_ms_32_full_newton: step_full.get("32").copied().unwrap_or(f64::NAN),
         step_ms,
         step_ms_full_newton: step_full,
-        parallel_speedup_256: one / two,
+        parallel_speedup_256: parallel_assembly_speedup
+            .get(&n_par.to_string())
+            .copied()
+            .unwrap_or(f64::NAN),
+        parallel_assembly_speedup,
+        parallel_step_speedup_256: one / two,
         parallel_speedup_256_mooney_rivlin: mr_one / mr_two,
         impact_realtime_factor,
         threads_available: std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -301,9 +335,18 @@ pub fn table(r: &BenchReport) -> String {
         let full = r.step_ms_full_newton[n];
         s += &format!("  {:>8}   {:>11.3}   {:>15.3}\n", n, full, r.step_ms[n]);
     }
+    s += "Parallel speed-up, 1 → 2 threads\n";
+    let mut sizes: Vec<&String> = r.parallel_assembly_speedup.keys().collect();
+    sizes.sort_by_key(|n| n.parse::<usize>().unwrap_or(0));
+    for n in sizes {
+        s += &format!(
+            "  assembly (zero + force + Jacobian), {:>5} elements   {:.2}×\n",
+            n, r.parallel_assembly_speedup[n]
+        );
+    }
     s += &format!(
-        "Parallel speed-up, full Newton at 256 elements (1 → 2 threads): {:.2}× (SVK, serial assembly), {:.2}× (Mooney–Rivlin cover)\n",
-        r.parallel_speedup_256, r.parallel_speedup_256_mooney_rivlin
+        "  full-Newton step, 256 elements: {:.2}× (SVK), {:.2}× (Mooney–Rivlin cover)\n",
+        r.parallel_step_speedup_256, r.parallel_speedup_256_mooney_rivlin
     );
     s += &format!(
         "Impact scene real-time factor (simulated s per wall s, 1 thread): {:.3}\n",

@@ -5,6 +5,7 @@
 
 use crate::model::{Model, NODE_DOFS};
 use faer::sparse::SymbolicSparseColMat;
+use std::ops::Range;
 
 /// Marks an element entry that touches an eliminated coordinate.
 const NO_SLOT: u32 = u32::MAX;
@@ -16,6 +17,10 @@ pub struct Pattern {
     /// For element `el`, local entry (i, j): `slots[el * 576 + i * 24 + j]`
     /// is the index into the value array, or `NO_SLOT`.
     slots: Vec<u32>,
+    /// For node k (0 … n_elements + 1): the first value slot of its columns
+    /// (unknowns are numbered node by node, so a node range's columns are
+    /// one contiguous window of the values).
+    node_value_start: Vec<usize>,
 }
 
 impl Pattern {
@@ -56,8 +61,24 @@ impl Pattern {
                 }
             }
         }
+        // First unknown at or after each node's first coordinate; unknowns
+        // increase with the coordinate (Model::dof_map).
+        let n_nodes = model.dof_map.len() / NODE_DOFS;
+        let node_value_start = (0..=n_nodes)
+            .map(|k| {
+                let first = model.dof_map[NODE_DOFS * k..]
+                    .iter()
+                    .find_map(|u| *u)
+                    .unwrap_or(n);
+                col_ptr[first]
+            })
+            .collect();
         let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        Pattern { symbolic, slots }
+        Pattern {
+            symbolic,
+            slots,
+            node_value_start,
+        }
     }
 
     pub fn nnz(&self) -> usize {
@@ -79,6 +100,22 @@ impl Pattern {
         }
     }
 
+    /// The value slots of the columns of nodes `nodes`.
+    pub fn node_values(&self, nodes: Range<usize>) -> Range<usize> {
+        self.node_value_start[nodes.start]..self.node_value_start[nodes.end]
+    }
+
+    /// Add an element matrix (row-major 24×24) of element `el` to a window
+    /// of the values that starts at slot `offset`.
+    fn add_element_at(&self, values: &mut [f64], offset: usize, el: usize, m: &[f64; 576]) {
+        let slots = &self.slots[el * 576..(el + 1) * 576];
+        for (s, v) in slots.iter().zip(m.iter()) {
+            if *s != NO_SLOT {
+                values[*s as usize - offset] += v;
+            }
+        }
+    }
+
     /// Add an element matrix (row-major 24×24) of element `el`, times `scale`.
     pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576], scale: f64) {
         let slots = &self.slots[el * 576..(el + 1) * 576];
@@ -91,104 +128,210 @@ impl Pattern {
 }
 
 /// Elastic force (full coordinates), optionally its Jacobian (values in the
-/// pattern's slots, added to `jacobian`), and the strain energy.
+/// pattern's slots, written over `jacobian`'s), and the strain energy.
+///
+/// From [`PARALLEL_MIN_ELEMENTS`] elements on, the elements are split into
+/// chunks that rayon evaluates in parallel, each writing straight into its
+/// own windows of the force and of the Jacobian's values (see [`Chunks`]).
+/// The split depends on the model only, never on the thread count, so every
+/// value receives its contributions in the same order with any number of
+/// threads: the same bits with 1 or 2 threads (tests/pendulum.rs). Each
+/// chunk also zeroes its own window of the Jacobian first: zeroed by the
+/// calling thread, the values had to travel to the other core's cache, and
+/// 2 threads assembled 256 elements only 1.16× faster than one.
 pub fn assemble(
     model: &Model,
     pattern: &Pattern,
     q: &[f64],
     jacobian: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
-    if uses_parallel_assembly(model) && rayon::current_num_threads() > 1 {
-        assemble_parallel(model, pattern, q, jacobian)
+    let mut force = vec![0.0; q.len()];
+    // Per-element energies, summed in element order at the end (the serial
+    // loop's order, whatever the split).
+    let mut energy = vec![0.0; model.n_elements];
+    let n = model.n_elements;
+    if n < PARALLEL_MIN_ELEMENTS {
+        let values = jacobian.map(|v| {
+            v.fill(0.0);
+            (v, 0)
+        });
+        assemble_elements(model, pattern, q, 0..n, &mut force, &mut energy, values);
     } else {
-        assemble_serial(model, pattern, q, jacobian)
+        let chunks = Chunks::new(n);
+        let mut values = jacobian;
+        // The interiors' windows cover every value: they are zeroed there.
+        let phases = [(chunks.interiors(), true), (chunks.boundaries(), false)];
+        for (tasks, zero) in phases {
+            let values = values.as_deref_mut();
+            assemble_phase(
+                model,
+                pattern,
+                q,
+                &tasks,
+                zero,
+                &mut force,
+                &mut energy,
+                values,
+            );
+        }
     }
+    (force, energy.iter().sum())
 }
 
-/// Below this many elements the serial loop is faster than splitting work.
+/// Below this many elements the serial loop is used (one chunk's work).
 pub const PARALLEL_MIN_ELEMENTS: usize = 64;
 
-/// Whether elements are evaluated in parallel: only when they carry point
-/// work (Mooney–Rivlin layers, non-linear centerline laws). A fully
-/// pre-integrated element (1.2 µs for force and Jacobian) is cheaper than
-/// the parallel path's per-element buffer and serial scatter: with it, two
-/// threads were slower than one (0.73–0.97× at 256 elements, 0.80 → 0.97 s
-/// for 8 full-Newton steps at 4096; BENCHMARKS.md, issue 7).
-pub fn uses_parallel_assembly(model: &Model) -> bool {
-    let plan = &model.element.plan;
-    model.n_elements >= PARALLEL_MIN_ELEMENTS && (plan.points() > 0)
+/// Elements per chunk: 16 chunks at 256 elements, so that rayon can balance
+/// two busy cores; the boundary elements (1 in 16) run as a second phase.
+const CHUNK_ELEMENTS: usize = 16;
+
+/// The parallel split of a chain of elements. Element `e` touches nodes `e`
+/// and `e + 1`. Chunk c holds elements [c s, (c + 1) s − 1): it touches
+/// nodes [c s, (c + 1) s), disjoint from every other chunk's, so chunks
+/// write disjoint windows of the force (node-major) and of the matrix
+/// values (column-major, columns numbered node by node). The element
+/// between two chunks, (c + 1) s − 1, is a boundary element: boundaries
+/// touch disjoint node pairs too and run as a second parallel phase.
+struct Chunks {
+    n: usize,
+    s: usize,
 }
 
-fn assemble_serial(
+impl Chunks {
+    fn new(n: usize) -> Self {
+        Chunks {
+            n,
+            s: CHUNK_ELEMENTS,
+        }
+    }
+
+    fn count(&self) -> usize {
+        self.n.div_ceil(self.s)
+    }
+
+    /// Element ranges of the chunks' interiors.
+    fn interiors(&self) -> Vec<Range<usize>> {
+        (0..self.count())
+            .map(|c| {
+                let start = c * self.s;
+                let end = ((c + 1) * self.s - 1).min(self.n);
+                // The last chunk has no boundary after it.
+                let end = if c + 1 == self.count() { self.n } else { end };
+                start..end
+            })
+            .collect()
+    }
+
+    /// The boundary elements, one range each.
+    fn boundaries(&self) -> Vec<Range<usize>> {
+        (0..self.count() - 1)
+            .map(|c| (c + 1) * self.s - 1..(c + 1) * self.s)
+            .collect()
+    }
+}
+
+/// Assemble the element ranges `tasks` (touching pairwise disjoint nodes)
+/// in parallel, each into its windows of `force`, `energy` and `values`
+/// (zeroing its window of `values` first when `zero`).
+#[allow(clippy::too_many_arguments)]
+fn assemble_phase(
     model: &Model,
     pattern: &Pattern,
     q: &[f64],
-    mut jacobian: Option<&mut [f64]>,
-) -> (Vec<f64>, f64) {
-    let mut force = vec![0.0; q.len()];
-    let mut energy = 0.0;
+    tasks: &[Range<usize>],
+    zero: bool,
+    force: &mut [f64],
+    energy: &mut [f64],
+    values: Option<&mut [f64]>,
+) {
+    use rayon::prelude::*;
+    // Nodes touched by elements [a, b): [a, b + 1).
+    let nodes = |r: &Range<usize>| r.start..r.end + 1;
+    let force_w = windows_mut(
+        force,
+        tasks.iter().map(|r| {
+            let nd = nodes(r);
+            NODE_DOFS * nd.start..NODE_DOFS * nd.end
+        }),
+    );
+    let energy_w = windows_mut(energy, tasks.iter().cloned());
+    let values_w: Vec<Option<(&mut [f64], usize)>> = match values {
+        Some(v) => {
+            let ranges: Vec<Range<usize>> = tasks
+                .iter()
+                .map(|r| pattern.node_values(nodes(r)))
+                .collect();
+            let starts = ranges.iter().map(|r| r.start);
+            windows_mut(v, ranges.iter().cloned())
+                .into_iter()
+                .zip(starts.collect::<Vec<_>>())
+                .map(Some)
+                .collect()
+        }
+        None => tasks.iter().map(|_| None).collect(),
+    };
+    tasks
+        .iter()
+        .zip(force_w)
+        .zip(energy_w)
+        .zip(values_w)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .for_each(|(((r, f), e), mut v)| {
+            if let (true, Some((v, _))) = (zero, v.as_mut()) {
+                v.fill(0.0);
+            }
+            assemble_elements(model, pattern, q, r.clone(), f, e, v);
+        });
+}
+
+/// Disjoint mutable windows of `data` at the sorted, non-overlapping `ranges`.
+fn windows_mut<T>(mut data: &mut [T], ranges: impl Iterator<Item = Range<usize>>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    let mut consumed = 0;
+    for r in ranges {
+        let rest = std::mem::take(&mut data);
+        let (_, rest) = rest.split_at_mut(r.start - consumed);
+        let (window, rest) = rest.split_at_mut(r.end - r.start);
+        out.push(window);
+        data = rest;
+        consumed = r.end;
+    }
+    out
+}
+
+/// The element loop: elements `elements`, force into `force` (full
+/// coordinates from node `elements.start` on), energies into `energy`
+/// (from element `elements.start` on), Jacobian entries into `values`
+/// (the pattern's value slots from the given offset on).
+fn assemble_elements(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    elements: Range<usize>,
+    force: &mut [f64],
+    energy: &mut [f64],
+    mut values: Option<(&mut [f64], usize)>,
+) {
     let mut ke = [0.0; 576];
-    for el in 0..model.n_elements {
+    let first = elements.start;
+    for el in elements {
         let e = model.element_coordinates(q, el);
         let mut qe = [0.0; 24];
-        match jacobian.as_deref_mut() {
-            Some(values) => {
+        energy[el - first] = match values.as_mut() {
+            Some((values, offset)) => {
                 ke.fill(0.0);
-                energy += model.element.evaluate(&e, &mut qe, Some(&mut ke));
-                pattern.add_element(values, el, &ke, 1.0);
-            }
-            None => energy += model.element.evaluate(&e, &mut qe, None),
-        }
-        let base = NODE_DOFS * el;
-        for i in 0..24 {
-            force[base + i] += qe[i];
-        }
-    }
-    (force, energy)
-}
-
-/// One element's strain energy, force and (when asked) Jacobian.
-type ElementContribution = (f64, [f64; 24], Option<Box<[f64; 576]>>);
-
-/// Elements evaluated in parallel (rayon), then scattered serially in
-/// element order: the sums happen in the same order as in the serial loop,
-/// so the result has the same bits with any number of threads.
-fn assemble_parallel(
-    model: &Model,
-    pattern: &Pattern,
-    q: &[f64],
-    jacobian: Option<&mut [f64]>,
-) -> (Vec<f64>, f64) {
-    use rayon::prelude::*;
-    let want_k = jacobian.is_some();
-    let per_element: Vec<ElementContribution> = (0..model.n_elements)
-        .into_par_iter()
-        .map(|el| {
-            let e = model.element_coordinates(q, el);
-            let mut qe = [0.0; 24];
-            if want_k {
-                let mut ke = Box::new([0.0; 576]);
                 let u = model.element.evaluate(&e, &mut qe, Some(&mut ke));
-                (u, qe, Some(ke))
-            } else {
-                (model.element.evaluate(&e, &mut qe, None), qe, None)
+                pattern.add_element_at(values, *offset, el, &ke);
+                u
             }
-        })
-        .collect();
-    let mut force = vec![0.0; q.len()];
-    let mut energy = 0.0;
-    let mut jacobian = jacobian;
-    for (el, (u, qe, ke)) in per_element.iter().enumerate() {
-        energy += u;
-        let base = NODE_DOFS * el;
+            None => model.element.evaluate(&e, &mut qe, None),
+        };
+        let base = NODE_DOFS * (el - first);
         for i in 0..24 {
             force[base + i] += qe[i];
         }
-        if let (Some(values), Some(ke)) = (jacobian.as_deref_mut(), ke) {
-            pattern.add_element(values, el, ke, 1.0);
-        }
     }
-    (force, energy)
 }
 
 /// The mass matrix values in the pattern's slots.
@@ -275,4 +418,81 @@ pub fn assemble_contact(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::ElementIntegration;
+    use crate::material::{Material, MaterialModel};
+    use crate::model::{Support, SupportKind};
+    use crate::section::Section;
+
+    /// The chunked assembly writes the same force, energy and Jacobian bits
+    /// as one serial loop over all elements, for element counts that do and
+    /// do not fill the last chunk, with a clamped end (eliminated columns)
+    /// and a Mooney–Rivlin cover (point work) on a bent, stretched wire.
+    #[test]
+    fn chunked_assembly_equals_the_serial_loop() {
+        let steel = Material {
+            density: 7800.0,
+            model: MaterialModel::StVenantKirchhoff {
+                youngs_modulus: 2e11,
+                poisson_ratio: 0.3,
+                bending_factor: 1.0,
+            },
+            locking: Default::default(),
+        };
+        let rubber = Material {
+            density: 1100.0,
+            model: MaterialModel::MooneyRivlin {
+                mu10: 5e5,
+                mu01: 1e5,
+                penalty: 1e3,
+            },
+            locking: crate::material::Locking::None,
+        };
+        for (n, cover) in [(64, steel.clone()), (71, rubber), (130, steel.clone())] {
+            let section = Section::circular(&[(0.0, 0.01, steel.clone()), (0.01, 0.02, cover)], 3);
+            let model = Model::new(
+                ElementIntegration::new(1.0 / n as f64, 3, section),
+                n,
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                vec![Support::new(0, SupportKind::Clamp)],
+                None,
+                vec![],
+            )
+            .unwrap();
+            let pattern = Pattern::new(&model);
+            let q: Vec<f64> = model
+                .reference
+                .iter()
+                .enumerate()
+                .map(|(i, x)| x * 1.01 + 1e-3 * ((i * 7919 % 31) as f64 / 31.0 - 0.5))
+                .collect();
+            // Written over, not added to.
+            let mut k_chunked = vec![1.0; pattern.nnz()];
+            let (f_chunked, u_chunked) = assemble(&model, &pattern, &q, Some(&mut k_chunked));
+            let mut k_serial = pattern.zeros();
+            let mut f_serial = vec![0.0; q.len()];
+            let mut u_serial = vec![0.0; n];
+            let all = Some((&mut k_serial[..], 0));
+            assemble_elements(
+                &model,
+                &pattern,
+                &q,
+                0..n,
+                &mut f_serial,
+                &mut u_serial,
+                all,
+            );
+            let same =
+                |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+            assert!(same(&f_chunked, &f_serial), "n = {n}: force differs");
+            assert!(same(&k_chunked, &k_serial), "n = {n}: Jacobian differs");
+            assert_eq!(u_chunked.to_bits(), u_serial.iter().sum::<f64>().to_bits());
+            assert!(k_serial.iter().all(|v| v.is_finite()) && u_chunked > 0.0);
+        }
+    }
 }

@@ -208,9 +208,8 @@ pub struct Integrator<'m> {
     newton_matrix: Vec<f64>,
 }
 
-/// Zero the Jacobian workspaces (−∂Q/∂v only when it is used).
-fn clear_jacobians(kq: &mut [f64], kv: &mut [f64], velocity_jacobian: bool) {
-    kq.fill(0.0);
+/// Zero −∂Q/∂v when it is used (−∂Q/∂q is written over by `assemble`).
+fn clear_velocity_jacobian(kv: &mut [f64], velocity_jacobian: bool) {
     if velocity_jacobian {
         kv.fill(0.0);
     }
@@ -614,7 +613,7 @@ impl<'m> Integrator<'m> {
             // force-and-Jacobian evaluation).
             let k_with_residual = need_k && self.settings.newton != NewtonKind::Full;
             if k_with_residual {
-                clear_jacobians(kq, kv, velocity_jacobian);
+                clear_velocity_jacobian(kv, velocity_jacobian);
             }
             let (r, scale, q1, v1) = self.residual(
                 s,
@@ -680,7 +679,7 @@ impl<'m> Integrator<'m> {
             if need_k {
                 if !k_with_residual {
                     // Full Newton: the Jacobian at this (accepted) iterate.
-                    clear_jacobians(kq, kv, velocity_jacobian);
+                    clear_velocity_jacobian(kv, velocity_jacobian);
                     let mut scratch = StepInfo::default();
                     self.residual(s, h, &a1, Some((&mut *kq, &mut *kv)), &mut scratch);
                 }

@@ -105,13 +105,30 @@ impl Pattern {
         self.node_value_start[nodes.start]..self.node_value_start[nodes.end]
     }
 
-    /// Add an element matrix (row-major 24×24) of element `el` to a window
-    /// of the values that starts at slot `offset`.
-    fn add_element_at(&self, values: &mut [f64], offset: usize, el: usize, m: &[f64; 576]) {
+    /// Add the columns `cols` (local, 0…24) of an element matrix (row-major
+    /// 24×24) of element `el` to a window of the values that starts at slot
+    /// `offset`.
+    fn add_element_columns(
+        &self,
+        values: &mut [f64],
+        offset: usize,
+        el: usize,
+        m: &[f64; 576],
+        cols: Range<usize>,
+    ) {
         let slots = &self.slots[el * 576..(el + 1) * 576];
-        for (s, v) in slots.iter().zip(m.iter()) {
-            if *s != NO_SLOT {
-                values[*s as usize - offset] += v;
+        let add = |values: &mut [f64], slots: &[u32], m: &[f64]| {
+            for (s, v) in slots.iter().zip(m) {
+                if *s != NO_SLOT {
+                    values[*s as usize - offset] += v;
+                }
+            }
+        };
+        if cols == (0..24) {
+            add(values, slots, m);
+        } else {
+            for (row_slots, row) in slots.chunks_exact(24).zip(m.chunks_exact(24)) {
+                add(values, &row_slots[cols.clone()], &row[cols.clone()]);
             }
         }
     }
@@ -132,13 +149,11 @@ impl Pattern {
 ///
 /// From [`PARALLEL_MIN_ELEMENTS`] elements on, the elements are split into
 /// chunks that rayon evaluates in parallel, each writing straight into its
-/// own windows of the force and of the Jacobian's values (see [`Chunks`]).
-/// The split depends on the model only, never on the thread count, so every
-/// value receives its contributions in the same order with any number of
-/// threads: the same bits with 1 or 2 threads (tests/pendulum.rs). Each
-/// chunk also zeroes its own window of the Jacobian first: zeroed by the
-/// calling thread, the values had to travel to the other core's cache, and
-/// 2 threads assembled 256 elements only 1.16× faster than one.
+/// own windows of the force and of the Jacobian's values (see [`Chunk`]).
+/// Every value receives its contributions in the serial loop's order, so
+/// the result has the same bits as the serial loop with any number of
+/// threads (tests: `chunked_assembly_equals_the_serial_loop` here,
+/// `parallel_assembly_is_deterministic` in tests/pendulum.rs).
 pub fn assemble(
     model: &Model,
     pattern: &Pattern,
@@ -146,143 +161,220 @@ pub fn assemble(
     jacobian: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
     let mut force = vec![0.0; q.len()];
-    // Per-element energies, summed in element order at the end (the serial
-    // loop's order, whatever the split).
+    // Per-element energies, summed in element order at the end.
     let mut energy = vec![0.0; model.n_elements];
     let n = model.n_elements;
-    if n < PARALLEL_MIN_ELEMENTS {
-        let values = jacobian.map(|v| {
+    // Force alone on pre-integrated elements (0.15 µs each) is too little
+    // work to wake the second thread for: at 256 elements it took 77 µs
+    // per call on 2 threads against 53 µs on one (in a full-Newton step,
+    // issue 7), while at 1024 two threads gained 1.2×.
+    let light = jacobian.is_none() && model.element.plan.points() == 0;
+    let min_elements = if light {
+        8 * PARALLEL_MIN_ELEMENTS
+    } else {
+        PARALLEL_MIN_ELEMENTS
+    };
+    // One thread: the serial loop, which the chunks equal bit for bit
+    // without their extra boundary evaluations.
+    if n < min_elements || rayon::current_num_threads() == 1 {
+        let mut values = jacobian.map(|v| {
             v.fill(0.0);
             (v, 0)
         });
-        assemble_elements(model, pattern, q, 0..n, &mut force, &mut energy, values);
-    } else {
-        let chunks = Chunks::new(n);
-        let mut values = jacobian;
-        // The interiors' windows cover every value: they are zeroed there.
-        let phases = [(chunks.interiors(), true), (chunks.boundaries(), false)];
-        for (tasks, zero) in phases {
-            let values = values.as_deref_mut();
-            assemble_phase(
-                model,
-                pattern,
-                q,
-                &tasks,
-                zero,
-                &mut force,
-                &mut energy,
-                values,
-            );
+        for el in 0..n {
+            let part = Part::Whole;
+            energy[el] = add_element(model, pattern, q, el, part, &mut force, values.as_mut());
         }
+    } else {
+        assemble_chunks(model, pattern, q, &mut force, &mut energy, jacobian);
     }
     (force, energy.iter().sum())
 }
 
-/// Below this many elements the serial loop is used (one chunk's work).
+/// Below this many elements the serial loop is used: with fewer, waking the
+/// other thread (≈ 20–30 µs after a serial stretch, measured with rayon on
+/// this machine) costs about what it saves. Force-only assembly of
+/// pre-integrated elements waits until 8 × this.
 pub const PARALLEL_MIN_ELEMENTS: usize = 64;
 
-/// Elements per chunk: 16 chunks at 256 elements, so that rayon can balance
-/// two busy cores; the boundary elements (1 in 16) run as a second phase.
-const CHUNK_ELEMENTS: usize = 16;
+/// Elements per chunk: 8 chunks at 256 elements, so that rayon can balance
+/// two cores, and 1 extra element evaluation in 32 (16 per chunk measured
+/// the same on 2 threads, with twice the extra work).
+const CHUNK_ELEMENTS: usize = 32;
 
-/// The parallel split of a chain of elements. Element `e` touches nodes `e`
-/// and `e + 1`. Chunk c holds elements [c s, (c + 1) s − 1): it touches
-/// nodes [c s, (c + 1) s), disjoint from every other chunk's, so chunks
-/// write disjoint windows of the force (node-major) and of the matrix
-/// values (column-major, columns numbered node by node). The element
-/// between two chunks, (c + 1) s − 1, is a boundary element: boundaries
-/// touch disjoint node pairs too and run as a second parallel phase.
-struct Chunks {
-    n: usize,
-    s: usize,
+/// One chunk of the parallel split of the chain (element `e` touches nodes
+/// `e` and `e + 1`). Chunk c owns the nodes [c s, (c + 1) s): it writes the
+/// force rows and the Jacobian columns of those nodes only (columns are
+/// numbered node by node, so they are one window of the values), disjoint
+/// from every other chunk's. Its interior elements [c s, (c + 1) s − 1)
+/// touch only its nodes. The element between two chunks touches one node
+/// of each: both chunks evaluate it and each adds the half that lands on
+/// its own node — the chunk before it after its interior, the chunk after
+/// it first — which is exactly the serial loop's order for every value.
+/// The cost is one extra element evaluation per chunk (1 in 32); the price
+/// of the alternatives, measured at 256 elements: a second parallel phase
+/// for the boundary elements (another wake-up of the other thread in a
+/// Newton step) or buffering them for a serial scatter (1.67× instead of
+/// 1.85× for the assembly).
+struct Chunk {
+    /// The boundary element before the chunk, whose second node is ours.
+    lead: Option<usize>,
+    interior: Range<usize>,
+    /// The boundary element after the chunk, whose first node is ours.
+    trail: Option<usize>,
+    /// The chunk's nodes.
+    nodes: Range<usize>,
 }
 
-impl Chunks {
-    fn new(n: usize) -> Self {
-        Chunks {
-            n,
-            s: CHUNK_ELEMENTS,
+fn chunks(n: usize) -> Vec<Chunk> {
+    let s = CHUNK_ELEMENTS;
+    let count = n.div_ceil(s);
+    (0..count)
+        .map(|c| {
+            let last = c + 1 == count;
+            let end = if last { n } else { (c + 1) * s - 1 };
+            Chunk {
+                lead: (c > 0).then(|| c * s - 1),
+                interior: c * s..end,
+                trail: (!last).then_some(end),
+                nodes: c * s..if last { n + 1 } else { (c + 1) * s },
+            }
+        })
+        .collect()
+}
+
+/// Which of an element's two nodes receive its force and Jacobian columns.
+#[derive(Clone, Copy, PartialEq)]
+enum Part {
+    Whole,
+    FirstNode,
+    SecondNode,
+}
+
+impl Part {
+    fn local(self) -> Range<usize> {
+        match self {
+            Part::Whole => 0..24,
+            Part::FirstNode => 0..12,
+            Part::SecondNode => 12..24,
         }
     }
-
-    fn count(&self) -> usize {
-        self.n.div_ceil(self.s)
-    }
-
-    /// Element ranges of the chunks' interiors.
-    fn interiors(&self) -> Vec<Range<usize>> {
-        (0..self.count())
-            .map(|c| {
-                let start = c * self.s;
-                let end = ((c + 1) * self.s - 1).min(self.n);
-                // The last chunk has no boundary after it.
-                let end = if c + 1 == self.count() { self.n } else { end };
-                start..end
-            })
-            .collect()
-    }
-
-    /// The boundary elements, one range each.
-    fn boundaries(&self) -> Vec<Range<usize>> {
-        (0..self.count() - 1)
-            .map(|c| (c + 1) * self.s - 1..(c + 1) * self.s)
-            .collect()
-    }
 }
 
-/// Assemble the element ranges `tasks` (touching pairwise disjoint nodes)
-/// in parallel, each into its windows of `force`, `energy` and `values`
-/// (zeroing its window of `values` first when `zero`).
-#[allow(clippy::too_many_arguments)]
-fn assemble_phase(
+/// The chunks in parallel, each zeroing its window of the Jacobian first
+/// (zeroed by the calling thread, the values had to travel to the other
+/// core's cache: 1.16× at 256 elements instead of 1.87×).
+fn assemble_chunks(
     model: &Model,
     pattern: &Pattern,
     q: &[f64],
-    tasks: &[Range<usize>],
-    zero: bool,
     force: &mut [f64],
     energy: &mut [f64],
     values: Option<&mut [f64]>,
 ) {
     use rayon::prelude::*;
-    // Nodes touched by elements [a, b): [a, b + 1).
-    let nodes = |r: &Range<usize>| r.start..r.end + 1;
+    let chunks = chunks(model.n_elements);
     let force_w = windows_mut(
         force,
-        tasks.iter().map(|r| {
-            let nd = nodes(r);
-            NODE_DOFS * nd.start..NODE_DOFS * nd.end
-        }),
+        chunks
+            .iter()
+            .map(|c| NODE_DOFS * c.nodes.start..NODE_DOFS * c.nodes.end),
     );
-    let energy_w = windows_mut(energy, tasks.iter().cloned());
+    // Energies of the interior and the trailing boundary element.
+    let energy_w = windows_mut(
+        energy,
+        chunks
+            .iter()
+            .map(|c| c.interior.start..c.trail.map_or(c.interior.end, |t| t + 1)),
+    );
     let values_w: Vec<Option<(&mut [f64], usize)>> = match values {
         Some(v) => {
-            let ranges: Vec<Range<usize>> = tasks
+            let ranges: Vec<Range<usize>> = chunks
                 .iter()
-                .map(|r| pattern.node_values(nodes(r)))
+                .map(|c| pattern.node_values(c.nodes.clone()))
                 .collect();
-            let starts = ranges.iter().map(|r| r.start);
-            windows_mut(v, ranges.iter().cloned())
+            let starts: Vec<usize> = ranges.iter().map(|r| r.start).collect();
+            windows_mut(v, ranges.into_iter())
                 .into_iter()
-                .zip(starts.collect::<Vec<_>>())
+                .zip(starts)
                 .map(Some)
                 .collect()
         }
-        None => tasks.iter().map(|_| None).collect(),
+        None => chunks.iter().map(|_| None).collect(),
     };
-    tasks
+    chunks
         .iter()
         .zip(force_w)
         .zip(energy_w)
         .zip(values_w)
         .collect::<Vec<_>>()
         .into_par_iter()
-        .for_each(|(((r, f), e), mut v)| {
-            if let (true, Some((v, _))) = (zero, v.as_mut()) {
+        .for_each(|(((c, f), e), mut v)| {
+            if let Some((v, _)) = v.as_mut() {
                 v.fill(0.0);
             }
-            assemble_elements(model, pattern, q, r.clone(), f, e, v);
+            let (node0, el0) = (c.nodes.start, c.interior.start);
+            let mut add = |el: usize, part: Part| {
+                // Window-relative: force rows from our first node on.
+                let f = &mut f[..];
+                add_element_window(model, pattern, q, el, part, node0, f, v.as_mut())
+            };
+            if let Some(b) = c.lead {
+                add(b, Part::SecondNode);
+            }
+            for el in c.interior.clone() {
+                e[el - el0] = add(el, Part::Whole);
+            }
+            if let Some(b) = c.trail {
+                e[b - el0] = add(b, Part::FirstNode);
+            }
         });
+}
+
+/// Evaluate element `el` at `q` and add the `part` of its force and
+/// Jacobian columns to `force` (full coordinates) and `values` (slots from
+/// the given offset on); returns its strain energy.
+fn add_element(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    el: usize,
+    part: Part,
+    force: &mut [f64],
+    values: Option<&mut (&mut [f64], usize)>,
+) -> f64 {
+    add_element_window(model, pattern, q, el, part, 0, force, values)
+}
+
+/// [`add_element`] into a force window that starts at node `node0`.
+#[allow(clippy::too_many_arguments)]
+fn add_element_window(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    el: usize,
+    part: Part,
+    node0: usize,
+    force: &mut [f64],
+    values: Option<&mut (&mut [f64], usize)>,
+) -> f64 {
+    let e = model.element_coordinates(q, el);
+    let mut qe = [0.0; 24];
+    let local = part.local();
+    let u = match values {
+        Some((values, offset)) => {
+            let mut ke = [0.0; 576];
+            let u = model.element.evaluate(&e, &mut qe, Some(&mut ke));
+            pattern.add_element_columns(values, *offset, el, &ke, local.clone());
+            u
+        }
+        None => model.element.evaluate(&e, &mut qe, None),
+    };
+    let base = NODE_DOFS * (el - node0);
+    for i in local {
+        force[base + i] += qe[i];
+    }
+    u
 }
 
 /// Disjoint mutable windows of `data` at the sorted, non-overlapping `ranges`.
@@ -298,40 +390,6 @@ fn windows_mut<T>(mut data: &mut [T], ranges: impl Iterator<Item = Range<usize>>
         consumed = r.end;
     }
     out
-}
-
-/// The element loop: elements `elements`, force into `force` (full
-/// coordinates from node `elements.start` on), energies into `energy`
-/// (from element `elements.start` on), Jacobian entries into `values`
-/// (the pattern's value slots from the given offset on).
-fn assemble_elements(
-    model: &Model,
-    pattern: &Pattern,
-    q: &[f64],
-    elements: Range<usize>,
-    force: &mut [f64],
-    energy: &mut [f64],
-    mut values: Option<(&mut [f64], usize)>,
-) {
-    let mut ke = [0.0; 576];
-    let first = elements.start;
-    for el in elements {
-        let e = model.element_coordinates(q, el);
-        let mut qe = [0.0; 24];
-        energy[el - first] = match values.as_mut() {
-            Some((values, offset)) => {
-                ke.fill(0.0);
-                let u = model.element.evaluate(&e, &mut qe, Some(&mut ke));
-                pattern.add_element_at(values, *offset, el, &ke);
-                u
-            }
-            None => model.element.evaluate(&e, &mut qe, None),
-        };
-        let base = NODE_DOFS * (el - first);
-        for i in 0..24 {
-            force[base + i] += qe[i];
-        }
-    }
 }
 
 /// The mass matrix values in the pattern's slots.
@@ -452,7 +510,12 @@ mod tests {
             },
             locking: crate::material::Locking::None,
         };
-        for (n, cover) in [(64, steel.clone()), (71, rubber), (130, steel.clone())] {
+        for (n, cover) in [
+            (64, steel.clone()),
+            (71, rubber),
+            (130, steel.clone()),
+            (97, steel.clone()),
+        ] {
             let section = Section::circular(&[(0.0, 0.01, steel.clone()), (0.01, 0.02, cover)], 3);
             let model = Model::new(
                 ElementIntegration::new(1.0 / n as f64, 3, section),
@@ -471,22 +534,23 @@ mod tests {
                 .enumerate()
                 .map(|(i, x)| x * 1.01 + 1e-3 * ((i * 7919 % 31) as f64 / 31.0 - 0.5))
                 .collect();
-            // Written over, not added to.
+            // The chunks, called directly (assemble() takes the serial loop
+            // on a one-thread pool); the Jacobian is written over, not added to.
             let mut k_chunked = vec![1.0; pattern.nnz()];
-            let (f_chunked, u_chunked) = assemble(&model, &pattern, &q, Some(&mut k_chunked));
+            let mut f_chunked = vec![0.0; q.len()];
+            let mut u = vec![0.0; n];
+            let k = Some(&mut k_chunked[..]);
+            assemble_chunks(&model, &pattern, &q, &mut f_chunked, &mut u, k);
+            let u_chunked: f64 = u.iter().sum();
             let mut k_serial = pattern.zeros();
             let mut f_serial = vec![0.0; q.len()];
             let mut u_serial = vec![0.0; n];
-            let all = Some((&mut k_serial[..], 0));
-            assemble_elements(
-                &model,
-                &pattern,
-                &q,
-                0..n,
-                &mut f_serial,
-                &mut u_serial,
-                all,
-            );
+            let mut all = (&mut k_serial[..], 0);
+            for el in 0..n {
+                let f = &mut f_serial;
+                u_serial[el] =
+                    add_element(&model, &pattern, &q, el, Part::Whole, f, Some(&mut all));
+            }
             let same =
                 |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
             assert!(same(&f_chunked, &f_serial), "n = {n}: force differs");

@@ -201,7 +201,8 @@ fn parallel_assembly_is_deterministic_with(cover: ancf_core::material::Material)
 /// node next to the pin flips by ±8 m/s²). With the old predictor a₁ = a₀
 /// modified Newton needed 4–5 iterations per step here (6–7 and a
 /// refactorization every other step at 4096 elements); now the stale
-/// factorization converges in at most 3 and is never refreshed.
+/// factorization converges in at most 3 and is never refreshed (ρ∞ = 1:
+/// the predictor is a₋₁).
 #[test]
 fn issue7_predictor_follows_the_flipping_stiff_modes() {
     let model = pendulum(1024);
@@ -239,4 +240,46 @@ fn issue7_predictor_follows_the_flipping_stiff_modes() {
         d < 1e-9,
         "modified and full Newton differ by {d:e} m at the tip"
     );
+}
+
+/// Issue 7: the predictor a₁ = (1 − ρ∞) a₀ + ρ∞ a₋₁ is exact for a
+/// constant acceleration plus a stiff component that generalized-α carries
+/// as x → −ρ∞ x → ρ∞² x; prescribed coordinates keep a₀, and a previous
+/// step of another size is ignored.
+#[test]
+fn issue7_predictor_is_exact_for_constant_and_stiff_parts() {
+    use ancf_core::dynamics::{PreviousStep, State, predict};
+    let model = pendulum(4);
+    let n = model.reference.len();
+    let c: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+    let x: Vec<f64> = (0..n).map(|i| 10.0 * (i as f64 * 1.3).cos()).collect();
+    for rho in [0.0, 0.5, 0.8, 1.0] {
+        let a_prev: Vec<f64> = (0..n).map(|i| c[i] + x[i]).collect();
+        let a0: Vec<f64> = (0..n).map(|i| c[i] - rho * x[i]).collect();
+        let state = State {
+            time: 0.002,
+            q: model.reference.clone(),
+            v: vec![0.0; n],
+            a: a0.clone(),
+            dissipated: 0.0,
+            previous: Some(PreviousStep { h: 1e-3, a: a_prev }),
+        };
+        let a1 = predict(&model, &state, 1e-3, rho);
+        for i in 0..n {
+            let want = match model.dof_map[i] {
+                Some(_) => c[i] + rho * rho * x[i],
+                None => a0[i],
+            };
+            assert!(
+                (a1[i] - want).abs() < 1e-12,
+                "ρ∞ = {rho}, coordinate {i}: {} vs {want}",
+                a1[i]
+            );
+        }
+        assert_eq!(
+            predict(&model, &state, 5e-4, rho),
+            a0,
+            "other step size: a₀"
+        );
+    }
 }

@@ -101,30 +101,35 @@ pub struct PreviousStep {
     pub a: Vec<f64>,
 }
 
-/// The Newton predictor for a₁ (full coordinates): the acceleration one
-/// step further back, a₋₁, when that step had the same size h, else a₀.
+/// The Newton predictor for a₁ (full coordinates):
+/// a₁ = (1 − ρ∞) a₀ + ρ∞ a₋₁, with a₋₁ the acceleration one step further
+/// back, when that step had the same size h; else a₀.
 ///
-/// Why not a₀: with ρ∞ near 1 the modes with ω h ≫ 1 (axial and shear
-/// modes of short elements) are not damped, and generalized-α's
-/// amplification for them tends to −ρ∞, so their acceleration flips sign
-/// every step. For those, a₁ = a₋₁ is exact while a₁ = a₀ is off by twice
-/// their amplitude; the smooth part is off by 2 h ȧ instead of h ȧ. On the
-/// pendulum the flip sits at the node next to the pin (±8 m/s² in z at
-/// 1024 elements), and with the a₀ predictor it set the residual Newton
-/// started from: 1.3e3 N (1024 elements), 5.2e3 N (4096), so that modified
-/// Newton needed 4–7 iterations and, at 4096, a refactorization every other
-/// step. With a₋₁: 2–3 iterations, no refactorization (BENCHMARKS.md,
-/// issue 7). Only unknowns are predicted; prescribed coordinates keep a₀.
-pub fn predict(model: &Model, s: &State, h: f64) -> Vec<f64> {
+/// Why: generalized-α (Chung–Hulbert) does not resolve the modes with
+/// ω h ≫ 1 (axial and shear modes of short elements); all its amplification
+/// eigenvalues for them tend to −ρ∞, so their acceleration goes
+/// a₋₁ → −ρ∞ a₋₁ → ρ∞² a₋₁ over two steps. The weights above are the ones
+/// that predict both that sequence and a constant acceleration exactly; a
+/// smooth part changing at rate ȧ is off by (1 + ρ∞) h ȧ instead of h ȧ.
+/// With ρ∞ = 1 (no numerical damping) those modes flip sign forever, and
+/// the a₀ predictor is off by twice their amplitude: on the pendulum the flip
+/// sits at the node next to the pin (±8 m/s² in z at 1024 elements) and it
+/// set the residual Newton started from (1.3e3 N at 1024 elements, 5.2e3 N
+/// at 4096), so that modified Newton needed 4–7 iterations and, at 4096, a
+/// refactorization every other step; with this predictor 2–3 and none
+/// (BENCHMARKS.md, issue 7). Only unknowns are predicted; prescribed
+/// coordinates keep a₀.
+pub fn predict(model: &Model, s: &State, h: f64, spectral_radius: f64) -> Vec<f64> {
     let mut a1 = s.a.clone();
+    let rho = spectral_radius;
     if let Some(prev) = s
         .previous
         .as_ref()
-        .filter(|p| p.h == h && p.a.len() == a1.len())
+        .filter(|p| p.h == h && p.a.len() == a1.len() && rho > 0.0)
     {
         for (c, u) in model.dof_map.iter().enumerate() {
             if u.is_some() {
-                a1[c] = prev.a[c];
+                a1[c] = (1.0 - rho) * s.a[c] + rho * prev.a[c];
             }
         }
     }
@@ -596,7 +601,7 @@ impl<'m> Integrator<'m> {
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
         // Predictor (see `predict`); `base` is the last accepted iterate.
-        let mut a1 = predict(model, s, h);
+        let mut a1 = predict(model, s, h, self.settings.spectral_radius);
         let mut base_a1 = a1.clone();
         let mut base_rn = f64::INFINITY;
         let mut da: Vec<f64> = Vec::new();

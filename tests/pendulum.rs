@@ -140,24 +140,24 @@ fn issue3_fine_meshes_converge_without_step_cuts() {
 }
 
 /// Issue 7: parallel assembly gives the same bits with 1 and 2 threads,
-/// for a pre-integrated SVK section and a plain Mooney–Rivlin cover
-/// (section points), with 130 elements (not a multiple of the chunk size).
+/// for a pre-integrated SVK section (260 elements) and a plain Mooney–Rivlin
+/// cover (section points, 130 elements): not multiples of the chunk size.
 #[test]
 fn parallel_assembly_is_deterministic() {
     let cover = ancf_core::material::Material {
         locking: ancf_core::material::Locking::None,
         ..mooney_rivlin(1e3)
     };
-    for cover in [svk(2e9, 0.0, 1.0), cover] {
-        parallel_assembly_is_deterministic_with(cover);
+    for (n, cover) in [(260, svk(2e9, 0.0, 1.0)), (130, cover)] {
+        parallel_assembly_is_deterministic_with(n, cover);
     }
 }
 
-fn parallel_assembly_is_deterministic_with(cover: ancf_core::material::Material) {
+fn parallel_assembly_is_deterministic_with(n: usize, cover: ancf_core::material::Material) {
     let section = two_layer(svk(2e9, 0.0, 1.0), cover, 3);
     let model = Model::new(
-        ElementIntegration::new(LENGTH / 130.0, 3, section),
-        130,
+        ElementIntegration::new(LENGTH / n as f64, 3, section),
+        n,
         [0.0; 3],
         [1.0, 0.0, 0.0],
         vec![Support::new(0, SupportKind::Pin)],
@@ -165,7 +165,7 @@ fn parallel_assembly_is_deterministic_with(cover: ancf_core::material::Material)
         vec![],
     )
     .unwrap();
-    assert!(model.n_elements >= ancf_core::assembly::PARALLEL_MIN_ELEMENTS);
+    assert!(ancf_core::assembly::runs_in_parallel(&model, true));
     let run_with = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -147,7 +147,7 @@ impl Pattern {
 /// Elastic force (full coordinates), optionally its Jacobian (values in the
 /// pattern's slots, written over `jacobian`'s), and the strain energy.
 ///
-/// From [`PARALLEL_MIN_ELEMENTS`] elements on, the elements are split into
+/// With enough element work ([`runs_in_parallel`]), the elements are split into
 /// chunks that rayon evaluates in parallel, each writing straight into its
 /// own windows of the force and of the Jacobian's values (see [`Chunk`]).
 /// Every value receives its contributions in the serial loop's order, so
@@ -164,19 +164,7 @@ pub fn assemble(
     // Per-element energies, summed in element order at the end.
     let mut energy = vec![0.0; model.n_elements];
     let n = model.n_elements;
-    // Force alone on pre-integrated elements (0.15 µs each) is too little
-    // work to wake the second thread for: at 256 elements it took 77 µs
-    // per call on 2 threads against 53 µs on one (in a full-Newton step,
-    // issue 7), while at 1024 two threads gained 1.2×.
-    let light = jacobian.is_none() && model.element.plan.points() == 0;
-    let min_elements = if light {
-        8 * PARALLEL_MIN_ELEMENTS
-    } else {
-        PARALLEL_MIN_ELEMENTS
-    };
-    // One thread: the serial loop, which the chunks equal bit for bit
-    // without their extra boundary evaluations.
-    if n < min_elements || rayon::current_num_threads() == 1 {
+    if !runs_in_parallel(model, jacobian.is_some()) || rayon::current_num_threads() == 1 {
         let mut values = jacobian.map(|v| {
             v.fill(0.0);
             (v, 0)
@@ -191,11 +179,31 @@ pub fn assemble(
     (force, energy.iter().sum())
 }
 
-/// Below this many elements the serial loop is used: with fewer, waking the
-/// other thread (≈ 20–30 µs after a serial stretch, measured with rayon on
-/// this machine) costs about what it saves. Force-only assembly of
-/// pre-integrated elements waits until 8 × this.
-pub const PARALLEL_MIN_ELEMENTS: usize = 64;
+/// Whether [`assemble`] splits the elements into parallel chunks (with more
+/// than one rayon thread): when the estimated element work reaches
+/// [`PARALLEL_MIN_WORK_US`]. Results do not depend on it (the chunks equal
+/// the serial loop bit for bit); only the speed does.
+pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
+    let points = (model.element.axial.nodes.len() * model.element.plan.points()) as f64;
+    // µs per element on the CI machine (BENCHMARKS.md): pre-integrated
+    // SVK 1.2 (force 0.15), plus ≈ 0.3 (0.1) per section point.
+    let per_element = if with_jacobian {
+        1.2 + 0.3 * points
+    } else {
+        0.15 + 0.1 * points
+    };
+    model.n_elements >= 2 * CHUNK_ELEMENTS
+        && model.n_elements as f64 * per_element >= PARALLEL_MIN_WORK_US
+}
+
+/// Element work (µs) below which the serial loop is used. Inside a Newton
+/// step the other thread has fallen asleep during the serial factorization
+/// and takes tens of µs to wake, and the Jacobian columns it wrote must
+/// travel back to the core that forms the Newton matrix: full-Newton steps
+/// of the SVK pendulum on 2 threads against 1 were 0.91–0.94× at 64
+/// elements (77 µs of element work), 0.97–0.98× at 128, 1.0–1.16× at 256
+/// (BENCHMARKS.md, issue 7). 250 µs: 256 SVK elements with their Jacobian.
+pub const PARALLEL_MIN_WORK_US: f64 = 250.0;
 
 /// Elements per chunk: 8 chunks at 256 elements, so that rayon can balance
 /// two cores, and 1 extra element evaluation in 32 (16 per chunk measured

@@ -58,14 +58,46 @@ impl BandCholesky {
     /// columns, both triangles or the lower one) of half-bandwidth `p`
     /// ([`BandCholesky::bandwidth`]).
     pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        let entries = (0..n).flat_map(|c| (col_ptr[c]..col_ptr[c + 1]).map(move |k| (k, c)));
+        Self::from_entries(n, p, entries.map(|(k, c)| (k, row_idx[k], c)))
+    }
+
+    /// The band structure of an n × n symmetric matrix whose entries are
+    /// (pattern value index, row, column), both triangles or the lower one
+    /// given (a part of a larger pattern in its own numbering, for
+    /// [`crate::band_split`]).
+    pub(crate) fn from_entries(
+        n: usize,
+        p: usize,
+        entries: impl Iterator<Item = (usize, usize, usize)>,
+    ) -> Self {
+        let w = p + 1;
+        let mut slots = Vec::new();
+        // Last non-zero row of each column, then the envelope: fill stays
+        // below the last non-zero row of the columns to its left.
+        let mut last: Vec<usize> = (0..n).collect();
+        for (k, r, c) in entries {
+            if r >= c {
+                debug_assert!(r - c <= p, "entry ({r}, {c}) outside the band {p}");
+                slots.push((k, c * w + (r - c)));
+                last[c] = last[c].max(r);
+            } else {
+                last[r] = last[r].max(c);
+            }
+        }
+        let mut reach = 0;
+        let below = (0..n)
+            .map(|j| {
+                reach = reach.max(last[j]);
+                reach - j
+            })
+            .collect();
         BandCholesky {
             n,
             p,
-            below: envelope(n, col_ptr, row_idx),
-            slots: pattern_slots(n, col_ptr, row_idx, |r, c| {
-                (r >= c).then(|| c * (p + 1) + (r - c))
-            }),
-            l: vec![0.0; n * (p + 1)],
+            below,
+            slots,
+            l: vec![0.0; n * w],
             inv_diag: vec![0.0; n],
         }
     }
@@ -78,13 +110,24 @@ impl BandCholesky {
     /// Factor the matrix whose pattern values are `values` (only the lower
     /// triangle is read).
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), NotPositiveDefinite> {
-        let (n, w) = (self.n, self.p + 1);
+        self.factorize_columns(values, self.n)
+    }
+
+    /// Load `values` and eliminate the first `m` columns only: the trailing
+    /// (n − m) × (n − m) block is left holding its Schur complement (read it
+    /// with [`BandCholesky::trailing`]).
+    pub(crate) fn factorize_columns(
+        &mut self,
+        values: &[f64],
+        m: usize,
+    ) -> Result<(), NotPositiveDefinite> {
+        let w = self.p + 1;
         self.l.fill(0.0);
         for &(v, b) in &self.slots {
             self.l[b] = values[v];
         }
         let l = &mut self.l;
-        for j in 0..n {
+        for j in 0..m {
             let d = l[j * w];
             if d <= 0.0 || !d.is_finite() {
                 return Err(NotPositiveDefinite { row: j });
@@ -109,12 +152,28 @@ impl BandCholesky {
         Ok(())
     }
 
+    /// Entry (i, j), i ≥ j ≥ m, of the trailing block after
+    /// [`BandCholesky::factorize_columns`] with `m` columns.
+    pub(crate) fn trailing(&self, i: usize, j: usize) -> f64 {
+        if i - j > self.p {
+            0.0
+        } else {
+            self.l[j * (self.p + 1) + (i - j)]
+        }
+    }
+
     /// Solve A x = b in place with the last factorization.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        let (n, w) = (self.n, self.p + 1);
+        self.forward(b, self.n);
+        self.backward(b, self.n);
+    }
+
+    /// L y = b over the first `m` columns: y_0 … y_{m−1}, removed from the
+    /// rows below (rows m … n − 1 keep b minus those contributions).
+    pub(crate) fn forward(&self, b: &mut [f64], m: usize) {
+        let w = self.p + 1;
         let l = &self.l;
-        // L y = b: y_j, then remove it from the rows below.
-        for j in 0..n {
+        for j in 0..m {
             let yj = b[j] * self.inv_diag[j];
             b[j] = yj;
             let below = self.below[j];
@@ -122,8 +181,13 @@ impl BandCholesky {
                 *y -= a * yj;
             }
         }
-        // Lᵀ x = y, from the last row.
-        for j in (0..n).rev() {
+    }
+
+    /// Lᵀ x = y for rows m − 1 … 0, with x_m … x_{n−1} already in `b`.
+    pub(crate) fn backward(&self, b: &mut [f64], m: usize) {
+        let w = self.p + 1;
+        let l = &self.l;
+        for j in (0..m).rev() {
             let below = self.below[j];
             let s = dot(&l[j * w + 1..j * w + 1 + below], &b[j + 1..j + 1 + below]);
             b[j] = (b[j] - s) * self.inv_diag[j];
@@ -248,7 +312,7 @@ pub(crate) mod tests {
     }
 
     /// A random symmetric positive definite band matrix.
-    fn band_spd(n: usize, p: usize, seed: u64) -> TestMatrix {
+    pub(crate) fn band_spd(n: usize, p: usize, seed: u64) -> TestMatrix {
         let mut rand = uniform(seed);
         let mut a = vec![0.0; n * n];
         for i in 0..n {

@@ -14,6 +14,7 @@
 pub mod assembly;
 pub mod band_cholesky;
 pub mod band_lu;
+pub mod band_split;
 pub mod contact;
 pub mod damping;
 pub mod dynamics;

@@ -2,7 +2,8 @@
 //! per pattern ([`SparseSolver::new`]); every refactorization is numeric
 //! only. A symmetric matrix tries LLᵀ first — as a band
 //! ([`BandCholesky`]: a wire's pattern is banded, and the band form was
-//! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md) or, for a wider
+//! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md; from 2000 unknowns
+//! on split in two halves for two threads, [`SplitBandCholesky`]) or, for a wider
 //! pattern, faer's sparse LLᵀ. A non-symmetric matrix (friction,
 //! Kelvin–Voigt damping) on a band pattern tries a band LU without pivoting
 //! ([`BandLu`], 10× faster than faer's LU on the impact scene); a matrix
@@ -13,6 +14,7 @@
 use crate::assembly::Pattern;
 use crate::band_cholesky::BandCholesky;
 use crate::band_lu::BandLu;
+use crate::band_split::{SPLIT_MIN_UNKNOWNS, SplitBandCholesky};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::{
@@ -85,7 +87,21 @@ impl SparseLlt {
 /// The LLᵀ factorization a pattern uses.
 enum Cholesky {
     Band(BandCholesky),
+    /// A band of at least `band_split::SPLIT_MIN_UNKNOWNS` unknowns, in two
+    /// halves that run on two threads.
+    SplitBand(Box<SplitBandCholesky>),
     Sparse(Box<SparseLlt>),
+}
+
+impl Cholesky {
+    /// Half-bandwidth of a band pattern.
+    fn band(&self) -> Option<usize> {
+        match self {
+            Cholesky::Band(b) => Some(b.half_bandwidth()),
+            Cholesky::SplitBand(b) => Some(b.half_bandwidth()),
+            Cholesky::Sparse(_) => None,
+        }
+    }
 }
 
 enum Factor {
@@ -121,7 +137,15 @@ impl SparseSolver {
     pub fn new(pattern: &Pattern) -> Result<Self, FactorError> {
         let sym = pattern.symbolic.as_ref();
         let p = BandCholesky::bandwidth(sym.col_ptr(), sym.row_idx());
-        let llt = if p <= MAX_BAND {
+        let n = sym.nrows();
+        let llt = if p <= MAX_BAND && n >= SPLIT_MIN_UNKNOWNS && n >= 3 * p {
+            Cholesky::SplitBand(Box::new(SplitBandCholesky::new(
+                n,
+                p,
+                sym.col_ptr(),
+                sym.row_idx(),
+            )))
+        } else if p <= MAX_BAND {
             Cholesky::Band(BandCholesky::new(
                 sym.nrows(),
                 p,
@@ -161,23 +185,19 @@ impl SparseSolver {
         if symmetric {
             let positive_definite = match &mut self.llt {
                 Cholesky::Band(band) => band.factorize(values).is_ok(),
+                Cholesky::SplitBand(band) => band.factorize(values).is_ok(),
                 Cholesky::Sparse(sparse) => sparse.factorize(mat),
             };
             if positive_definite {
                 self.factor = Factor::Llt;
                 return Ok(FactorKind::Cholesky);
             }
-        } else if let Cholesky::Band(chol) = &self.llt
+        } else if let Some(p) = self.llt.band()
             && self
                 .band_lu
                 .get_or_insert_with(|| {
                     let sym = self.pattern.symbolic.as_ref();
-                    BandLu::new(
-                        sym.nrows(),
-                        chol.half_bandwidth(),
-                        sym.col_ptr(),
-                        sym.row_idx(),
-                    )
+                    BandLu::new(sym.nrows(), p, sym.col_ptr(), sym.row_idx())
                 })
                 .factorize(values)
                 .is_ok()
@@ -205,6 +225,7 @@ impl SparseSolver {
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
         match (&self.factor, &mut self.llt) {
             (Factor::Llt, Cholesky::Band(band)) => band.solve_in_place(b),
+            (Factor::Llt, Cholesky::SplitBand(band)) => band.solve_in_place(b),
             (Factor::Llt, Cholesky::Sparse(sparse)) => sparse.solve_in_place(b),
             (Factor::BandLu, _) => self.band_lu.as_ref().expect("band LU").solve_in_place(b),
             (Factor::Lu(f), _) => f.solve_in_place(ColMut::from_slice_mut(b)),

@@ -1,0 +1,297 @@
+//! Cholesky factorization of a symmetric positive definite band matrix in
+//! two halves that run on two threads.
+//!
+//! A band matrix of half-bandwidth p falls apart when p consecutive
+//! unknowns are taken out: nothing couples an unknown above them with one
+//! below (|i − j| > p). Ordering that separator last (nested dissection
+//! with one separator) gives
+//!
+//! ```text
+//!     [ A_TT   0    A_TS ]        L_T  = chol(A_TT)            (band, top)
+//!     [  0    A_BB  A_BS ]        L_B  = chol(A_BB)            (band, bottom)
+//!     [ A_ST  A_SB  A_SS ]        L_S  = chol(A_SS − L_ST L_STᵀ − L_SB L_SBᵀ)   (dense p × p)
+//! ```
+//!
+//! The two band factorizations are independent, and so are the two halves
+//! of each solve: the serial band factorization and solves were ≈ 35 % of
+//! a full-Newton step at 256 elements and 25 % of a modified-Newton step at
+//! 4096 (BENCHMARKS.md, issue 7), and no other part of a step could use the
+//! second core there. The top half is the matrix's own rows 0 … s + p − 1
+//! (the separator at its end); the bottom half is rows s … n − 1 in reverse
+//! order (the separator, reversed, at its end), so both are ordinary
+//! [`BandCholesky`] factors eliminated up to their separator rows. The
+//! separator's own block A_SS is loaded into the top half only.
+//!
+//! The arithmetic does not depend on whether the halves run in parallel:
+//! one thread and two give the same bits.
+
+use crate::band_cholesky::{BandCholesky, NotPositiveDefinite};
+
+/// From this many unknowns on, [`crate::linear_solver`] uses the split
+/// factorization (decided by the size alone, so results never depend on
+/// the thread count): ≈ 170 wire elements.
+pub const SPLIT_MIN_UNKNOWNS: usize = 2000;
+
+/// Solves with fewer unknowns than this run both halves on the calling
+/// thread: a solve at 3000 unknowns takes ≈ 40 µs, about what waking the
+/// other thread costs (BENCHMARKS.md). Same arithmetic either way.
+const PARALLEL_SOLVE_MIN_UNKNOWNS: usize = 12_000;
+
+const PARALLEL_FACTOR_MIN_UNKNOWNS: usize = 5000;
+
+/// L of A = L Lᵀ in the separator ordering, with the maps from the sparse
+/// pattern's value slots to both halves, computed once per pattern.
+#[derive(Clone, Debug)]
+pub struct SplitBandCholesky {
+    n: usize,
+    p: usize,
+    /// First separator unknown s; the separator is s … s + p − 1.
+    s: usize,
+    /// Unknowns 0 … s + p − 1, eliminated up to column s.
+    top: BandCholesky,
+    /// Unknowns n − 1 … s (bottom local index i ↔ unknown n − 1 − i),
+    /// eliminated up to column n − s − p.
+    bottom: BandCholesky,
+    /// L_S, dense p × p, row-major (lower triangle).
+    separator: Vec<f64>,
+    /// The bottom half's right-hand side in its own (reversed) numbering.
+    work: Vec<f64>,
+}
+
+impl SplitBandCholesky {
+    /// The split structure of a symmetric n × n pattern (compressed sparse
+    /// columns, both triangles) of half-bandwidth `p` ≥ 1, n ≥ 3 p.
+    pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        assert!(
+            p >= 1 && n >= 3 * p,
+            "split needs n ≥ 3p (n = {n}, p = {p})"
+        );
+        let s = (n - p) / 2;
+        let entries = || {
+            (0..n).flat_map(move |c| (col_ptr[c]..col_ptr[c + 1]).map(move |k| (k, row_idx[k], c)))
+        };
+        let in_separator = |i: usize| (s..s + p).contains(&i);
+        let top = BandCholesky::from_entries(
+            s + p,
+            p,
+            entries().filter(|&(_, r, c)| r < s + p && c < s + p),
+        );
+        let bottom = BandCholesky::from_entries(
+            n - s,
+            p,
+            entries()
+                .filter(|&(_, r, c)| r >= s && c >= s && !(in_separator(r) && in_separator(c)))
+                .map(|(k, r, c)| (k, n - 1 - r, n - 1 - c)),
+        );
+        SplitBandCholesky {
+            n,
+            p,
+            s,
+            top,
+            bottom,
+            separator: vec![0.0; p * p],
+            work: vec![0.0; n - s],
+        }
+    }
+
+    /// Half-bandwidth p.
+    pub fn half_bandwidth(&self) -> usize {
+        self.p
+    }
+
+    /// Factor the matrix whose pattern values are `values` (lower triangle
+    /// read). The error names the unknown whose pivot was not positive.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), NotPositiveDefinite> {
+        let (n, p, s) = (self.n, self.p, self.s);
+        let (top, bottom) = (&mut self.top, &mut self.bottom);
+        let (mut t, mut b) = (Ok(()), Ok(()));
+        join(
+            n >= PARALLEL_FACTOR_MIN_UNKNOWNS,
+            || t = top.factorize_columns(values, s),
+            || b = bottom.factorize_columns(values, n - s - p),
+        );
+        t?;
+        b.map_err(|e| NotPositiveDefinite { row: n - 1 - e.row })?;
+        // S = A_SS − L_ST L_STᵀ − L_SB L_SBᵀ: the two trailing blocks, the
+        // bottom's in reversed order (its local n − s − 1 − a ↔ separator a).
+        let sep = &mut self.separator;
+        let nb = n - s;
+        for a in 0..p {
+            for c in 0..=a {
+                let from_top = self.top.trailing(s + a, s + c);
+                let from_bottom = self.bottom.trailing(nb - 1 - c, nb - 1 - a);
+                sep[a * p + c] = from_top + from_bottom;
+            }
+        }
+        dense_cholesky(sep, p).map_err(|a| NotPositiveDefinite { row: s + a })
+    }
+
+    /// Solve A x = b in place with the last factorization.
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        let (n, p, s) = (self.n, self.p, self.s);
+        let nb = n - s;
+        let (top, bottom) = (&self.top, &self.bottom);
+        let work = &mut self.work;
+        // The bottom's right-hand side: its own rows reversed, the
+        // separator rows zero (they gather only the bottom's updates).
+        for (i, w) in work.iter_mut().enumerate().take(nb - p) {
+            *w = b[n - 1 - i];
+        }
+        work[nb - p..].fill(0.0);
+        let (b_top, _) = b.split_at_mut(s + p);
+        let parallel = n >= PARALLEL_SOLVE_MIN_UNKNOWNS;
+        join(
+            parallel,
+            || top.forward(b_top, s),
+            || bottom.forward(work, nb - p),
+        );
+        // Separator: L_S L_Sᵀ x_S = b_S − L_ST y_T − L_SB y_B.
+        let mut x_s = [0.0; 64];
+        let x_s = &mut x_s[..p];
+        for (a, x) in x_s.iter_mut().enumerate() {
+            *x = b_top[s + a] + work[nb - 1 - a];
+        }
+        dense_solve(&self.separator, p, x_s);
+        for (a, &x) in x_s.iter().enumerate() {
+            b_top[s + a] = x;
+            work[nb - 1 - a] = x;
+        }
+        join(
+            parallel,
+            || top.backward(b_top, s),
+            || bottom.backward(work, nb - p),
+        );
+        for (i, &w) in work.iter().enumerate().take(nb - p) {
+            b[n - 1 - i] = w;
+        }
+    }
+}
+
+/// Both closures, on two threads when `parallel` (same arithmetic).
+fn join(parallel: bool, a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
+    if parallel {
+        rayon::join(a, b);
+    } else {
+        a();
+        b();
+    }
+}
+
+/// In-place Cholesky of a dense p × p matrix (row-major, lower triangle);
+/// the error is the row of a non-positive pivot.
+fn dense_cholesky(a: &mut [f64], p: usize) -> Result<(), usize> {
+    for j in 0..p {
+        let d = a[j * p + j] - (0..j).map(|k| a[j * p + k] * a[j * p + k]).sum::<f64>();
+        if d <= 0.0 || !d.is_finite() {
+            return Err(j);
+        }
+        let d = d.sqrt();
+        a[j * p + j] = d;
+        for i in j + 1..p {
+            let v = a[i * p + j] - (0..j).map(|k| a[i * p + k] * a[j * p + k]).sum::<f64>();
+            a[i * p + j] = v / d;
+        }
+    }
+    Ok(())
+}
+
+/// Solve L Lᵀ x = b in place with the factor of [`dense_cholesky`].
+fn dense_solve(l: &[f64], p: usize, x: &mut [f64]) {
+    for i in 0..p {
+        let s: f64 = (0..i).map(|k| l[i * p + k] * x[k]).sum();
+        x[i] = (x[i] - s) / l[i * p + i];
+    }
+    for i in (0..p).rev() {
+        let s: f64 = (i + 1..p).map(|k| l[k * p + i] * x[k]).sum();
+        x[i] = (x[i] - s) / l[i * p + i];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::band_cholesky::tests::{band_spd, block_tridiagonal};
+
+    #[test]
+    fn solves_band_systems_to_round_off() {
+        for (n, p) in [(3, 1), (9, 3), (10, 3), (70, 7), (100, 23), (257, 23)] {
+            let a = band_spd(n, p, 11 + n as u64);
+            let mut chol = SplitBandCholesky::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+            chol.factorize(&a.values).expect("positive definite");
+            let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+            let err = a.solve_error(&x, |b| chol.solve_in_place(b));
+            assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
+        }
+    }
+
+    /// A wire-like matrix (12 × 12 blocks, block tridiagonal): the split's
+    /// answer equals the one-piece band factorization's to round-off.
+    #[test]
+    fn agrees_with_the_band_factorization_on_a_block_tridiagonal_matrix() {
+        let a = block_tridiagonal(40, 12, true);
+        let (n, p) = (a.n, a.bandwidth());
+        let mut split = SplitBandCholesky::new(n, p, &a.col_ptr, &a.row_idx);
+        let mut band = BandCholesky::new(n, p, &a.col_ptr, &a.row_idx);
+        split.factorize(&a.values).expect("positive definite");
+        band.factorize(&a.values).expect("positive definite");
+        let rhs: Vec<f64> = (0..n).map(|i| 1.0 + (i as f64).cos()).collect();
+        let (mut x1, mut x2) = (rhs.clone(), rhs);
+        split.solve_in_place(&mut x1);
+        band.solve_in_place(&mut x2);
+        let d = x1
+            .iter()
+            .zip(&x2)
+            .map(|(u, v)| (u - v).abs())
+            .fold(0.0, f64::max);
+        assert!(d < 1e-13, "split and band differ by {d:e}");
+        let x: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
+        assert!(a.solve_error(&x, |b| split.solve_in_place(b)) < 1e-12);
+    }
+
+    /// The answer has the same bits with the halves run on one thread or two.
+    #[test]
+    fn same_bits_on_one_and_two_threads() {
+        let n = PARALLEL_SOLVE_MIN_UNKNOWNS + 5;
+        let a = band_spd(n, 5, 3);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut chol = SplitBandCholesky::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+                chol.factorize(&a.values).unwrap();
+                let mut b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+                chol.solve_in_place(&mut b);
+                b
+            })
+        };
+        let (one, two) = (run(1), run(2));
+        assert!(
+            one.iter()
+                .zip(&two)
+                .all(|(u, v)| u.to_bits() == v.to_bits())
+        );
+    }
+
+    /// A negative pivot in either half or in the separator is refused and
+    /// named by its unknown.
+    #[test]
+    fn refuses_an_indefinite_matrix_in_each_part() {
+        let n = 60;
+        for bad in [3, 58, 29] {
+            let mut a = band_spd(n, 4, 5);
+            let diag = (a.col_ptr[bad]..a.col_ptr[bad + 1])
+                .find(|&k| a.row_idx[k] == bad)
+                .unwrap();
+            a.values[diag] = -50.0;
+            let mut chol = SplitBandCholesky::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+            let err = chol.factorize(&a.values).expect_err("indefinite");
+            assert!(
+                err.row.abs_diff(bad) <= 4,
+                "pivot {bad} reported at {}",
+                err.row
+            );
+        }
+    }
+}

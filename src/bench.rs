@@ -190,9 +190,11 @@ pub struct BenchReport {
     pub parallel_speedup_256: f64,
     /// The same at 256, 1024 and 4096 elements, keyed by element count.
     pub parallel_assembly_speedup: BTreeMap<String, f64>,
-    /// Whole full-Newton steps at 256 elements, 1 thread over 2 threads
-    /// (the factorization, solves and vector work are serial).
+    /// Whole full-Newton steps at 256 elements, 1 thread over 2 threads.
     pub parallel_step_speedup_256: f64,
+    /// Whole steps, 1 thread over 2 threads, keyed by element count (256,
+    /// 1024, 4096): (full Newton, modified Newton).
+    pub parallel_step_speedup: BTreeMap<String, (f64, f64)>,
     /// Whole full-Newton steps at 256 elements with a plain Mooney–Rivlin
     /// cover (section points: the element work dominates).
     pub parallel_speedup_256_mooney_rivlin: f64,
@@ -252,15 +254,20 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         .map_err(|e| e.to_string())?;
     let assembly_sizes: &[usize] = if quick { &[64] } else { &[256, 1024, 4096] };
     let mut parallel_assembly_speedup = BTreeMap::new();
+    let mut parallel_step_speedup = BTreeMap::new();
     for &n in assembly_sizes {
         let m = pendulum(n);
         let one = single.install(|| assembly_us(&m));
         let two = two_pool.install(|| assembly_us(&m));
         parallel_assembly_speedup.insert(n.to_string(), one / two);
+        let steps = (2560 / n).max(3);
+        let ratio = |kind| {
+            let one = single.install(|| pendulum_step(&m, kind, steps).0);
+            one / two_pool.install(|| pendulum_step(&m, kind, steps).0)
+        };
+        let full = ratio(NewtonKind::Full);
+        parallel_step_speedup.insert(n.to_string(), (full, ratio(NewtonKind::Modified)));
     }
-    let m = pendulum(n_par);
-    let one = single.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
-    let two = two_pool.install(|| pendulum_step(&m, NewtonKind::Full, 10).0);
     let cover = pendulum_with(n_par, rubber());
     let mr_one = single.install(|| pendulum_step(&cover, NewtonKind::Full, 5).0);
     let mr_two = two_pool.install(|| pendulum_step(&cover, NewtonKind::Full, 5).0);
@@ -304,7 +311,10 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
             .copied()
             .unwrap_or(f64::NAN),
         parallel_assembly_speedup,
-        parallel_step_speedup_256: one / two,
+        parallel_step_speedup_256: parallel_step_speedup
+            .get(&n_par.to_string())
+            .map_or(f64::NAN, |s| s.0),
+        parallel_step_speedup,
         parallel_speedup_256_mooney_rivlin: mr_one / mr_two,
         impact_realtime_factor,
         threads_available: std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -338,15 +348,17 @@ pub fn table(r: &BenchReport) -> String {
     s += "Parallel speed-up, 1 → 2 threads\n";
     let mut sizes: Vec<&String> = r.parallel_assembly_speedup.keys().collect();
     sizes.sort_by_key(|n| n.parse::<usize>().unwrap_or(0));
+    s += "  elements   assembly (force + Jacobian)   full-Newton step   modified-Newton step\n";
     for n in sizes {
+        let (full, modified) = r.parallel_step_speedup[n];
         s += &format!(
-            "  assembly (zero + force + Jacobian), {:>5} elements   {:.2}×\n",
-            n, r.parallel_assembly_speedup[n]
+            "  {:>8}   {:>26.2}×   {:>15.2}×   {:>19.2}×\n",
+            n, r.parallel_assembly_speedup[n], full, modified
         );
     }
     s += &format!(
-        "  full-Newton step, 256 elements: {:.2}× (SVK), {:.2}× (Mooney–Rivlin cover)\n",
-        r.parallel_step_speedup_256, r.parallel_speedup_256_mooney_rivlin
+        "  full-Newton step with a Mooney–Rivlin cover (256 elements; 64 with --quick): {:.2}×\n",
+        r.parallel_speedup_256_mooney_rivlin
     );
     s += &format!(
         "Impact scene real-time factor (simulated s per wall s, 1 thread): {:.3}\n",

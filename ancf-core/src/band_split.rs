@@ -32,12 +32,17 @@ use crate::band_cholesky::{BandCholesky, NotPositiveDefinite};
 /// the thread count): ≈ 170 wire elements.
 pub const SPLIT_MIN_UNKNOWNS: usize = 2000;
 
-/// Solves with fewer unknowns than this run both halves on the calling
-/// thread: a solve at 3000 unknowns takes ≈ 40 µs, about what waking the
-/// other thread costs (BENCHMARKS.md). Same arithmetic either way.
-const PARALLEL_SOLVE_MIN_UNKNOWNS: usize = 12_000;
-
+/// Factorizations with fewer unknowns than this run both halves on the
+/// calling thread: at 3081 unknowns (256 elements) each half takes
+/// ≈ 150 µs and two threads made the full-Newton step slower (the other
+/// thread wakes late and the halves' data must cross cores); from 6000 on
+/// they gained (BENCHMARKS.md, issue 7). Same arithmetic either way.
 const PARALLEL_FACTOR_MIN_UNKNOWNS: usize = 5000;
+
+/// The same for solves, which are ≈ 10× cheaper than a factorization:
+/// modified-Newton steps (solves only) on 2 threads were 0.98–1.06× at
+/// 12 297 unknowns and 1.40–1.49× at 49 161.
+const PARALLEL_SOLVE_MIN_UNKNOWNS: usize = 20_000;
 
 /// L of A = L Lᵀ in the separator ordering, with the maps from the sparse
 /// pattern's value slots to both halves, computed once per pattern.
@@ -248,19 +253,39 @@ mod tests {
         assert!(a.solve_error(&x, |b| split.solve_in_place(b)) < 1e-12);
     }
 
-    /// The answer has the same bits with the halves run on one thread or two.
+    /// The answer has the same bits with the halves run on one thread or two
+    /// (large enough for both the factorization and the solves to split).
     #[test]
     fn same_bits_on_one_and_two_threads() {
-        let n = PARALLEL_SOLVE_MIN_UNKNOWNS + 5;
-        let a = band_spd(n, 5, 3);
+        let (n, p) = (PARALLEL_SOLVE_MIN_UNKNOWNS + 5, 5);
+        // A band SPD matrix as compressed columns, without a dense copy.
+        let mut rand = crate::band_cholesky::tests::uniform(3);
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
+        let mut lower = vec![0.0; n * (p + 1)];
+        for c in 0..n {
+            for r in c.saturating_sub(p)..(c + p + 1).min(n) {
+                let v = if r == c {
+                    2.0 * p as f64 + 1.0
+                } else if r > c {
+                    let v = rand();
+                    lower[c * (p + 1) + (r - c)] = v;
+                    v
+                } else {
+                    lower[r * (p + 1) + (c - r)]
+                };
+                row_idx.push(r);
+                values.push(v);
+            }
+            col_ptr.push(row_idx.len());
+        }
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
             pool.install(|| {
-                let mut chol = SplitBandCholesky::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
-                chol.factorize(&a.values).unwrap();
+                let mut chol = SplitBandCholesky::new(n, p, &col_ptr, &row_idx);
+                chol.factorize(&values).unwrap();
                 let mut b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
                 chol.solve_in_place(&mut b);
                 b
@@ -272,6 +297,17 @@ mod tests {
                 .zip(&two)
                 .all(|(u, v)| u.to_bits() == v.to_bits())
         );
+        // And it solves the system: A x = b to round-off.
+        let mut ax = vec![0.0; n];
+        for c in 0..n {
+            for k in col_ptr[c]..col_ptr[c + 1] {
+                ax[row_idx[k]] += values[k] * one[c];
+            }
+        }
+        let err = (0..n)
+            .map(|i| (ax[i] - (i as f64).sin()).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-12, "residual {err:e}");
     }
 
     /// A negative pivot in either half or in the separator is refused and

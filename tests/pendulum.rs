@@ -2,7 +2,7 @@
 //! trajectory converges at second order in the time step.
 
 mod common;
-use ancf_core::dynamics::{DynamicSettings, Integrator, NewtonKind};
+use ancf_core::dynamics::{DynamicSettings, Integrator, NewtonKind, State};
 use ancf_core::element::ElementIntegration;
 use ancf_core::model::{Model, Support, SupportKind};
 use common::*;
@@ -25,19 +25,25 @@ fn pendulum(n: usize) -> Model {
     .unwrap()
 }
 
-/// Runs to `end`, returns the tip trajectory sampled every `sample` s, and the max energy drift.
-fn run(model: &Model, h: f64, end: f64, sample: f64, newton: NewtonKind) -> (Vec<[f64; 3]>, f64) {
+/// An integrator (ρ∞ = 1, time step h) and the state at rest in the reference.
+fn start(model: &Model, h: f64, newton: NewtonKind) -> (Integrator<'_>, State) {
     let settings = DynamicSettings {
         time_step: h,
-        end_time: end,
+        end_time: 1.0,
         spectral_radius: 1.0,
         newton,
         ..Default::default()
     };
     let mut integ = Integrator::new(model, settings).unwrap();
-    let mut s = integ
+    let s = integ
         .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
         .unwrap();
+    (integ, s)
+}
+
+/// Runs to `end`, returns the tip trajectory sampled every `sample` s, and the max energy drift.
+fn run(model: &Model, h: f64, end: f64, sample: f64, newton: NewtonKind) -> (Vec<[f64; 3]>, f64) {
+    let (mut integ, mut s) = start(model, h, newton);
     let e0 = integ.energies(&s).total();
     let steps = (end / h).round() as usize;
     let every = (sample / h).round() as usize;
@@ -114,17 +120,7 @@ fn issue3_fine_meshes_converge_without_step_cuts() {
     for n in [32, 256] {
         let model = pendulum(n);
         for newton in [NewtonKind::Full, NewtonKind::Modified] {
-            let settings = DynamicSettings {
-                time_step: 1e-3,
-                end_time: 1.0,
-                spectral_radius: 1.0,
-                newton,
-                ..Default::default()
-            };
-            let mut integ = Integrator::new(&model, settings).unwrap();
-            let mut s = integ
-                .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
-                .unwrap();
+            let (mut integ, mut s) = start(&model, 1e-3, newton);
             for _ in 0..10 {
                 let (next, info) = integ.step(&s, 1e-3).expect("step converges");
                 assert_eq!(info.substeps, 1, "n={n} {newton:?}: step was cut");
@@ -172,17 +168,7 @@ fn parallel_assembly_is_deterministic_with(n: usize, cover: ancf_core::material:
             .build()
             .unwrap();
         pool.install(|| {
-            let settings = DynamicSettings {
-                time_step: 1e-3,
-                end_time: 1.0,
-                spectral_radius: 1.0,
-                newton: NewtonKind::Full,
-                ..Default::default()
-            };
-            let mut integ = Integrator::new(&model, settings).unwrap();
-            let mut s = integ
-                .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
-                .unwrap();
+            let (mut integ, mut s) = start(&model, 1e-3, NewtonKind::Full);
             for _ in 0..5 {
                 s = integ.step(&s, 1e-3).unwrap().0;
             }
@@ -206,17 +192,7 @@ fn parallel_assembly_is_deterministic_with(n: usize, cover: ancf_core::material:
 #[test]
 fn issue7_predictor_follows_the_flipping_stiff_modes() {
     let model = pendulum(1024);
-    let settings = DynamicSettings {
-        time_step: 1e-3,
-        end_time: 1.0,
-        spectral_radius: 1.0,
-        newton: NewtonKind::Modified,
-        ..Default::default()
-    };
-    let mut integ = Integrator::new(&model, settings).unwrap();
-    let mut s = integ
-        .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
-        .unwrap();
+    let (mut integ, mut s) = start(&model, 1e-3, NewtonKind::Modified);
     let mut per_step = Vec::new();
     for _ in 0..12 {
         let (next, info) = integ.step(&s, 1e-3).expect("step converges");
@@ -248,7 +224,7 @@ fn issue7_predictor_follows_the_flipping_stiff_modes() {
 /// step of another size is ignored.
 #[test]
 fn issue7_predictor_is_exact_for_constant_and_stiff_parts() {
-    use ancf_core::dynamics::{PreviousStep, State, predict};
+    use ancf_core::dynamics::{PreviousStep, predict};
     let model = pendulum(4);
     let n = model.reference.len();
     let c: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();

@@ -44,6 +44,11 @@ const PARALLEL_FACTOR_MIN_UNKNOWNS: usize = 5000;
 /// 12 297 unknowns and 1.40–1.49× at 49 161.
 const PARALLEL_SOLVE_MIN_UNKNOWNS: usize = 20_000;
 
+/// Largest half-bandwidth (= separator size) split: the separator's
+/// right-hand side lives on the stack (a wire's is 23; `linear_solver`
+/// takes bands up to 48).
+pub const MAX_SEPARATOR: usize = 64;
+
 /// L of A = L Lᵀ in the separator ordering, with the maps from the sparse
 /// pattern's value slots to both halves, computed once per pattern.
 #[derive(Clone, Debug)]
@@ -65,11 +70,12 @@ pub struct SplitBandCholesky {
 
 impl SplitBandCholesky {
     /// The split structure of a symmetric n × n pattern (compressed sparse
-    /// columns, both triangles) of half-bandwidth `p` ≥ 1, n ≥ 3 p.
+    /// columns, both triangles) of half-bandwidth 1 ≤ `p` ≤ [`MAX_SEPARATOR`],
+    /// n ≥ 3 p.
     pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
         assert!(
-            p >= 1 && n >= 3 * p,
-            "split needs n ≥ 3p (n = {n}, p = {p})"
+            (1..=MAX_SEPARATOR).contains(&p) && n >= 3 * p,
+            "split needs 1 ≤ p ≤ {MAX_SEPARATOR} and n ≥ 3p (n = {n}, p = {p})"
         );
         let s = (n - p) / 2;
         let entries = || {
@@ -151,7 +157,7 @@ impl SplitBandCholesky {
             || bottom.forward(work, nb - p),
         );
         // Separator: L_S L_Sᵀ x_S = b_S − L_ST y_T − L_SB y_B.
-        let mut x_s = [0.0; 64];
+        let mut x_s = [0.0; MAX_SEPARATOR];
         let x_s = &mut x_s[..p];
         for (a, x) in x_s.iter_mut().enumerate() {
             *x = b_top[s + a] + work[nb - 1 - a];

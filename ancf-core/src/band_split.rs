@@ -29,15 +29,14 @@ use crate::band_cholesky::{BandCholesky, NotPositiveDefinite};
 
 /// From this many unknowns on, [`crate::linear_solver`] uses the split
 /// factorization (decided by the size alone, so results never depend on
-/// the thread count): ≈ 170 wire elements.
-pub const SPLIT_MIN_UNKNOWNS: usize = 2000;
-
-/// Factorizations with fewer unknowns than this run both halves on the
-/// calling thread: at 3081 unknowns (256 elements) each half takes
-/// ≈ 150 µs and two threads made the full-Newton step slower (the other
+/// the thread count), and its two halves run on two threads. Below it,
+/// two threads did not pay: at 3081 unknowns (256 elements) each half takes
+/// ≈ 150 µs, and the full-Newton step got slower on 2 threads (the other
 /// thread wakes late and the halves' data must cross cores); from 6000 on
-/// they gained (BENCHMARKS.md, issue 7). Same arithmetic either way.
-const PARALLEL_FACTOR_MIN_UNKNOWNS: usize = 5000;
+/// they gained (BENCHMARKS.md, issue 7). Smaller bands keep the one-piece
+/// [`BandCholesky`], which one thread runs a few per cent faster (no
+/// reversed copy of the bottom half's right-hand side). ≈ 420 wire elements.
+pub const SPLIT_MIN_UNKNOWNS: usize = 5000;
 
 /// The same for solves, which are ≈ 10× cheaper than a factorization:
 /// modified-Newton steps (solves only) on 2 threads were 0.98–1.06× at
@@ -115,11 +114,9 @@ impl SplitBandCholesky {
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), NotPositiveDefinite> {
         let (n, p, s) = (self.n, self.p, self.s);
         let (top, bottom) = (&mut self.top, &mut self.bottom);
-        let (mut t, mut b) = (Ok(()), Ok(()));
-        join(
-            n >= PARALLEL_FACTOR_MIN_UNKNOWNS,
-            || t = top.factorize_columns(values, s),
-            || b = bottom.factorize_columns(values, n - s - p),
+        let (t, b) = rayon::join(
+            || top.factorize_columns(values, s),
+            || bottom.factorize_columns(values, n - s - p),
         );
         t?;
         b.map_err(|e| NotPositiveDefinite { row: n - 1 - e.row })?;

@@ -582,8 +582,15 @@ impl Model {
     /// The element mass matrix is an 8×8 scalar matrix times I₃ (SPEC §1:
     /// S = [s₁I, …, s₈I]), so each element costs 8·8·3 products, not 24².
     pub fn mass_times(&self, x: &[f64]) -> Vec<f64> {
-        let m = &self.element_mass;
         let mut out = vec![0.0; x.len()];
+        self.mass_times_into(x, &mut out);
+        out
+    }
+
+    /// `out` = M x (full coordinates), without allocating.
+    pub fn mass_times_into(&self, x: &[f64], out: &mut [f64]) {
+        let m = &self.element_mass;
+        out.fill(0.0);
         for el in 0..self.n_elements {
             let base = NODE_DOFS * el;
             for i in 0..8 {
@@ -599,7 +606,6 @@ impl Model {
                 }
             }
         }
-        out
     }
 
     /// Gather the unknowns out of a full vector.

@@ -26,6 +26,7 @@
 //! one thread and two give the same bits.
 
 use crate::band_cholesky::{BandCholesky, NotPositiveDefinite};
+use crate::parallel::run_tasks;
 
 /// From this many unknowns on, [`crate::linear_solver`] uses the split
 /// factorization (decided by the size alone, so results never depend on
@@ -114,12 +115,10 @@ impl SplitBandCholesky {
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), NotPositiveDefinite> {
         let (n, p, s) = (self.n, self.p, self.s);
         let (top, bottom) = (&mut self.top, &mut self.bottom);
-        let (t, b) = rayon::join(
-            || top.factorize_columns(values, s),
-            || bottom.factorize_columns(values, n - s - p),
-        );
-        t?;
-        b.map_err(|e| NotPositiveDefinite { row: n - 1 - e.row })?;
+        let halves = vec![(top, s), (bottom, n - s - p)];
+        let done = run_tasks(halves, |(half, m)| half.factorize_columns(values, m));
+        done[0]?;
+        done[1].map_err(|e| NotPositiveDefinite { row: n - 1 - e.row })?;
         // S = A_SS − L_ST L_STᵀ − L_SB L_SBᵀ: the two trailing blocks, the
         // bottom's in reversed order (its local n − s − 1 − a ↔ separator a).
         let sep = &mut self.separator;
@@ -148,10 +147,11 @@ impl SplitBandCholesky {
         work[nb - p..].fill(0.0);
         let (b_top, _) = b.split_at_mut(s + p);
         let parallel = n >= PARALLEL_SOLVE_MIN_UNKNOWNS;
-        join(
+        halves(
             parallel,
-            || top.forward(b_top, s),
-            || bottom.forward(work, nb - p),
+            (top, &mut b_top[..], s),
+            (bottom, &mut work[..], nb - p),
+            |(half, b, m)| half.forward(b, m),
         );
         // Separator: L_S L_Sᵀ x_S = b_S − L_ST y_T − L_SB y_B.
         let mut x_s = [0.0; MAX_SEPARATOR];
@@ -164,10 +164,11 @@ impl SplitBandCholesky {
             b_top[s + a] = x;
             work[nb - 1 - a] = x;
         }
-        join(
+        halves(
             parallel,
-            || top.backward(b_top, s),
-            || bottom.backward(work, nb - p),
+            (top, &mut b_top[..], s),
+            (bottom, &mut work[..], nb - p),
+            |(half, b, m)| half.backward(b, m),
         );
         for (i, &w) in work.iter().enumerate().take(nb - p) {
             b[n - 1 - i] = w;
@@ -175,13 +176,16 @@ impl SplitBandCholesky {
     }
 }
 
-/// Both closures, on two threads when `parallel` (same arithmetic).
-fn join(parallel: bool, a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
+/// A solve pass over both halves: (factor, right-hand side, columns).
+type SolveHalf<'a> = (&'a BandCholesky, &'a mut [f64], usize);
+
+/// `pass` on both halves, on two threads when `parallel` (same arithmetic).
+fn halves(parallel: bool, top: SolveHalf, bottom: SolveHalf, pass: impl Fn(SolveHalf) + Sync) {
     if parallel {
-        rayon::join(a, b);
+        run_tasks(vec![top, bottom], pass);
     } else {
-        a();
-        b();
+        pass(top);
+        pass(bottom);
     }
 }
 

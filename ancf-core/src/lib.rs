@@ -22,6 +22,7 @@ pub mod element;
 pub mod linear_solver;
 pub mod material;
 pub mod model;
+pub mod parallel;
 pub mod preintegration;
 pub mod quadrature;
 pub mod scene;

@@ -198,12 +198,15 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 
 /// Element work (µs) below which the serial loop is used. Inside a Newton
 /// step the other thread has fallen asleep during the serial factorization
-/// and takes tens of µs to wake, and the Jacobian columns it wrote must
-/// travel back to the core that forms the Newton matrix: full-Newton steps
-/// of the SVK pendulum on 2 threads against 1 were 0.91–0.94× at 64
-/// elements (77 µs of element work), 0.97–0.98× at 128, 1.0–1.16× at 256
-/// (BENCHMARKS.md, issue 7). 250 µs: 256 SVK elements with their Jacobian.
-pub const PARALLEL_MIN_WORK_US: f64 = 250.0;
+/// and starts ≈ 40 µs late, and the Jacobian columns it wrote must travel
+/// back to the core that forms the Newton matrix. Full-Newton steps of the
+/// SVK pendulum on 2 threads against 1 (median of 5 pairs, with
+/// [`crate::parallel::run_tasks`]): 1.02× at 64 elements (77 µs of element
+/// work), 1.10× at 128, 1.19× at 256; modified-Newton steps (force only)
+/// 1.02× at 512 elements, 1.06× at 1024. With rayon's own join and a
+/// 250 µs threshold they had been 0.87–1.0× up to 128 elements
+/// (BENCHMARKS.md, issue 7).
+pub const PARALLEL_MIN_WORK_US: f64 = 60.0;
 
 /// Elements per chunk: 8 chunks at 256 elements, so that rayon can balance
 /// two cores, and 1 extra element evaluation in 32 (16 per chunk measured

@@ -30,16 +30,17 @@ use crate::parallel::run_tasks;
 
 /// From this many unknowns on, [`crate::linear_solver`] uses the split
 /// factorization (decided by the size alone, so results never depend on
-/// the thread count), and its two halves run on two threads. Below it,
-/// two threads did not pay: at 3081 unknowns (256 elements) each half takes
-/// ≈ 150 µs, and the full-Newton step got slower on 2 threads (the other
-/// thread wakes late and the halves' data must cross cores); from 6000 on
-/// they gained (BENCHMARKS.md, issue 7). Smaller bands keep the one-piece
-/// [`BandCholesky`], which one thread runs a few per cent faster (no
-/// reversed copy of the bottom half's right-hand side). ≈ 420 wire elements.
-pub const SPLIT_MIN_UNKNOWNS: usize = 5000;
+/// the thread count), and its two halves run on two threads. Full-Newton
+/// steps on 2 threads against 1 at 256 / 384 elements (3081 / 4617
+/// unknowns): 1.18 / 1.19× with the one-piece band, 1.30 / 1.35× split;
+/// one thread showed no cost for the reversed copy of the bottom half's
+/// right-hand side (0.442 vs 0.447 ms per modified-Newton step at 256).
+/// With rayon's own join the split had made 256 elements slower
+/// (BENCHMARKS.md, issue 7). ≈ 170 wire elements.
+pub const SPLIT_MIN_UNKNOWNS: usize = 2000;
 
-/// The same for solves, which are ≈ 10× cheaper than a factorization:
+/// Solves split their halves over two threads only from this many unknowns
+/// (a solve is ≈ 10× cheaper than a factorization):
 /// modified-Newton steps (solves only) on 2 threads were 0.98–1.06× at
 /// 12 297 unknowns and 1.40–1.49× at 49 161.
 const PARALLEL_SOLVE_MIN_UNKNOWNS: usize = 20_000;

@@ -2,7 +2,7 @@
 //! per pattern ([`SparseSolver::new`]); every refactorization is numeric
 //! only. A symmetric matrix tries LLᵀ first — as a band
 //! ([`BandCholesky`]: a wire's pattern is banded, and the band form was
-//! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md; from 5000 unknowns
+//! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md; from 2000 unknowns
 //! on split in two halves for two threads, [`SplitBandCholesky`]) or, for a wider
 //! pattern, faer's sparse LLᵀ. A non-symmetric matrix (friction,
 //! Kelvin–Voigt damping) on a band pattern tries a band LU without pivoting

@@ -58,8 +58,7 @@ impl BandCholesky {
     /// columns, both triangles or the lower one) of half-bandwidth `p`
     /// ([`BandCholesky::bandwidth`]).
     pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
-        let entries = (0..n).flat_map(|c| (col_ptr[c]..col_ptr[c + 1]).map(move |k| (k, c)));
-        Self::from_entries(n, p, entries.map(|(k, c)| (k, row_idx[k], c)))
+        Self::from_entries(n, p, pattern_entries(col_ptr, row_idx))
     }
 
     /// The band structure of an n × n symmetric matrix whose entries are
@@ -72,30 +71,19 @@ impl BandCholesky {
         entries: impl Iterator<Item = (usize, usize, usize)>,
     ) -> Self {
         let w = p + 1;
-        let mut slots = Vec::new();
-        // Last non-zero row of each column, then the envelope: fill stays
-        // below the last non-zero row of the columns to its left.
-        let mut last: Vec<usize> = (0..n).collect();
-        for (k, r, c) in entries {
-            if r >= c {
+        let entries: Vec<(usize, usize, usize)> = entries.collect();
+        let slots = entries
+            .iter()
+            .filter(|&&(_, r, c)| r >= c)
+            .map(|&(k, r, c)| {
                 debug_assert!(r - c <= p, "entry ({r}, {c}) outside the band {p}");
-                slots.push((k, c * w + (r - c)));
-                last[c] = last[c].max(r);
-            } else {
-                last[r] = last[r].max(c);
-            }
-        }
-        let mut reach = 0;
-        let below = (0..n)
-            .map(|j| {
-                reach = reach.max(last[j]);
-                reach - j
+                (k, c * w + (r - c))
             })
             .collect();
         BandCholesky {
             n,
             p,
-            below,
+            below: envelope(n, entries.iter().map(|&(_, r, c)| (r, c))),
             slots,
             l: vec![0.0; n * w],
             inv_diag: vec![0.0; n],
@@ -206,34 +194,33 @@ impl BandCholesky {
     }
 }
 
-/// (pattern value index, band index) for every entry of a compressed-column
-/// pattern that `band_index(row, column)` places in a band storage.
-pub(crate) fn pattern_slots(
-    n: usize,
-    col_ptr: &[usize],
-    row_idx: &[usize],
-    band_index: impl Fn(usize, usize) -> Option<usize>,
-) -> Vec<(usize, usize)> {
-    (0..n)
-        .flat_map(|c| (col_ptr[c]..col_ptr[c + 1]).map(move |idx| (idx, c)))
-        .filter_map(|(idx, c)| band_index(row_idx[idx], c).map(|b| (idx, b)))
-        .collect()
+/// (pattern value index, row, column) of every entry of a compressed-column
+/// pattern, column by column.
+pub(crate) fn pattern_entries<'a>(
+    col_ptr: &'a [usize],
+    row_idx: &'a [usize],
+) -> impl Iterator<Item = (usize, usize, usize)> + 'a {
+    (0..col_ptr.len().saturating_sub(1))
+        .flat_map(move |c| (col_ptr[c]..col_ptr[c + 1]).map(move |k| (k, row_idx[k], c)))
 }
 
-/// For each column j of a symmetric pattern (compressed sparse columns),
-/// how many rows below the diagonal its Cholesky or LU factor can fill: the
-/// last non-zero row of columns 0 … j (fill stays inside that envelope),
-/// minus j.
-pub(crate) fn envelope(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+/// For each column j of an n × n symmetric pattern given by its (row,
+/// column) entries (both triangles or one), how many rows below the
+/// diagonal its Cholesky or LU factor can fill: the last non-zero row of
+/// columns 0 … j (fill stays inside that envelope), minus j.
+pub(crate) fn envelope(n: usize, entries: impl Iterator<Item = (usize, usize)>) -> Vec<usize> {
+    // Last non-zero row of each column; an entry above the diagonal stands
+    // for its mirror image.
+    let mut last: Vec<usize> = (0..n).collect();
+    for (r, c) in entries {
+        let (lo, hi) = (r.min(c), r.max(c));
+        last[lo] = last[lo].max(hi);
+    }
     let mut reach = 0;
-    (0..n)
-        .map(|j| {
-            let last = row_idx[col_ptr[j]..col_ptr[j + 1]]
-                .iter()
-                .copied()
-                .max()
-                .unwrap_or(j);
-            reach = reach.max(last).max(j);
+    last.iter()
+        .enumerate()
+        .map(|(j, &l)| {
+            reach = reach.max(l);
             reach - j
         })
         .collect()
@@ -379,7 +366,8 @@ pub(crate) mod tests {
     fn uses_the_envelope_of_a_block_tridiagonal_matrix() {
         let a = block_tridiagonal(6, 4, true);
         let n = a.n;
-        let below = envelope(n, &a.col_ptr, &a.row_idx);
+        let entries = pattern_entries(&a.col_ptr, &a.row_idx);
+        let below = envelope(n, entries.map(|(_, r, c)| (r, c)));
         assert_eq!(&below[..4], &[7, 6, 5, 4], "rows to the next block's end");
         assert_eq!(below[n - 1], 0);
         assert_eq!(a.bandwidth(), 7);

@@ -13,7 +13,7 @@
 //! `a[i (2p + 1) + (j − i + p)]`; L (unit diagonal, not stored) and U
 //! overwrite A. Row operations are contiguous multiply-adds.
 
-use crate::band_cholesky::{dot, envelope, pattern_slots};
+use crate::band_cholesky::{dot, envelope, pattern_entries};
 
 /// L U of a band matrix with the map from the sparse pattern's value slots
 /// to the band, computed once per pattern.
@@ -46,11 +46,13 @@ impl BandLu {
     /// (compressed sparse columns) and half-bandwidth `p`.
     pub fn new(n: usize, p: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
         let w = 2 * p + 1;
-        let slots = pattern_slots(n, col_ptr, row_idx, |r, c| {
-            assert!(r.abs_diff(c) <= p, "entry ({r}, {c}) outside the band");
-            Some(r * w + (c + p - r))
-        });
-        let below = envelope(n, col_ptr, row_idx);
+        let slots = pattern_entries(col_ptr, row_idx)
+            .map(|(k, r, c)| {
+                assert!(r.abs_diff(c) <= p, "entry ({r}, {c}) outside the band");
+                (k, r * w + (c + p - r))
+            })
+            .collect();
+        let below = envelope(n, pattern_entries(col_ptr, row_idx).map(|(_, r, c)| (r, c)));
         let mut first = vec![0; n];
         let mut j = 0;
         for (i, f) in first.iter_mut().enumerate() {

@@ -25,7 +25,7 @@
 //! The arithmetic does not depend on whether the halves run in parallel:
 //! one thread and two give the same bits.
 
-use crate::band_cholesky::{BandCholesky, NotPositiveDefinite};
+use crate::band_cholesky::{BandCholesky, NotPositiveDefinite, pattern_entries};
 use crate::parallel::run_tasks;
 
 /// From this many unknowns on, [`crate::linear_solver`] uses the split
@@ -79,9 +79,7 @@ impl SplitBandCholesky {
             "split needs 1 ≤ p ≤ {MAX_SEPARATOR} and n ≥ 3p (n = {n}, p = {p})"
         );
         let s = (n - p) / 2;
-        let entries = || {
-            (0..n).flat_map(move |c| (col_ptr[c]..col_ptr[c + 1]).map(move |k| (k, row_idx[k], c)))
-        };
+        let entries = || pattern_entries(col_ptr, row_idx);
         let in_separator = |i: usize| (s..s + p).contains(&i);
         let top = BandCholesky::from_entries(
             s + p,

@@ -62,6 +62,16 @@ pub struct AlphaParameters {
 }
 
 impl AlphaParameters {
+    /// Coordinate c of q₁ and v₁ for a step of size h from `s` that ends
+    /// with acceleration a₁ (Newmark's update, SPEC §6).
+    #[inline]
+    fn newmark(&self, s: &State, h: f64, a1: &[f64], c: usize) -> (f64, f64) {
+        let (beta, gamma) = (self.beta, self.gamma);
+        let q1 = s.q[c] + h * s.v[c] + h * h * ((0.5 - beta) * s.a[c] + beta * a1[c]);
+        let v1 = s.v[c] + h * ((1.0 - gamma) * s.a[c] + gamma * a1[c]);
+        (q1, v1)
+    }
+
     pub fn new(rho_inf: f64) -> Self {
         let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
         let alpha_f = rho_inf / (rho_inf + 1.0);
@@ -224,9 +234,12 @@ struct Workspace {
 }
 
 impl Workspace {
-    fn resize(&mut self, n: usize) {
-        for v in [&mut self.qm, &mut self.vm, &mut self.am, &mut self.ma] {
-            v.resize(n, 0.0);
+    fn new(n: usize) -> Self {
+        Workspace {
+            qm: vec![0.0; n],
+            vm: vec![0.0; n],
+            am: vec![0.0; n],
+            ma: vec![0.0; n],
         }
     }
 }
@@ -290,7 +303,7 @@ impl<'m> Integrator<'m> {
             kq: pattern.zeros(),
             kv: pattern.zeros(),
             newton_matrix: pattern.zeros(),
-            work: Workspace::default(),
+            work: Workspace::new(model.reference.len()),
             pattern,
         })
     }
@@ -455,9 +468,9 @@ impl<'m> Integrator<'m> {
         }
     }
 
-    /// Residual R(a₁) on the unknowns at the generalized-α midpoint, with
-    /// the step's q₁, v₁; when `jac` is given, also −∂Q/∂q (elastic and
-    /// contact) into `jac.0` and −∂Q_c/∂v (friction) into `jac.1`.
+    /// Residual R(a₁) on the unknowns at the generalized-α midpoint, and its
+    /// scale; when `jac` is given, also −∂Q/∂q (elastic and contact) into
+    /// `jac.0` and −∂Q_c/∂v (friction) into `jac.1`.
     fn residual(
         &mut self,
         s: &State,
@@ -466,22 +479,15 @@ impl<'m> Integrator<'m> {
         jac: Option<(&mut [f64], &mut [f64])>,
         info: &mut StepInfo,
     ) -> (Vec<f64>, f64) {
-        let AlphaParameters {
-            alpha_m,
-            alpha_f,
-            beta,
-            gamma,
-        } = self.params;
+        let params = self.params;
+        let (alpha_m, alpha_f) = (params.alpha_m, params.alpha_f);
         let model = self.model;
-        let n = s.q.len();
         // Midpoint vectors in workspaces allocated once (at 4096 elements
         // each is 390 KB; allocating six of them per residual showed up as
-        // page clearing in perf). q₁ and v₁ as in `end_of_step`.
+        // page clearing in perf).
         let mut w = std::mem::take(&mut self.work);
-        w.resize(n);
-        for c in 0..n {
-            let q1 = s.q[c] + h * s.v[c] + h * h * ((0.5 - beta) * s.a[c] + beta * a1[c]);
-            let v1 = s.v[c] + h * ((1.0 - gamma) * s.a[c] + gamma * a1[c]);
+        for c in 0..s.q.len() {
+            let (q1, v1) = params.newmark(s, h, a1, c);
             w.qm[c] = (1.0 - alpha_f) * q1 + alpha_f * s.q[c];
             w.vm[c] = (1.0 - alpha_f) * v1 + alpha_f * s.v[c];
             w.am[c] = (1.0 - alpha_m) * a1[c] + alpha_m * s.a[c];
@@ -524,19 +530,6 @@ impl<'m> Integrator<'m> {
         }
         self.work = w;
         (r, scale)
-    }
-
-    /// q₁ and v₁ of a step of size h that ends with acceleration a₁
-    /// (Newmark's update, SPEC §6).
-    fn end_of_step(&self, s: &State, h: f64, a1: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        let AlphaParameters { beta, gamma, .. } = self.params;
-        let n = s.q.len();
-        let (mut q1, mut v1) = (vec![0.0; n], vec![0.0; n]);
-        for c in 0..n {
-            q1[c] = s.q[c] + h * s.v[c] + h * h * ((0.5 - beta) * s.a[c] + beta * a1[c]);
-            v1[c] = s.v[c] + h * ((1.0 - gamma) * s.a[c] + gamma * a1[c]);
-        }
-        (q1, v1)
     }
 
     /// Damping force on the unknowns at (q, v) and its power (W); adds
@@ -671,7 +664,9 @@ impl<'m> Integrator<'m> {
                 }
                 let dissipated =
                     s.dissipated + h * (info.contact.friction_power + info.damping_power);
-                let (q1, v1) = self.end_of_step(s, h, &a1);
+                let (q1, v1) = (0..s.q.len())
+                    .map(|c| self.params.newmark(s, h, &a1, c))
+                    .unzip();
                 return Ok(State {
                     time: s.time + h,
                     q: q1,

@@ -133,14 +133,9 @@ impl Pattern {
         }
     }
 
-    /// Add an element matrix (row-major 24×24) of element `el`, times `scale`.
-    pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576], scale: f64) {
-        let slots = &self.slots[el * 576..(el + 1) * 576];
-        for (s, v) in slots.iter().zip(m.iter()) {
-            if *s != NO_SLOT {
-                values[*s as usize] += scale * v;
-            }
-        }
+    /// Add an element matrix (row-major 24×24) of element `el`.
+    pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576]) {
+        self.add_element_columns(values, 0, el, m, 0..24);
     }
 }
 
@@ -414,7 +409,7 @@ fn windows_mut<T>(mut data: &mut [T], ranges: impl Iterator<Item = Range<usize>>
 pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
     let mut v = pattern.zeros();
     for el in 0..model.n_elements {
-        pattern.add_element(&mut v, el, &model.element_mass, 1.0);
+        pattern.add_element(&mut v, el, &model.element_mass);
     }
     v
 }
@@ -484,10 +479,10 @@ pub fn assemble_contact(
                 out.force[base + i] += qe[i];
             }
             if let Some(values) = jac_q.as_deref_mut() {
-                pattern.add_element(values, el, &kq, 1.0);
+                pattern.add_element(values, el, &kq);
             }
             if let Some(values) = jac_v.as_deref_mut() {
-                pattern.add_element(values, el, &kv, 1.0);
+                pattern.add_element(values, el, &kv);
             }
             kq.fill(0.0);
             kv.fill(0.0);

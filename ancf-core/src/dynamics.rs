@@ -578,10 +578,10 @@ impl<'m> Integrator<'m> {
                         full[NODE_DOFS * el + i] += qe[i];
                     }
                     if let Some(k) = kq.as_deref_mut() {
-                        self.pattern.add_element(k, el, &mq, 1.0);
+                        self.pattern.add_element(k, el, &mq);
                     }
                     if let Some(k) = kv.as_deref_mut() {
-                        self.pattern.add_element(k, el, &mv, 1.0);
+                        self.pattern.add_element(k, el, &mv);
                     }
                 }
                 (model.gather(&full), power)

@@ -328,6 +328,14 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
     })
 }
 
+/// The keys of a map keyed by element count, in numeric order (the map
+/// orders them as strings).
+fn by_element_count<V>(map: &BTreeMap<String, V>) -> Vec<&String> {
+    let mut sizes: Vec<&String> = map.keys().collect();
+    sizes.sort_by_key(|n| n.parse::<usize>().unwrap_or(0));
+    sizes
+}
+
 /// The report as a table.
 pub fn table(r: &BenchReport) -> String {
     let mut s = String::new();
@@ -346,15 +354,13 @@ pub fn table(r: &BenchReport) -> String {
     );
     s += "Pendulum time step (single thread, ms per step)\n";
     s += "  elements   full Newton   modified Newton\n";
-    let mut sizes: Vec<&String> = r.step_ms_full_newton.keys().collect();
-    sizes.sort_by_key(|n| n.parse::<usize>().unwrap_or(0));
+    let sizes = by_element_count(&r.step_ms_full_newton);
     for n in sizes {
         let full = r.step_ms_full_newton[n];
         s += &format!("  {:>8}   {:>11.3}   {:>15.3}\n", n, full, r.step_ms[n]);
     }
     s += "Parallel speed-up, 1 → 2 threads\n";
-    let mut sizes: Vec<&String> = r.parallel_assembly_speedup.keys().collect();
-    sizes.sort_by_key(|n| n.parse::<usize>().unwrap_or(0));
+    let sizes = by_element_count(&r.parallel_assembly_speedup);
     s += "  elements   assembly (force + Jacobian)   full-Newton step   modified-Newton step\n";
     for n in sizes {
         let (full, modified) = r.parallel_step_speedup[n];

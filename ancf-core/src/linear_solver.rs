@@ -146,12 +146,7 @@ impl SparseSolver {
                 sym.row_idx(),
             )))
         } else if p <= MAX_BAND {
-            Cholesky::Band(BandCholesky::new(
-                sym.nrows(),
-                p,
-                sym.col_ptr(),
-                sym.row_idx(),
-            ))
+            Cholesky::Band(BandCholesky::new(n, p, sym.col_ptr(), sym.row_idx()))
         } else {
             Cholesky::Sparse(Box::new(SparseLlt::new(pattern)?))
         };

@@ -45,12 +45,16 @@ pub struct ContactSummary {
 /// One rod's load: what a frame designer needs.
 #[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 pub struct RodSummary {
-    /// Peak normal force, N.
-    pub peak_force: f64,
-    /// Time of the peak, s.
-    pub peak_time: f64,
-    /// ∫ normal force dt, N s.
-    pub impulse: f64,
+    /// Contact law: "line", "hertz" or "surface".
+    pub law: String,
+    /// Penalty stiffness used (hertz: derived from the materials).
+    pub contact_stiffness: f64,
+    /// Its unit: "N/m^2" (line, hertz) or "N/m^3" (surface).
+    pub stiffness_unit: String,
+    /// Peaks (raw and CFC-filtered), impulse, contact duration; for a
+    /// static run the final force is the peak.
+    #[serde(flatten)]
+    pub load: ancf_core::rod_load::RodLoad,
 }
 
 /// `summary.json`.

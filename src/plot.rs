@@ -49,11 +49,14 @@ fn tick_label(v: &f64, lo: f64, hi: f64) -> String {
 }
 
 /// One chart of a multi-panel figure.
+#[derive(Default)]
 pub struct Panel<'a> {
     pub title: &'a str,
     pub x_label: &'a str,
     pub y_label: &'a str,
     pub series: Vec<Series<'a>>,
+    /// Points marked with a circle and a label (e.g. a peak).
+    pub marks: Vec<(f64, f64, String)>,
 }
 
 fn bounds(series: &[Series]) -> Option<(f64, f64, f64, f64)> {
@@ -106,6 +109,7 @@ pub fn line_plot(
                 points: s.points.clone(),
             })
             .collect(),
+        ..Default::default()
     };
     if !draw_panel(&root, &panel, 1.25).map_err(e)? {
         return Err(format!("{}: nothing to plot", path.display()));
@@ -150,6 +154,18 @@ fn draw_panel<DB: DrawingBackend>(
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
             });
+    }
+    for (x, y, label) in &p.marks {
+        chart.draw_series(std::iter::once(Circle::new(
+            (*x, *y),
+            size(6.0),
+            BLACK.stroke_width(2),
+        )))?;
+        chart.draw_series(std::iter::once(Text::new(
+            label.clone(),
+            (*x, *y),
+            ("sans-serif", size(13.0)).into_font().color(&BLACK),
+        )))?;
     }
     if p.series.len() > 1 {
         chart

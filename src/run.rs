@@ -11,6 +11,7 @@ use crate::vtk::VtkWriter;
 use ancf_core::dynamics::{Energies, Integrator, State};
 use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
 use ancf_core::model::{Effect, Model};
+use ancf_core::rod_load::{LoadHistory, RodLoad};
 use ancf_core::scene::{Analysis, Scene};
 use ancf_core::statics::{StaticSettings, solve_static};
 use std::io::IsTerminal;
@@ -100,6 +101,7 @@ pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
                     );
                     summary.steps = res.iterations.len();
                     summary.newton_iterations = res.iterations.iter().sum();
+                    summary.contact = static_contact(model, &res.q);
                     res.q
                 }
                 Err(e) => {
@@ -167,8 +169,6 @@ struct History {
     contact_point: Vec<[f64; 5]>,
     /// Centerline shapes (time, x–z points) at a few instants.
     shapes: Vec<(f64, Vec<(f64, f64)>)>,
-    /// Time and each rod's normal force, N.
-    rod_forces: Vec<Vec<f64>>,
 }
 
 /// Centerline in the x–z plane, 8 points per element.
@@ -197,17 +197,6 @@ fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 
     (p, [eps[0], eps[1], eps[2]])
 }
 
-/// Per-rod statistics (issue 8): peak normal force, its time, impulse.
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
-struct RodStats {
-    peak_force: f64,
-    peak_time: f64,
-    impulse: f64,
-    /// Largest force since the last written row (impacts last about a
-    /// millisecond: a sampled value would miss them).
-    since_row: f64,
-}
-
 /// Everything a dynamic run accumulates: what a checkpoint saves and a
 /// resumed run starts from.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -222,7 +211,9 @@ struct Progress {
     released: usize,
     message: String,
     contact: Option<ContactSummary>,
-    rod_stats: Vec<RodStats>,
+    /// The force on each rod at every step (impacts last about a
+    /// millisecond: values sampled at output rows would miss them).
+    rod_loads: Vec<LoadHistory>,
     first_point: Option<ContactPoint>,
     history: History,
     max_drift: f64,
@@ -280,7 +271,6 @@ pub fn resume(dir: &Path, quiet: bool) -> Result<Summary, String> {
     };
     let t = ck.progress.state.time;
     truncate_csv(&dir.join("timeseries.csv"), t)?;
-    truncate_csv(&dir.join("rod_forces.csv"), t)?;
     let opts = RunOptions {
         out: dir.to_path_buf(),
         quiet,
@@ -348,18 +338,6 @@ fn run_dynamic(
         TimeSeries::create(out, contact.is_some())
     }
     .map_err(|e| io_err(out, e))?;
-    let mut rod_csv = if n_rods > 0 {
-        let header: Vec<String> = (0..n_rods).map(|i| format!("rod{i}_force")).collect();
-        let path = out.join("rod_forces.csv");
-        let table = if resuming {
-            crate::output::Table::append(&path)
-        } else {
-            crate::output::Table::create(&path, &format!("time,{}", header.join(",")))
-        };
-        Some(table.map_err(|e| io_err(out, e))?)
-    } else {
-        None
-    };
     // Phases: the model with the supports still holding, between release times.
     let releases: Vec<f64> = model
         .release_times()
@@ -495,7 +473,7 @@ fn run_dynamic(
                 released: 0,
                 message,
                 contact: contact.map(|_| ContactSummary::default()),
-                rod_stats: vec![RodStats::default(); n_rods],
+                rod_loads: vec![LoadHistory::default(); n_rods],
                 first_point: None,
                 history,
                 max_drift: 0.0,
@@ -565,29 +543,23 @@ fn run_dynamic(
                 p.k = k;
                 p.newton_iterations += info.iterations;
                 p.factorizations += info.factorizations;
-                if let (Some(cs), Some(c)) = (p.contact.as_mut(), contact) {
+                if let Some(cs) = p.contact.as_mut() {
                     let sample = &info.contact;
                     if sample.active > 0 && cs.first_time.is_none() {
                         cs.first_time = Some(p.state.time);
                         if let Some((el, dp)) = info.deepest {
-                            let tp = &c.points[dp.point];
                             p.first_point = Some(ContactPoint {
                                 element: el,
-                                xi: tp.xi,
-                                y: tp.y,
-                                z: tp.z,
+                                xi: dp.xi,
+                                y: dp.y,
+                                z: dp.z,
                             });
                         }
                     }
                     cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
                     cs.max_penetration = cs.max_penetration.max(sample.max_penetration);
-                    for (r, f) in p.rod_stats.iter_mut().zip(&info.rod_forces) {
-                        r.impulse += f * hk;
-                        r.since_row = r.since_row.max(*f);
-                        if *f > r.peak_force {
-                            r.peak_force = *f;
-                            r.peak_time = p.state.time;
-                        }
+                    for (r, f) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
+                        r.push(p.state.time, *f);
                     }
                 }
                 if k % scene.output.every == 0 || k == n_steps {
@@ -615,14 +587,6 @@ fn run_dynamic(
                         contact.map(|_| &info.contact),
                     )
                     .map_err(|e| io_err(out, e))?;
-                    if let Some(t) = rod_csv.as_mut() {
-                        let mut row = vec![p.state.time];
-                        for r in p.rod_stats.iter_mut() {
-                            row.push(std::mem::take(&mut r.since_row));
-                        }
-                        t.row(&row).map_err(|e| io_err(out, e))?;
-                        p.history.rod_forces.push(row);
-                    }
                     if let Some(cp) = &p.first_point {
                         let (pos, strains) = point_state(model, &p.state.q, cp);
                         let (p0, _) = point_state(model, &model.reference, cp);
@@ -683,16 +647,18 @@ fn run_dynamic(
         total: p.last.total(),
         max_drift: p.max_drift,
     });
-    if let Some(cs) = p.contact.as_mut() {
-        cs.rods = p
-            .rod_stats
+    if let (Some(cs), Some(c)) = (p.contact.as_mut(), contact) {
+        let cfc = scene.output.cfc;
+        cs.rods = c
+            .rods
             .iter()
-            .map(|r| crate::output::RodSummary {
-                peak_force: r.peak_force,
-                peak_time: r.peak_time,
-                impulse: r.impulse,
-            })
+            .zip(&p.rod_loads)
+            .map(|(rod, h)| rod_summary(rod, h.summary(cfc)))
             .collect();
+        write_rod_forces(out, &p.rod_loads, cfc).map_err(|e| io_err(out, e))?;
+        if scene.output.plots {
+            plot_rod_forces(out, &p.rod_loads, &cs.rods)?;
+        }
     }
     summary.contact = p.contact.clone();
     if scene.output.plots {
@@ -781,26 +747,6 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
         })
         .unwrap_or_default();
     configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
-    if let Some(first) = h.rod_forces.first()
-        && first.len() > 2
-    {
-        let labels: Vec<String> = (1..first.len()).map(|i| format!("rod {}", i - 1)).collect();
-        let series: Vec<Series> = labels
-            .iter()
-            .enumerate()
-            .map(|(i, l)| Series {
-                label: l,
-                points: h.rod_forces.iter().map(|r| (r[0], r[i + 1])).collect(),
-            })
-            .collect();
-        line_plot(
-            &out.join("rod_forces.png"),
-            "Normal force on each rod (maximum over each output interval)",
-            "time t (s)",
-            "normal force (N)",
-            &series,
-        )?;
-    }
     if !h.contact_point.is_empty() {
         let col = |i: usize| {
             h.contact_point
@@ -821,6 +767,7 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
                         label: "Δz",
                         points: col(1),
                     }],
+                    ..Default::default()
                 },
                 Panel {
                     title: "Normal strain E_xx",
@@ -830,6 +777,7 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
                         label: "E_xx",
                         points: col(2),
                     }],
+                    ..Default::default()
                 },
                 Panel {
                     title: "Normal strain E_yy",
@@ -839,6 +787,7 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
                         label: "E_yy",
                         points: col(3),
                     }],
+                    ..Default::default()
                 },
                 Panel {
                     title: "Normal strain E_zz",
@@ -848,9 +797,155 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
                         label: "E_zz",
                         points: col(4),
                     }],
+                    ..Default::default()
                 },
             ],
         )?;
     }
     Ok(())
+}
+
+/// A rod's entry in the summary: its law and stiffness, and its load.
+fn rod_summary(rod: &ancf_core::contact::Rod, load: RodLoad) -> crate::output::RodSummary {
+    crate::output::RodSummary {
+        law: rod.law.name().into(),
+        contact_stiffness: rod.contact_stiffness,
+        stiffness_unit: rod.law.stiffness_unit().into(),
+        load,
+    }
+}
+
+/// `rod_forces.csv`: every step's force on each rod, |F| raw and CFC
+/// filtered (interpolated from the filter's grid to the step times), and
+/// the components.
+fn write_rod_forces(out: &Path, loads: &[LoadHistory], cfc: f64) -> std::io::Result<()> {
+    let mut s = String::from("time");
+    for i in 0..loads.len() {
+        s += &format!(",rod{i}_force,rod{i}_filtered,rod{i}_fx,rod{i}_fy,rod{i}_fz");
+    }
+    s.push('\n');
+    let filtered: Vec<Vec<f64>> = loads
+        .iter()
+        .map(|h| {
+            let (grid, mags) = h.filtered(cfc);
+            h.time
+                .iter()
+                .map(|t| interpolate(&grid, &mags, *t))
+                .collect()
+        })
+        .collect();
+    let steps = loads.first().map_or(0, |h| h.time.len());
+    for k in 0..steps {
+        s += &format!("{:.9e}", loads[0].time[k]);
+        for (h, f) in loads.iter().zip(&filtered) {
+            let v = h.force[k];
+            let mag = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            s += &format!(
+                ",{mag:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+                f[k], v[0], v[1], v[2]
+            );
+        }
+        s.push('\n');
+    }
+    std::fs::write(out.join("rod_forces.csv"), s)
+}
+
+/// Linear interpolation of (xs, ys) at x (xs increasing).
+fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let k = xs.partition_point(|&v| v <= x);
+    match k {
+        0 => ys.first().copied().unwrap_or(0.0),
+        k if k >= xs.len() => ys.last().copied().unwrap_or(0.0),
+        k => {
+            let s = (x - xs[k - 1]) / (xs[k] - xs[k - 1]);
+            (1.0 - s) * ys[k - 1] + s * ys[k]
+        }
+    }
+}
+
+/// `rod_forces.png`: per rod, the raw and the filtered force with both peaks marked.
+fn plot_rod_forces(
+    out: &Path,
+    loads: &[LoadHistory],
+    rods: &[crate::output::RodSummary],
+) -> Result<(), String> {
+    let titles: Vec<String> = (0..loads.len())
+        .map(|i| format!("Force on rod {i} (CFC {:.0})", rods[i].load.cfc))
+        .collect();
+    let panels: Vec<Panel> = loads
+        .iter()
+        .zip(rods)
+        .zip(&titles)
+        .map(|((h, r), title)| {
+            let raw = h
+                .time
+                .iter()
+                .zip(&h.force)
+                .map(|(t, v)| (*t, (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()))
+                .collect();
+            let (grid, mags) = h.filtered(r.load.cfc);
+            Panel {
+                title,
+                x_label: "time t (s)",
+                y_label: "force (N)",
+                series: vec![
+                    Series {
+                        label: "raw (every step)",
+                        points: raw,
+                    },
+                    Series {
+                        label: "CFC filtered",
+                        points: grid.into_iter().zip(mags).collect(),
+                    },
+                ],
+                marks: vec![
+                    (
+                        r.load.peak_time,
+                        r.load.peak_force,
+                        format!(" raw peak {:.0} N", r.load.peak_force),
+                    ),
+                    (
+                        r.load.filtered_peak_time,
+                        r.load.filtered_peak_force,
+                        format!(" filtered {:.0} N", r.load.filtered_peak_force),
+                    ),
+                ],
+            }
+        })
+        .collect();
+    if panels.iter().all(|p| p.series[0].points.is_empty()) {
+        return Ok(());
+    }
+    panels_plot(&out.join("rod_forces.png"), panels.len(), 1, &panels)
+}
+
+/// Contact in a static equilibrium: each rod's final force is its peak
+/// (no impulse, no duration, nothing to filter).
+fn static_contact(model: &Model, q: &[f64]) -> Option<ContactSummary> {
+    let c = model.contact()?;
+    let pattern = ancf_core::assembly::Pattern::new(model);
+    let v = vec![0.0; q.len()];
+    let cf = ancf_core::assembly::assemble_contact(model, c, &pattern, q, &v, None, None);
+    let rods = c
+        .rods
+        .iter()
+        .zip(&cf.rod_forces)
+        .map(|(rod, f)| {
+            let force = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            rod_summary(
+                rod,
+                RodLoad {
+                    peak_force: force,
+                    filtered_peak_force: force,
+                    ..Default::default()
+                },
+            )
+        })
+        .collect();
+    Some(ContactSummary {
+        first_time: (cf.total.active > 0).then_some(0.0),
+        max_normal_force: cf.total.normal_force,
+        max_penetration: cf.total.max_penetration,
+        rods,
+    })
 }

@@ -291,7 +291,7 @@ fn cli_refuses_bad_scenes_without_leaving_output() {
 /// station spacing is refused, naming the field and the stations needed.
 #[test]
 fn issue8_rod_thinner_than_station_spacing_is_refused() {
-    let rod = "\n[[rod]]\ncenter = [0.5, 0.0, -0.3]\naxis = [0.0, 1.0, 0.0]\nradius = 0.01\ncontact_stiffness = 1e10\n";
+    let rod = "\n[[rod]]\ncenter = [0.5, 0.0, -0.3]\naxis = [0.0, 1.0, 0.0]\nradius = 0.01\ncontact_law = \"surface\"\ncontact_stiffness = 1e10\n";
     let err = Scene::from_toml(&(BASE.to_string() + rod)).expect_err("refused");
     assert_eq!(err.field, "contact.stations");
     assert!(err.message.contains("use stations = "), "{}", err.message);

@@ -421,9 +421,10 @@ pub struct ContactForces {
     pub force: Vec<f64>,
     /// Summed over rods.
     pub total: crate::contact::ContactSample,
-    /// Normal force on each rod (N), in the scene's rod order.
-    pub rod_forces: Vec<f64>,
-    /// Deepest penetrating test point: (element, point).
+    /// Resultant contact force (normal + friction) the wire puts on each
+    /// rod (N), in the scene's rod order.
+    pub rod_forces: Vec<[f64; 3]>,
+    /// Deepest penetrating point: (element, point).
     pub deepest: Option<(usize, crate::contact::DeepestPoint)>,
 }
 
@@ -440,7 +441,7 @@ pub fn assemble_contact(
 ) -> ContactForces {
     let mut out = ContactForces {
         force: vec![0.0; q.len()],
-        rod_forces: vec![0.0; contact.rods.len()],
+        rod_forces: vec![[0.0; 3]; contact.rods.len()],
         ..Default::default()
     };
     let mut kq = [0.0; 576];
@@ -466,13 +467,16 @@ pub fn assemble_contact(
                 continue;
             }
             out.total.accumulate(&sample);
-            out.rod_forces[ri] += sample.normal_force;
+            for c in 0..3 {
+                // The rod carries the opposite of the force on the wire.
+                out.rod_forces[ri][c] -= sample.force[c];
+            }
             if let Some(dp) = dp
                 && out
                     .deepest
                     .is_none_or(|(_, d)| dp.penetration > d.penetration)
             {
-                out.deepest = Some((el, crate::contact::DeepestPoint { rod: ri, ..dp }));
+                out.deepest = Some((el, dp));
             }
             let base = NODE_DOFS * el;
             for i in 0..24 {

@@ -175,10 +175,10 @@ pub struct StepInfo {
     pub substeps: usize,
     /// Contact at the step's generalized-α midpoint (last sub-step).
     pub contact: ContactSample,
-    /// Deepest penetrating test point: (element, point).
+    /// Deepest penetrating point: (element, point).
     pub deepest: Option<(usize, DeepestPoint)>,
-    /// Normal force on each rod (N) at the step's midpoint.
-    pub rod_forces: Vec<f64>,
+    /// Force on each rod (normal + friction, N) at the step's midpoint.
+    pub rod_forces: Vec<[f64; 3]>,
     /// Power dissipated by damping (W) at the step's midpoint.
     pub damping_power: f64,
 }

@@ -269,6 +269,20 @@ pub struct LayerLaws {
 }
 
 impl MaterialModel {
+    /// Small-strain Young's modulus (Pa) and Poisson's ratio, for contact
+    /// stiffness: SVK as given; Mooney–Rivlin E = 6 (μ10 + μ01), ν = 0.5
+    /// (shear modulus 2 (μ10 + μ01), incompressible).
+    pub fn elastic_constants(&self) -> (f64, f64) {
+        match *self {
+            MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                ..
+            } => (youngs_modulus, poisson_ratio),
+            MaterialModel::MooneyRivlin { mu10, mu01, .. } => (6.0 * (mu10 + mu01), 0.5),
+        }
+    }
+
     /// Section and centerline laws of a layer. Weakened bending (SPEC
     /// §3.1): the axial term ½ D₁₁ E_xx² of the section law is kept with
     /// weight ω, and (1 − ω) of it moves to the centerline. The locking

@@ -177,7 +177,9 @@ pub struct RodSpec {
     pub axis: [f64; 3],
     pub radius: f64,
     pub length: Option<f64>,
-    pub contact_stiffness: f64,
+    pub contact_law: Option<String>,
+    pub contact_stiffness: Option<f64>,
+    pub material: Option<String>,
     pub friction: Option<f64>,
 }
 
@@ -187,6 +189,7 @@ pub struct ContactSpec {
     pub max_penetration: Option<f64>,
     pub stations: Option<usize>,
     pub angles: Option<usize>,
+    pub zone_points: Option<usize>,
     pub slip_velocity: Option<f64>,
 }
 
@@ -197,6 +200,7 @@ pub struct OutputSpec {
     pub checkpoint_every: Option<usize>,
     pub vtk: Option<bool>,
     pub plots: Option<bool>,
+    pub cfc: Option<f64>,
 }
 
 /// The scene file as written.
@@ -265,6 +269,8 @@ pub struct OutputSettings {
     pub checkpoint_every: usize,
     pub vtk: bool,
     pub plots: bool,
+    /// Channel frequency class of the filtered rod forces, Hz (SAE J211).
+    pub cfc: f64,
 }
 
 /// A validated scene, ready to run.
@@ -410,7 +416,7 @@ impl Scene {
                 format!("must be 1..=16, got {section_order}"),
             ));
         }
-        let section = match (&w.layers, &w.rectangle) {
+        let (section, outer_material) = match (&w.layers, &w.rectangle) {
             (Some(_), Some(_)) => {
                 return Err(err("wire", "give either `layers` or `rectangle`, not both"));
             }
@@ -444,16 +450,16 @@ impl Scene {
                     ));
                     inner = r;
                 }
-                Section::circular(&out, section_order)
+                let outer = out.last().expect("at least one layer").2.clone();
+                (Section::circular(&out, section_order), outer)
             }
             (None, Some(r)) => {
                 let width = positive("wire.rectangle.width", r.width)?;
                 let height = positive("wire.rectangle.height", r.height)?;
-                Section::rectangular(
-                    width,
-                    height,
-                    find("wire.rectangle.material", &r.material)?,
-                    section_order,
+                let material = find("wire.rectangle.material", &r.material)?;
+                (
+                    Section::rectangular(width, height, material.clone(), section_order),
+                    material,
                 )
             }
         };
@@ -621,6 +627,7 @@ impl Scene {
                     checkpoint_every: o.checkpoint_every.unwrap_or(defaults::CHECKPOINT_EVERY),
                     vtk: o.vtk.unwrap_or(true),
                     plots: o.plots.unwrap_or(true),
+                    cfc: positive("output.cfc", o.cfc.unwrap_or(crate::rod_load::DEFAULT_CFC))?,
                 }
             }
             None => OutputSettings {
@@ -628,12 +635,20 @@ impl Scene {
                 checkpoint_every: defaults::CHECKPOINT_EVERY,
                 vtk: true,
                 plots: true,
+                cfc: crate::rod_load::DEFAULT_CFC,
             },
         };
 
         let element = ElementIntegration::new(length / w.elements as f64, axial, section);
-        let (rods, contact_settings) =
-            validate_rods(&f.rod, f.contact.as_ref(), length / w.elements as f64)?;
+        let wire_radius = element.section.outer_radius();
+        let (rods, contact_settings) = validate_rods(
+            &f.rod,
+            f.contact.as_ref(),
+            length / w.elements as f64,
+            wire_radius,
+            &outer_material,
+            &find,
+        )?;
         let damping = validate_damping(f.damping.as_ref())?;
         if let Some(i) = supports.iter().position(|s| s.release_time.is_some())
             && a.kind == AnalysisKind::Static
@@ -750,7 +765,11 @@ fn validate_rods(
     specs: &[RodSpec],
     contact: Option<&ContactSpec>,
     element_length: f64,
+    wire_radius: f64,
+    wire_material: &Material,
+    find: &dyn Fn(&str, &str) -> Result<Material, SceneError>,
 ) -> Result<(Vec<crate::contact::Rod>, crate::contact::ContactSettings), SceneError> {
+    use crate::contact::ContactLaw;
     let mut rods = Vec::new();
     for (i, r) in specs.iter().enumerate() {
         let at = |k: &str| format!("rod[{i}].{k}");
@@ -765,7 +784,72 @@ fn validate_rods(
             Some(l) => Some(positive(&at("length"), l)?),
             None => None,
         };
-        let contact_stiffness = positive(&at("contact_stiffness"), r.contact_stiffness)?;
+        let law = match r.contact_law.as_deref() {
+            Some("line") => ContactLaw::Line,
+            Some("hertz") => ContactLaw::Hertz,
+            Some("surface") => ContactLaw::Surface,
+            Some(other) => {
+                return Err(err(
+                    at("contact_law"),
+                    format!("unknown law \"{other}\" (use \"line\", \"hertz\" or \"surface\")"),
+                ));
+            }
+            // contact_stiffness was ε_N in N/m³ (surface test points) before
+            // the line law became the default; its unit now depends on the
+            // law, so a stiffness without a law is refused, not reinterpreted.
+            None if r.contact_stiffness.is_some() => {
+                return Err(err(
+                    at("contact_law"),
+                    "missing: contact_stiffness is in N/m² for contact_law = \"line\" (the default) and \
+                     in N/m³ for \"surface\" (the paper's test points, the meaning in scenes written \
+                     before the line law); name the law",
+                ));
+            }
+            None => ContactLaw::Line,
+        };
+        let contact_stiffness = match (law, r.contact_stiffness, &r.material) {
+            (ContactLaw::Hertz, Some(_), _) => {
+                return Err(err(
+                    at("contact_stiffness"),
+                    "not used by contact_law = \"hertz\" (the stiffness follows from the materials)",
+                ));
+            }
+            (ContactLaw::Hertz, None, None) => {
+                return Err(err(
+                    at("material"),
+                    "missing: contact_law = \"hertz\" needs the rod's material (E and ν)",
+                ));
+            }
+            (ContactLaw::Hertz, None, Some(name)) => {
+                let rod_material = find(&at("material"), name)?;
+                crate::contact::hertz_line_stiffness(
+                    rod_material.model.elastic_constants(),
+                    wire_material.model.elastic_constants(),
+                    wire_radius,
+                    radius,
+                )
+            }
+            (_, _, Some(_)) => {
+                return Err(err(
+                    at("material"),
+                    format!(
+                        "used only by contact_law = \"hertz\" (this rod is \"{}\")",
+                        law.name()
+                    ),
+                ));
+            }
+            (_, None, None) => {
+                return Err(err(
+                    at("contact_stiffness"),
+                    format!(
+                        "missing ({}), required for contact_law = \"{}\"",
+                        law.stiffness_unit(),
+                        law.name()
+                    ),
+                ));
+            }
+            (_, Some(k), None) => positive(&at("contact_stiffness"), k)?,
+        };
         let friction = finite(&at("friction"), r.friction.unwrap_or(0.0))?;
         if friction < 0.0 {
             return Err(err(at("friction"), format!("must be ≥ 0, got {friction}")));
@@ -775,6 +859,7 @@ fn validate_rods(
             axis: axis.map(|v| v / n),
             radius,
             length,
+            law,
             contact_stiffness,
             friction,
         });
@@ -796,6 +881,15 @@ fn validate_rods(
             }
             settings.angles = a;
         }
+        if let Some(z) = c.zone_points {
+            if !(1..=32).contains(&z) {
+                return Err(err(
+                    "contact.zone_points",
+                    format!("must be 1..=32, got {z}"),
+                ));
+            }
+            settings.zone_points = z;
+        }
         if let Some(m) = c.max_penetration {
             settings.max_penetration = positive("contact.max_penetration", m)?;
         }
@@ -803,11 +897,16 @@ fn validate_rods(
             settings.slip_velocity = positive("contact.slip_velocity", v)?;
         }
     }
-    // A rod thinner than the gap between test stations can pass between
-    // them (measured: 10 cm tubes slipped through 1 m elements with 8
-    // stations). Require at least two stations across a rod's diameter.
+    // A rod thinner than the gap between surface test stations can pass
+    // between them (measured: 10 cm tubes slipped through 1 m elements with
+    // 8 stations). Require at least two stations across a rod's diameter.
+    // The line laws find their active zone and need no such rule.
     let spacing = station_spacing(settings.stations, element_length);
-    if let Some((i, r)) = rods.iter().enumerate().find(|(_, r)| spacing > r.radius) {
+    if let Some((i, r)) = rods
+        .iter()
+        .enumerate()
+        .find(|(_, r)| r.law == ContactLaw::Surface && spacing > r.radius)
+    {
         let needed =
             (settings.stations..=64).find(|&n| station_spacing(n, element_length) <= r.radius);
         let advice = match needed {

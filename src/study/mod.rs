@@ -159,12 +159,15 @@ pub fn run_setting(
         Vec::new()
     };
     let _ = std::fs::remove_dir_all(dir);
-    // Contact runs: the peak time is that of the rod with the largest peak.
+    // Contact runs: the rod with the largest filtered peak (SAE J211, the
+    // load a designer uses; the raw peak of a penalty contact is not a result).
     let contact = summary.contact.as_ref();
     let peak_rod = contact.and_then(|c| {
-        c.rods
-            .iter()
-            .max_by(|a, b| a.peak_force.total_cmp(&b.peak_force))
+        c.rods.iter().max_by(|a, b| {
+            a.load
+                .filtered_peak_force
+                .total_cmp(&b.load.filtered_peak_force)
+        })
     });
     Outcome {
         status: summary.status.clone(),
@@ -172,10 +175,10 @@ pub fn run_setting(
         wall_s: summary.wall_time_s,
         tip: summary.tip.displacement,
         samples,
-        peak_force: contact.map(|c| c.max_normal_force),
-        peak_time: peak_rod.map(|r| r.peak_time),
+        peak_force: peak_rod.map(|r| r.load.filtered_peak_force),
+        peak_time: peak_rod.map(|r| r.load.filtered_peak_time),
         max_penetration: contact.map(|c| c.max_penetration),
-        impulse: contact.map(|c| c.rods.iter().map(|r| r.impulse).sum()),
+        impulse: contact.map(|c| c.rods.iter().map(|r| r.load.impulse).sum()),
         first_contact: contact.and_then(|c| c.first_time),
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
     }

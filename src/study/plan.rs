@@ -115,13 +115,14 @@ impl Setting {
                 max_penetration: None,
                 stations: None,
                 angles: None,
+                zone_points: None,
                 slip_velocity: None,
             });
             c.stations = Some(n);
         }
         if let Some(k) = self.stiffness_factor {
             for r in &mut f.rod {
-                r.contact_stiffness *= k;
+                r.contact_stiffness = r.contact_stiffness.map(|s| s * k);
             }
         }
         let every = match (sample_interval, self.time_step) {
@@ -133,6 +134,7 @@ impl Setting {
             checkpoint_every: Some(0),
             vtk: Some(false),
             plots: Some(false),
+            cfc: base.output.as_ref().and_then(|o| o.cfc),
         });
         f
     }

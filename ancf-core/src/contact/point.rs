@@ -1,0 +1,183 @@
+//! The penalty and friction force at one contact point, shared by every
+//! contact law: the surface law's test points and the line law's Gauss
+//! points differ only in where the point sits, what gap offset applies and
+//! what measure (area or length) its stiffness is multiplied by.
+
+use super::{ContactSample, Rod};
+use crate::element::{ElementMatrix, ElementVector};
+
+pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The vector from the rod's nearest axis point to `p` (m), and whether the
+/// nearest point is inside the rod's length (`true`: the vector is normal to
+/// the axis) or on an end (`false`: an end cap). `None` for `cap = false`
+/// when `p` lies beyond the rod's ends (open ends: the surface law).
+pub(crate) fn axis_offset(rod: &Rod, p: &[f64; 3], caps: bool) -> Option<([f64; 3], bool)> {
+    let d = rod.axis;
+    let rel = [
+        p[0] - rod.center[0],
+        p[1] - rod.center[1],
+        p[2] - rod.center[2],
+    ];
+    let along = dot(&rel, &d);
+    let (foot, inside) = match rod.length {
+        Some(len) if along.abs() > 0.5 * len => {
+            if !caps {
+                return None;
+            }
+            (0.5 * len * along.signum(), false)
+        }
+        _ => (along, true),
+    };
+    Some((
+        [
+            rel[0] - foot * d[0],
+            rel[1] - foot * d[1],
+            rel[2] - foot * d[2],
+        ],
+        inside,
+    ))
+}
+
+/// One point of contact: where it is and how stiff it is.
+pub(crate) struct PointInput<'a> {
+    /// Shape functions of the point (its position is S e).
+    pub s: &'a [f64; 8],
+    /// Offset from the rod's nearest axis point to `p`, m.
+    pub w: [f64; 3],
+    /// `w` is normal to the axis (inside the rod's length), so the normal
+    /// moves in the plane normal to the axis only.
+    pub inside: bool,
+    /// The gap is |w| − `offset` (m): the rod radius for surface points,
+    /// rod + wire radius for centerline points.
+    pub offset: f64,
+    /// Stiffness times the point's measure: N/m of gap.
+    pub stiffness: f64,
+}
+
+/// What one active point contributes.
+pub(crate) struct PointResult {
+    /// Force on the wire, N.
+    pub force: [f64; 3],
+    /// Penetration −g > 0, m.
+    pub penetration: f64,
+    /// Outward normal (from the rod to the wire).
+    pub n: [f64; 3],
+}
+
+/// Penalty force k ⟨−g⟩ n and regularized Coulomb friction
+/// −μ k ⟨−g⟩ v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
+/// element force `q` and their derivatives −∂f/∂q into `kq`, −∂f/∂v into
+/// `kv`, and adds energy ½ k g², normal force and friction power to
+/// `sample`. `None` when the point is apart (g ≥ 0).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn point_contact(
+    pt: &PointInput,
+    rod: &Rod,
+    slip_velocity: f64,
+    v: &ElementVector,
+    q: &mut ElementVector,
+    kq: Option<&mut ElementMatrix>,
+    kv: Option<&mut ElementMatrix>,
+    sample: &mut ContactSample,
+) -> Option<PointResult> {
+    let w = pt.w;
+    let dist = dot(&w, &w).sqrt();
+    let g = dist - pt.offset;
+    if g >= 0.0 || dist == 0.0 {
+        return None;
+    }
+    let d = rod.axis;
+    // Inside the rod's length the normal turns in the plane normal to the
+    // axis (∂w/∂p = I − d dᵀ); on an end cap in every direction (∂w/∂p = I).
+    let dd = if pt.inside { 1.0 } else { 0.0 };
+    let n = [w[0] / dist, w[1] / dist, w[2] / dist];
+    let kn = pt.stiffness;
+    let fnorm = kn * (-g);
+    sample.energy += 0.5 * kn * g * g;
+    sample.max_penetration = sample.max_penetration.max(-g);
+    sample.normal_force += fnorm;
+    sample.active += 1;
+    let mut f = [fnorm * n[0], fnorm * n[1], fnorm * n[2]];
+    // ∂n/∂p = (I − n nᵀ − d dᵀ) / |w| inside, (I − n nᵀ) / |w| on a cap
+    let nmat = |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - dd * d[a] * d[b]) / dist;
+    // ∂f_n/∂p = −kn n nᵀ + F_n ∂n/∂p
+    let mut dfdp = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            dfdp[a][b] = -kn * n[a] * n[b] + fnorm * nmat(a, b);
+        }
+    }
+    let mut dfdv = [[0.0; 3]; 3];
+    let friction = rod.friction > 0.0;
+    if friction {
+        let vp: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| pt.s[i] * v[3 * i + c]).sum());
+        let vn = dot(&vp, &n);
+        let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
+        let eps = slip_velocity;
+        let s = (dot(&vt, &vt) + eps * eps).sqrt();
+        let t = [vt[0] / s, vt[1] / s, vt[2] / s];
+        let mu = rod.friction;
+        for c in 0..3 {
+            f[c] -= mu * fnorm * t[c];
+        }
+        sample.friction_power += mu * fnorm * dot(&vt, &vt) / s;
+        // A = ∂t/∂v_t = (I − v_t v_tᵀ / s²) / s
+        let amat = |a: usize, b: usize| ((a == b) as u8 as f64 - vt[a] * vt[b] / (s * s)) / s;
+        // ∂t/∂n = −A (n v_pᵀ + (v_p·n) I)
+        let mut dtdn = [[0.0; 3]; 3];
+        for a in 0..3 {
+            for b in 0..3 {
+                dtdn[a][b] = -(0..3)
+                    .map(|c| amat(a, c) * (n[c] * vp[b] + if c == b { vn } else { 0.0 }))
+                    .sum::<f64>();
+            }
+        }
+        for a in 0..3 {
+            for b in 0..3 {
+                // ∂f_t/∂p = −μ [ t (∂F_n/∂p) + F_n (∂t/∂n)(∂n/∂p) ], ∂F_n/∂p = −kn nᵀ
+                let dtdp: f64 = (0..3).map(|c| dtdn[a][c] * nmat(c, b)).sum();
+                dfdp[a][b] += -mu * (t[a] * (-kn * n[b]) + fnorm * dtdp);
+                // ∂f_t/∂v_p = −μ F_n A P, P = I − n nᵀ
+                let ap: f64 = (0..3)
+                    .map(|c| amat(a, c) * ((c == b) as u8 as f64 - n[c] * n[b]))
+                    .sum();
+                dfdv[a][b] = -mu * fnorm * ap;
+            }
+        }
+    }
+    let s = pt.s;
+    for i in 0..8 {
+        for c in 0..3 {
+            q[3 * i + c] += s[i] * f[c];
+        }
+    }
+    let add = |m: &mut ElementMatrix, blk: &[[f64; 3]; 3]| {
+        for i in 0..8 {
+            for j in 0..8 {
+                let sij = s[i] * s[j];
+                if sij == 0.0 {
+                    continue;
+                }
+                for a in 0..3 {
+                    for b in 0..3 {
+                        m[(3 * i + a) * 24 + 3 * j + b] -= sij * blk[a][b];
+                    }
+                }
+            }
+        }
+    };
+    if let Some(k) = kq {
+        add(k, &dfdp);
+    }
+    if friction && let Some(k) = kv {
+        add(k, &dfdv);
+    }
+    Some(PointResult {
+        force: f,
+        penetration: -g,
+        n,
+    })
+}

@@ -298,3 +298,47 @@ fn issue8_rod_thinner_than_station_spacing_is_refused() {
     let fine = BASE.to_string() + rod + "\n[contact]\nstations = 40\n";
     Scene::from_toml(&fine).expect("enough stations");
 }
+
+/// Issue 14: contact laws. A stiffness without a law (the old N/m³ meaning)
+/// is refused naming `contact_law`; each law's bad values name their field;
+/// the line law needs no station rule, and hertz derives its stiffness.
+#[test]
+fn issue14_contact_laws_are_validated_naming_the_field() {
+    let rod = |body: &str| {
+        format!(
+            "{BASE}\n[[material]]\nname = \"rod-steel\"\nmodel = \"st-venant-kirchhoff\"\ndensity = 7850.0\n\
+             youngs_modulus = 2e11\npoisson_ratio = 0.3\n\n[[rod]]\ncenter = [0.5, 0.0, -0.3]\n\
+             axis = [0.0, 1.0, 0.0]\nradius = 0.01\n{body}"
+        )
+    };
+    let cases = [
+        ("contact_stiffness = 1e10\n", "rod[0].contact_law"),
+        ("contact_law = \"point\"\ncontact_stiffness = 1e10\n", "rod[0].contact_law"),
+        ("contact_law = \"line\"\ncontact_stiffness = -5e7\n", "rod[0].contact_stiffness"),
+        ("contact_law = \"line\"\ncontact_stiffness = nan\n", "rod[0].contact_stiffness"),
+        ("contact_law = \"line\"\n", "rod[0].contact_stiffness"),
+        ("contact_law = \"hertz\"\n", "rod[0].material"),
+        ("contact_law = \"hertz\"\nmaterial = \"unobtainium\"\n", "rod[0].material"),
+        ("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\ncontact_stiffness = 1e9\n", "rod[0].contact_stiffness"),
+        ("contact_law = \"line\"\ncontact_stiffness = 5e7\nmaterial = \"rod-steel\"\n", "rod[0].material"),
+        ("contact_law = \"line\"\ncontact_stiffness = 5e7\n[contact]\nzone_points = 0\n", "contact.zone_points"),
+    ];
+    for (body, field) in cases {
+        let err = Scene::from_toml(&rod(body)).expect_err(body);
+        assert_eq!(err.field, field, "{body}: {}", err.message);
+    }
+    // The line law has no station-spacing rule (the thin rod above is fine).
+    let line = Scene::from_toml(&rod("contact_law = \"line\"\ncontact_stiffness = 5e7\n")).expect("line");
+    assert_eq!(line.model.contact().unwrap().rods[0].contact_stiffness, 5e7);
+    // Hertz: ε_L = E* √(R_e / (2 R_s)), E* from the rod and the wire's outer layer.
+    let hertz = Scene::from_toml(&rod("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\n")).expect("hertz");
+    let c = hertz.model.contact().unwrap();
+    let (rw, rr) = (c.wire_radius, 0.01);
+    // The base scene's cover is Mooney–Rivlin (μ10 = 5e5, μ01 = 1e5 Pa):
+    // small-strain E = 6 (μ10 + μ01), ν = 0.5.
+    let (e_wire, nu_wire) = (6.0 * (5e5 + 1e5), 0.5);
+    let e_star = 1.0 / ((1.0 - 0.09) / 2e11 + (1.0 - nu_wire * nu_wire) / e_wire);
+    let expected = e_star * ((rw * rr).sqrt() / (2.0 * (rw + rr))).sqrt();
+    let got = c.rods[0].contact_stiffness;
+    assert!((got - expected).abs() < 1e-12 * expected, "{got} vs {expected}");
+}

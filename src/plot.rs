@@ -179,10 +179,16 @@ fn draw_panel<DB: DrawingBackend>(
     Ok(true)
 }
 
-/// Several line charts on a grid of `rows × cols`.
-pub fn panels_plot(path: &Path, rows: usize, cols: usize, panels: &[Panel]) -> Result<(), String> {
+/// Several line charts on a grid of `rows × cols`, each `panel` pixels (width, height).
+pub fn panels_plot(
+    path: &Path,
+    rows: usize,
+    cols: usize,
+    panel: (u32, u32),
+    panels: &[Panel],
+) -> Result<(), String> {
     register_font();
-    let root = BitMapBackend::new(path, (560 * cols as u32, 420 * rows as u32)).into_drawing_area();
+    let root = BitMapBackend::new(path, (panel.0 * cols as u32, panel.1 * rows as u32)).into_drawing_area();
     let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
     root.fill(&WHITE).map_err(e)?;
     for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {

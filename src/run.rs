@@ -758,6 +758,7 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
             &out.join("contact_point.png"),
             2,
             2,
+            (560, 420),
             &[
                 Panel {
                     title: "First contact point: vertical displacement",
@@ -890,24 +891,24 @@ fn plot_rod_forces(
                 y_label: "force (N)",
                 series: vec![
                     Series {
-                        label: "raw (every step)",
-                        points: raw,
-                    },
-                    Series {
                         label: "CFC filtered",
                         points: grid.into_iter().zip(mags).collect(),
+                    },
+                    Series {
+                        label: "raw (every step)",
+                        points: raw,
                     },
                 ],
                 marks: vec![
                     (
                         r.load.peak_time,
                         r.load.peak_force,
-                        format!(" raw peak {:.0} N", r.load.peak_force),
+                        format!("raw peak {:.0} N", r.load.peak_force),
                     ),
                     (
                         r.load.filtered_peak_time,
                         r.load.filtered_peak_force,
-                        format!(" filtered {:.0} N", r.load.filtered_peak_force),
+                        format!("filtered peak {:.0} N", r.load.filtered_peak_force),
                     ),
                 ],
             }
@@ -916,7 +917,7 @@ fn plot_rod_forces(
     if panels.iter().all(|p| p.series[0].points.is_empty()) {
         return Ok(());
     }
-    panels_plot(&out.join("rod_forces.png"), panels.len(), 1, &panels)
+    panels_plot(&out.join("rod_forces.png"), panels.len(), 1, (960, 480), &panels)
 }
 
 /// Contact in a static equilibrium: each rod's final force is its peak

@@ -153,17 +153,17 @@ fn stiff_wire_first_touches_when_a_rigid_pendulum_would() {
 #[test]
 fn penetration_falls_as_contact_stiffness_rises() {
     let mut last = f64::INFINITY;
-    for k in ["1e8", "1e9", "1e10", "1e11", "1e12"] {
+    for k in ["5e6", "5e7", "5e8", "5e9"] {
         let s = scene(|t| {
             t.replace(
-                "contact_stiffness = 1e10",
+                "contact_stiffness = 5e7",
                 &format!("contact_stiffness = {k}"),
             )
             .replace("friction = 0.3", "friction = 0.0")
         });
         let r = run(&s, 0.3);
         assert!(r.first_contact.is_some(), "{k}: no contact");
-        println!("ε_N = {k}: max penetration {:.3e} m", r.max_penetration);
+        println!("ε_L = {k}: max penetration {:.3e} m", r.max_penetration);
         assert!(
             r.max_penetration.is_finite() && r.max_penetration < last,
             "{k}: {} ≥ {last}",
@@ -192,5 +192,32 @@ fn issue6_coarse_steps_through_contact_do_not_gain_energy() {
             balance <= e0 + 0.05 * scale,
             "energy rose to {balance} J at t = {t} (scale {scale} J)"
         );
+    }
+}
+
+/// Issue 14: with ρ∞ = 1 the frictionless impact's energy error is the
+/// integrator's, second order in h: the line law's potential is smooth in
+/// the coordinates (V ∝ δ^{5/2} at a crossing), so nothing in the contact
+/// spoils the order. 16 elements keep the test short; the window runs
+/// 0.1 s past first contact (0.264 s). From h = 2e-4 to 1e-4 the error
+/// falls 6.8× (pre-asymptotic: the contact lasts few steps); from 1e-4 on
+/// the ratio is 3.9.
+#[test]
+fn frictionless_impact_energy_error_falls_as_h_squared() {
+    let mut drifts = Vec::new();
+    for h in ["1e-4", "5e-5", "2.5e-5"] {
+        let s = scene(|t| {
+            t.replace("friction = 0.3", "friction = 0.0")
+                .replace("elements = 48", "elements = 16")
+                .replace("time_step = 1e-4", &format!("time_step = {h}"))
+        });
+        let r = run(&s, 0.36);
+        assert!(r.first_contact.is_some_and(|t| t < 0.27), "contact within the window");
+        drifts.push(relative_drift(&r));
+    }
+    let ratios = [drifts[0] / drifts[1], drifts[1] / drifts[2]];
+    println!("energy error {drifts:?}, ratios per halving {ratios:?}");
+    for r in ratios {
+        assert!(r > 3.0 && r < 5.5, "second order: ratio {r} ({drifts:?})");
     }
 }

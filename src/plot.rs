@@ -188,7 +188,8 @@ pub fn panels_plot(
     panels: &[Panel],
 ) -> Result<(), String> {
     register_font();
-    let root = BitMapBackend::new(path, (panel.0 * cols as u32, panel.1 * rows as u32)).into_drawing_area();
+    let root = BitMapBackend::new(path, (panel.0 * cols as u32, panel.1 * rows as u32))
+        .into_drawing_area();
     let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
     root.fill(&WHITE).map_err(e)?;
     for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {

@@ -917,7 +917,13 @@ fn plot_rod_forces(
     if panels.iter().all(|p| p.series[0].points.is_empty()) {
         return Ok(());
     }
-    panels_plot(&out.join("rod_forces.png"), panels.len(), 1, (960, 480), &panels)
+    panels_plot(
+        &out.join("rod_forces.png"),
+        panels.len(),
+        1,
+        (960, 480),
+        &panels,
+    )
 }
 
 /// Contact in a static equilibrium: each rod's final force is its peak

@@ -212,7 +212,10 @@ fn frictionless_impact_energy_error_falls_as_h_squared() {
                 .replace("time_step = 1e-4", &format!("time_step = {h}"))
         });
         let r = run(&s, 0.36);
-        assert!(r.first_contact.is_some_and(|t| t < 0.27), "contact within the window");
+        assert!(
+            r.first_contact.is_some_and(|t| t < 0.27),
+            "contact within the window"
+        );
         drifts.push(relative_drift(&r));
     }
     let ratios = [drifts[0] / drifts[1], drifts[1] / drifts[2]];

@@ -313,25 +313,48 @@ fn issue14_contact_laws_are_validated_naming_the_field() {
     };
     let cases = [
         ("contact_stiffness = 1e10\n", "rod[0].contact_law"),
-        ("contact_law = \"point\"\ncontact_stiffness = 1e10\n", "rod[0].contact_law"),
-        ("contact_law = \"line\"\ncontact_stiffness = -5e7\n", "rod[0].contact_stiffness"),
-        ("contact_law = \"line\"\ncontact_stiffness = nan\n", "rod[0].contact_stiffness"),
+        (
+            "contact_law = \"point\"\ncontact_stiffness = 1e10\n",
+            "rod[0].contact_law",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = -5e7\n",
+            "rod[0].contact_stiffness",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = nan\n",
+            "rod[0].contact_stiffness",
+        ),
         ("contact_law = \"line\"\n", "rod[0].contact_stiffness"),
         ("contact_law = \"hertz\"\n", "rod[0].material"),
-        ("contact_law = \"hertz\"\nmaterial = \"unobtainium\"\n", "rod[0].material"),
-        ("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\ncontact_stiffness = 1e9\n", "rod[0].contact_stiffness"),
-        ("contact_law = \"line\"\ncontact_stiffness = 5e7\nmaterial = \"rod-steel\"\n", "rod[0].material"),
-        ("contact_law = \"line\"\ncontact_stiffness = 5e7\n[contact]\nzone_points = 0\n", "contact.zone_points"),
+        (
+            "contact_law = \"hertz\"\nmaterial = \"unobtainium\"\n",
+            "rod[0].material",
+        ),
+        (
+            "contact_law = \"hertz\"\nmaterial = \"rod-steel\"\ncontact_stiffness = 1e9\n",
+            "rod[0].contact_stiffness",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nmaterial = \"rod-steel\"\n",
+            "rod[0].material",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\n[contact]\nzone_points = 0\n",
+            "contact.zone_points",
+        ),
     ];
     for (body, field) in cases {
         let err = Scene::from_toml(&rod(body)).expect_err(body);
         assert_eq!(err.field, field, "{body}: {}", err.message);
     }
     // The line law has no station-spacing rule (the thin rod above is fine).
-    let line = Scene::from_toml(&rod("contact_law = \"line\"\ncontact_stiffness = 5e7\n")).expect("line");
+    let line =
+        Scene::from_toml(&rod("contact_law = \"line\"\ncontact_stiffness = 5e7\n")).expect("line");
     assert_eq!(line.model.contact().unwrap().rods[0].contact_stiffness, 5e7);
     // Hertz: ε_L = E* √(R_e / (2 R_s)), E* from the rod and the wire's outer layer.
-    let hertz = Scene::from_toml(&rod("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\n")).expect("hertz");
+    let hertz = Scene::from_toml(&rod("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\n"))
+        .expect("hertz");
     let c = hertz.model.contact().unwrap();
     let (rw, rr) = (c.wire_radius, 0.01);
     // The base scene's cover is Mooney–Rivlin (μ10 = 5e5, μ01 = 1e5 Pa):
@@ -340,5 +363,8 @@ fn issue14_contact_laws_are_validated_naming_the_field() {
     let e_star = 1.0 / ((1.0 - 0.09) / 2e11 + (1.0 - nu_wire * nu_wire) / e_wire);
     let expected = e_star * ((rw * rr).sqrt() / (2.0 * (rw + rr))).sqrt();
     let got = c.rods[0].contact_stiffness;
-    assert!((got - expected).abs() < 1e-12 * expected, "{got} vs {expected}");
+    assert!(
+        (got - expected).abs() < 1e-12 * expected,
+        "{got} vs {expected}"
+    );
 }

@@ -172,8 +172,11 @@ pub fn active_zones(e: &ElementVector, l: f64, rod: &Rod, reach: f64) -> Zones {
         if neg0 != neg1 {
             crossings[nc] = gap.root(x0, d0[0], x1);
             nc += 1;
-        } else if (d0[1] < 0.0) == !neg0 && (d1[1] > 0.0) == !neg0 && (d0[1] < 0.0) != (d1[1] < 0.0)
-        {
+        } else if if neg0 {
+            d0[1] >= 0.0 && d1[1] < 0.0
+        } else {
+            d0[1] < 0.0 && d1[1] > 0.0
+        } {
             // No sign change, but D turns between the samples toward zero
             // (a dip below zero when both are positive, a bump above zero
             // when both are negative): look at the extremum.
@@ -198,4 +201,74 @@ pub fn active_zones(e: &ElementVector, l: f64, rod: &Rod, reach: f64) -> Zones {
         zones.push(a, 1.0);
     }
     zones
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::ContactLaw;
+    use crate::element::reference_coordinates;
+
+    fn rod(x: f64, z: f64) -> Rod {
+        Rod {
+            center: [x, 0.0, z],
+            axis: [0.0, 1.0, 0.0],
+            radius: 0.02,
+            length: None,
+            law: ContactLaw::Line,
+            contact_stiffness: 1.0,
+            friction: 0.0,
+        }
+    }
+
+    /// A crossing 0.1 µm deep is 0.16 mm wide, far narrower than the 7.8 mm
+    /// between samples: found from the minimum between samples, with its
+    /// ends at x_c ± √(R_s² − D²) to round-off.
+    #[test]
+    fn a_zone_narrower_than_the_samples_is_found_exactly() {
+        let (l, reach, delta) = (0.125, 0.034, 1e-7);
+        let e = reference_coordinates(
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            l,
+        );
+        let xc = 0.53 * l;
+        let zones = active_zones(&e, l, &rod(xc, -(reach - delta)), reach);
+        assert_eq!(zones.len(), 1);
+        let (a, b) = *zones.iter().next().unwrap();
+        let d = reach - delta;
+        let s0 = (reach * reach - d * d).sqrt();
+        assert!(
+            (a * l - (xc - s0)).abs() < 1e-12 && (b * l - (xc + s0)).abs() < 1e-12,
+            "{a} {b}"
+        );
+        // Just apart: nothing.
+        assert!(active_zones(&e, l, &rod(xc, -(reach + 1e-9)), reach).is_empty());
+    }
+
+    /// A rod across the element's end covers [0, ξ_b]; a rod along the wire
+    /// (touching everywhere) the whole element.
+    #[test]
+    fn zones_reach_the_element_ends() {
+        let (l, reach) = (0.125, 0.034);
+        let e = reference_coordinates(
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            l,
+        );
+        let zones = active_zones(&e, l, &rod(0.0, -(reach - 1e-3)), reach);
+        let (a, b) = *zones.iter().next().unwrap();
+        assert_eq!(a, 0.0);
+        assert!(b > 0.0 && b < 1.0);
+        let along = Rod {
+            axis: [1.0, 0.0, 0.0],
+            ..rod(0.0, -(reach - 1e-3))
+        };
+        let all: Vec<_> = active_zones(&e, l, &along, reach).iter().copied().collect();
+        assert_eq!(all, vec![(0.0, 1.0)]);
+    }
 }

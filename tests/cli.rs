@@ -196,9 +196,32 @@ fn impact_run_writes_contact_outputs_vtk_and_plots() {
             "vtu lacks {name}"
         );
     }
-    // 16 elements × 4 stations + 1 rings of 16 points.
-    assert!(vtu.contains("NumberOfPoints=\"1040\""));
-    for png in ["energy.png", "configurations.png", "contact_point.png"] {
+    // 48 elements × 4 stations + 1 rings of 16 points.
+    assert!(vtu.contains("NumberOfPoints=\"3088\""));
+    // Issue 14: per-rod loads, raw and filtered, at every step.
+    let rod = &contact["rods"][0];
+    assert_eq!(rod["law"], "line");
+    for key in [
+        "peak_force",
+        "filtered_peak_force",
+        "impulse",
+        "contact_duration",
+        "cfc",
+    ] {
+        assert!(
+            rod[key].as_f64().is_some_and(|v| v > 0.0),
+            "rods[0].{key}: {rod}"
+        );
+    }
+    let rf = std::fs::read_to_string(out_dir.join("rod_forces.csv")).unwrap();
+    assert!(rf.starts_with("time,rod0_force,rod0_filtered,rod0_fx,rod0_fy,rod0_fz\n"));
+    assert_eq!(rf.lines().count(), 3001, "a row per step (3000 steps)");
+    for png in [
+        "energy.png",
+        "configurations.png",
+        "contact_point.png",
+        "rod_forces.png",
+    ] {
         assert!(out_dir.join(png).metadata().unwrap().len() > 5000, "{png}");
     }
     let cp = std::fs::read_to_string(out_dir.join("contact_point.csv")).unwrap();

@@ -59,9 +59,11 @@ fn rods_bring_contact_and_friction_only_when_named() {
     assert!(!frictionless.model.contact().unwrap().has_friction());
     // Velocity Jacobian of frictionless contact stays exactly zero (no friction code ran).
     let c = frictionless.model.contact().unwrap();
+    // The element starting at mid-span, above the rod (x = 1 m).
+    let mid = frictionless.model.n_elements / 2;
     let mut e = frictionless
         .model
-        .element_coordinates(&frictionless.model.reference, 8);
+        .element_coordinates(&frictionless.model.reference, mid);
     for k in [0, 12] {
         e[k + 2] -= 0.28; // push the element onto the rod
     }

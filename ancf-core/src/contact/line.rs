@@ -65,9 +65,6 @@ pub(crate) fn element_rod(
                     kv.as_deref_mut(),
                     &mut sample,
                 ) {
-                    for c in 0..3 {
-                        sample.force[c] += res.force[c];
-                    }
                     if deepest.is_none_or(|dp| res.penetration > dp.penetration) {
                         let (y, z) = facing_point(e, xi, &res.n, contact.wire_radius);
                         deepest = Some(DeepestPoint {

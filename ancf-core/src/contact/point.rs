@@ -59,8 +59,6 @@ pub(crate) struct PointInput<'a> {
 
 /// What one active point contributes.
 pub(crate) struct PointResult {
-    /// Force on the wire, N.
-    pub force: [f64; 3],
     /// Penetration −g > 0, m.
     pub penetration: f64,
     /// Outward normal (from the rod to the wire).
@@ -70,8 +68,8 @@ pub(crate) struct PointResult {
 /// Penalty force k ⟨−g⟩ n and regularized Coulomb friction
 /// −μ k ⟨−g⟩ v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
 /// element force `q` and their derivatives −∂f/∂q into `kq`, −∂f/∂v into
-/// `kv`, and adds energy ½ k g², normal force and friction power to
-/// `sample`. `None` when the point is apart (g ≥ 0).
+/// `kv`, and adds energy ½ k g², normal force, friction power and the
+/// force to `sample`. `None` when the point is apart (g ≥ 0).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn point_contact(
     pt: &PointInput,
@@ -148,6 +146,9 @@ pub(crate) fn point_contact(
             }
         }
     }
+    for c in 0..3 {
+        sample.force[c] += f[c];
+    }
     let s = pt.s;
     for i in 0..8 {
         for c in 0..3 {
@@ -175,9 +176,5 @@ pub(crate) fn point_contact(
     if friction && let Some(k) = kv {
         add(k, &dfdv);
     }
-    Some(PointResult {
-        force: f,
-        penetration: -g,
-        n,
-    })
+    Some(PointResult { penetration: -g, n })
 }

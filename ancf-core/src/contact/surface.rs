@@ -85,9 +85,6 @@ pub(crate) fn element_rod(
             kv.as_deref_mut(),
             &mut sample,
         ) {
-            for c in 0..3 {
-                sample.force[c] += r.force[c];
-            }
             if deepest.is_none_or(|dp| r.penetration > dp.penetration) {
                 deepest = Some(DeepestPoint {
                     rod: ri,

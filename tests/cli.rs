@@ -196,8 +196,8 @@ fn impact_run_writes_contact_outputs_vtk_and_plots() {
             "vtu lacks {name}"
         );
     }
-    // 48 elements × 4 stations + 1 rings of 16 points.
-    assert!(vtu.contains("NumberOfPoints=\"3088\""));
+    // 64 elements × 4 stations + 1 rings of 16 points.
+    assert!(vtu.contains("NumberOfPoints=\"4112\""));
     // Issue 14: per-rod loads, raw and filtered, at every step.
     let rod = &contact["rods"][0];
     assert_eq!(rod["law"], "line");

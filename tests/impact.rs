@@ -208,7 +208,7 @@ fn frictionless_impact_energy_error_falls_as_h_squared() {
     for h in ["1e-4", "5e-5", "2.5e-5"] {
         let s = scene(|t| {
             t.replace("friction = 0.3", "friction = 0.0")
-                .replace("elements = 48", "elements = 16")
+                .replace("elements = 64", "elements = 16")
                 .replace("time_step = 1e-4", &format!("time_step = {h}"))
         });
         let r = run(&s, 0.36);

@@ -2,6 +2,7 @@
 //! system font libraries needed).
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 use std::sync::Once;
 
@@ -161,10 +162,17 @@ fn draw_panel<DB: DrawingBackend>(
             size(6.0),
             BLACK.stroke_width(2),
         )))?;
+        // The label on the side of the mark with more room.
+        let side = if *x > 0.5 * (x0 + x1) {
+            HPos::Right
+        } else {
+            HPos::Left
+        };
+        let font = ("sans-serif", size(13.0)).into_font().color(&BLACK);
         chart.draw_series(std::iter::once(Text::new(
-            label.clone(),
+            format!(" {label} "),
             (*x, *y),
-            ("sans-serif", size(13.0)).into_font().color(&BLACK),
+            font.pos(Pos::new(side, VPos::Bottom)),
         )))?;
     }
     if p.series.len() > 1 {
@@ -173,7 +181,12 @@ fn draw_panel<DB: DrawingBackend>(
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", size(13.0)))
-            .position(SeriesLabelPosition::UpperRight)
+            // Marks label the largest values, usually near the top right.
+            .position(if p.marks.is_empty() {
+                SeriesLabelPosition::UpperRight
+            } else {
+                SeriesLabelPosition::UpperLeft
+            })
             .draw()?;
     }
     Ok(true)

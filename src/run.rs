@@ -889,14 +889,15 @@ fn plot_rod_forces(
                 title,
                 x_label: "time t (s)",
                 y_label: "force (N)",
+                // The filtered force drawn over the raw one.
                 series: vec![
-                    Series {
-                        label: "CFC filtered",
-                        points: grid.into_iter().zip(mags).collect(),
-                    },
                     Series {
                         label: "raw (every step)",
                         points: raw,
+                    },
+                    Series {
+                        label: "CFC filtered",
+                        points: grid.into_iter().zip(mags).collect(),
                     },
                 ],
                 marks: vec![

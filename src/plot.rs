@@ -17,6 +17,52 @@ fn register_font() {
     });
 }
 
+/// Plots are drawn at this many times their size and averaged down: the
+/// bitmap backend draws lines without anti-aliasing, so a straight wire at
+/// a slight slope showed 1-pixel steps that read as vibrations.
+const SUPERSAMPLE: u32 = 3;
+
+/// The drawing area of a supersampled plot.
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// Draws a `size` (pixels) PNG at `path`: `draw` paints on an area
+/// [`SUPERSAMPLE`] times larger, whose pixel sizes it multiplies by the
+/// factor it is given; the result is box-filtered down.
+fn save_png(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&Area, u32) -> Result<(), String>,
+) -> Result<(), String> {
+    register_font();
+    let s = SUPERSAMPLE;
+    let (w, h) = (size.0 * s, size.1 * s);
+    let mut big = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut big, (w, h)).into_drawing_area();
+        root.fill(&WHITE)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        draw(&root, s)?;
+        root.present()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let mut small = vec![0u8; (size.0 * size.1 * 3) as usize];
+    for y in 0..size.1 {
+        for x in 0..size.0 {
+            for c in 0..3 {
+                let mut sum = 0u32;
+                for dy in 0..s {
+                    for dx in 0..s {
+                        sum += big[(((y * s + dy) * w + x * s + dx) * 3 + c) as usize] as u32;
+                    }
+                }
+                small[((y * size.0 + x) * 3 + c) as usize] = ((sum + s * s / 2) / (s * s)) as u8;
+            }
+        }
+    }
+    image::save_buffer(path, &small, size.0, size.1, image::ColorType::Rgb8)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
 /// One curve: a label and (x, y) points.
 pub struct Series<'a> {
     pub label: &'a str,
@@ -95,10 +141,6 @@ pub fn line_plot(
     y_label: &str,
     series: &[Series],
 ) -> Result<(), String> {
-    register_font();
-    let root = BitMapBackend::new(path, (960, 600)).into_drawing_area();
-    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
-    root.fill(&WHITE).map_err(e)?;
     let panel = Panel {
         title,
         x_label,
@@ -112,11 +154,13 @@ pub fn line_plot(
             .collect(),
         ..Default::default()
     };
-    if !draw_panel(&root, &panel, 1.25).map_err(e)? {
-        return Err(format!("{}: nothing to plot", path.display()));
-    }
-    root.present().map_err(e)?;
-    Ok(())
+    save_png(path, (960, 600), |root, s| {
+        let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+        if !draw_panel(root, &panel, 1.25 * s as f64).map_err(e)? {
+            return Err(format!("{}: nothing to plot", path.display()));
+        }
+        Ok(())
+    })
 }
 
 /// Draw one chart into `area` (fonts scaled by `scale`); false when there is nothing to draw.
@@ -146,21 +190,22 @@ fn draw_panel<DB: DrawingBackend>(
         .draw()?;
     for (i, s) in p.series.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
+        let (width, legend) = (size(2.0), size(20.0) as i32);
         chart
             .draw_series(LineSeries::new(
                 s.points.iter().copied(),
-                color.stroke_width(2),
+                color.stroke_width(width),
             ))?
             .label(s.label)
             .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                PathElement::new(vec![(x, y), (x + legend, y)], color.stroke_width(width))
             });
     }
     for (x, y, label) in &p.marks {
         chart.draw_series(std::iter::once(Circle::new(
             (*x, *y),
             size(6.0),
-            BLACK.stroke_width(2),
+            BLACK.stroke_width(size(2.0)),
         )))?;
         // The label on the side of the mark with more room.
         let side = if *x > 0.5 * (x0 + x1) {
@@ -178,6 +223,8 @@ fn draw_panel<DB: DrawingBackend>(
     if p.series.len() > 1 {
         chart
             .configure_series_labels()
+            .legend_area_size(size(30.0))
+            .margin(size(10.0))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", size(13.0)))
@@ -200,16 +247,14 @@ pub fn panels_plot(
     panel: (u32, u32),
     panels: &[Panel],
 ) -> Result<(), String> {
-    register_font();
-    let root = BitMapBackend::new(path, (panel.0 * cols as u32, panel.1 * rows as u32))
-        .into_drawing_area();
-    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
-    root.fill(&WHITE).map_err(e)?;
-    for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {
-        draw_panel(area, p, 1.0).map_err(e)?;
-    }
-    root.present().map_err(e)?;
-    Ok(())
+    let size = (panel.0 * cols as u32, panel.1 * rows as u32);
+    save_png(path, size, |root, s| {
+        let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+        for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {
+            draw_panel(area, p, s as f64).map_err(e)?;
+        }
+        Ok(())
+    })
 }
 
 /// Wire shapes in the x–z plane at several instants, with rods seen end-on
@@ -219,7 +264,6 @@ pub fn configurations_plot(
     shapes: &[(f64, Vec<(f64, f64)>)],
     rods: &[(f64, f64, f64)],
 ) -> Result<(), String> {
-    register_font();
     let mut all: Vec<(f64, f64)> = shapes.iter().flat_map(|(_, p)| p.iter().copied()).collect();
     for &(x, z, r) in rods {
         all.push((x - r, z - r));
@@ -245,70 +289,77 @@ pub fn configurations_plot(
     let width = 1100u32;
     let height =
         ((width as f64 - 100.0) * (z1 - z0) / (x1 - x0) + 120.0).clamp(300.0, 1400.0) as u32;
-    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
-    root.fill(&WHITE).map_err(e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption("Wire configurations (x–z plane)", ("sans-serif", 24))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, z0..z1)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("x (m)")
-        .y_desc("z (m)")
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 16))
-        .draw()
-        .map_err(e)?;
-    // Rods: their true circle, or a marker of 5 px where that would be invisible.
-    let px_per_m = (width as f64 - 100.0) / (x1 - x0);
-    for &(x, z, r) in rods {
-        if r * px_per_m >= 5.0 {
-            let circle: Vec<(f64, f64)> = (0..=64)
-                .map(|k| {
-                    let a = 2.0 * std::f64::consts::PI * k as f64 / 64.0;
-                    (x + r * a.cos(), z + r * a.sin())
-                })
-                .collect();
-            chart
-                .draw_series(std::iter::once(Polygon::new(
-                    circle,
-                    BLACK.mix(0.6).filled(),
-                )))
-                .map_err(e)?;
-        } else {
-            chart
-                .draw_series(std::iter::once(Circle::new((x, z), 5, BLACK.filled())))
-                .map_err(e)?;
-        }
-    }
-    let n = shapes.len().max(2) as f64;
-    for (i, (t, pts)) in shapes.iter().enumerate() {
-        // Blue (early) to red (late).
-        let f = i as f64 / (n - 1.0);
-        let color = RGBColor((30.0 + 210.0 * f) as u8, 60, (240.0 - 210.0 * f) as u8);
-        let label = format!("t = {t:.3} s");
+    save_png(path, (width, height), |root, s| {
+        let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+        let px = |v: u32| v * s;
+        let mut chart = ChartBuilder::on(root)
+            .caption("Wire configurations (x–z plane)", ("sans-serif", px(24)))
+            .margin(px(15))
+            .x_label_area_size(px(45))
+            .y_label_area_size(px(70))
+            .build_cartesian_2d(x0..x1, z0..z1)
+            .map_err(e)?;
         chart
-            .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
-            .map_err(e)?
-            .label(label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .position(SeriesLabelPosition::LowerLeft)
-        .draw()
-        .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
+            .configure_mesh()
+            .x_desc("x (m)")
+            .y_desc("z (m)")
+            .label_style(("sans-serif", px(15)))
+            .axis_desc_style(("sans-serif", px(16)))
+            .draw()
+            .map_err(e)?;
+        // Rods: their true circle, or a marker of 5 px where that would be invisible.
+        let px_per_m = (width as f64 - 100.0) / (x1 - x0);
+        for &(x, z, r) in rods {
+            if r * px_per_m >= 5.0 {
+                let circle: Vec<(f64, f64)> = (0..=64)
+                    .map(|k| {
+                        let a = 2.0 * std::f64::consts::PI * k as f64 / 64.0;
+                        (x + r * a.cos(), z + r * a.sin())
+                    })
+                    .collect();
+                chart
+                    .draw_series(std::iter::once(Polygon::new(
+                        circle,
+                        BLACK.mix(0.6).filled(),
+                    )))
+                    .map_err(e)?;
+            } else {
+                chart
+                    .draw_series(std::iter::once(Circle::new((x, z), px(5), BLACK.filled())))
+                    .map_err(e)?;
+            }
+        }
+        let n = shapes.len().max(2) as f64;
+        let legend = px(20) as i32;
+        for (i, (t, pts)) in shapes.iter().enumerate() {
+            // Blue (early) to red (late).
+            let f = i as f64 / (n - 1.0);
+            let color = RGBColor((30.0 + 210.0 * f) as u8, 60, (240.0 - 210.0 * f) as u8);
+            let label = format!("t = {t:.3} s");
+            let width = px(2);
+            chart
+                .draw_series(LineSeries::new(
+                    pts.iter().copied(),
+                    color.stroke_width(width),
+                ))
+                .map_err(e)?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + legend, y)], color.stroke_width(width))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .legend_area_size(px(30))
+            .margin(px(10))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", px(14)))
+            .position(SeriesLabelPosition::LowerLeft)
+            .draw()
+            .map_err(e)?;
+        Ok(())
+    })
 }
 
 /// Error against cost on log–log axes (issue 5): one marker colour per
@@ -322,7 +373,6 @@ pub fn pareto_plot(
     groups: &[Series],
     front: &[(f64, f64)],
 ) -> Result<(), String> {
-    register_font();
     let ok = |&(x, y): &(f64, f64)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite();
     let all: Vec<(f64, f64)> = groups
         .iter()
@@ -347,71 +397,77 @@ pub fn pareto_plot(
     let (y0, y1) = (decade_below(y0), decade_above(y1));
     let x1 = if x1 <= x0 { x0 * 10.0 } else { x1 };
     let y1 = if y1 <= y0 { y0 * 10.0 } else { y1 };
-    let root = BitMapBackend::new(path, (1000, 680)).into_drawing_area();
-    let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
-    root.fill(&WHITE).map_err(e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 24))
-        .margin(15)
-        .x_label_area_size(50)
-        .y_label_area_size(90)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .x_label_formatter(&|v| format!("{v:.0e}"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .label_style(("sans-serif", 16))
-        .axis_desc_style(("sans-serif", 18))
-        .draw()
-        .map_err(e)?;
-    let front: Vec<(f64, f64)> = front.iter().copied().filter(ok).collect();
-    if front.len() > 1 {
+    save_png(path, (1000, 680), |root, s| {
+        let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
+        let px = |v: u32| v * s;
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", px(24)))
+            .margin(px(15))
+            .x_label_area_size(px(50))
+            .y_label_area_size(px(90))
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(e)?;
         chart
-            .draw_series(LineSeries::new(front.clone(), BLACK.stroke_width(2)))
-            .map_err(e)?
-            .label("Pareto front")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
-    }
-    // Colours repeat after nine groups: the marker shape changes then.
-    for (i, s) in groups.iter().enumerate() {
-        let color = COLORS[i % COLORS.len()];
-        let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(ok).collect();
-        if i < COLORS.len() {
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(y_label)
+            .x_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", px(16)))
+            .axis_desc_style(("sans-serif", px(18)))
+            .draw()
+            .map_err(e)?;
+        let front: Vec<(f64, f64)> = front.iter().copied().filter(ok).collect();
+        let (width, legend) = (px(2), px(20) as i32);
+        if front.len() > 1 {
             chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, color.filled())))
+                .draw_series(LineSeries::new(front.clone(), BLACK.stroke_width(width)))
                 .map_err(e)?
-                .label(s.label)
-                .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
-        } else {
-            chart
-                .draw_series(
-                    pts.iter()
-                        .map(|&p| TriangleMarker::new(p, 7, color.filled())),
-                )
-                .map_err(e)?
-                .label(s.label)
-                .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, color.filled()));
+                .label("Pareto front")
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + legend, y)], BLACK.stroke_width(width))
+                });
         }
-    }
-    chart
-        .draw_series(
-            front
-                .iter()
-                .map(|&p| Circle::new(p, 8, BLACK.stroke_width(2))),
-        )
-        .map_err(e)?;
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        // Cheap and accurate is the corner no run reaches.
-        .position(SeriesLabelPosition::LowerLeft)
-        .draw()
-        .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
+        // Colours repeat after nine groups: the marker shape changes then.
+        for (i, g) in groups.iter().enumerate() {
+            let color = COLORS[i % COLORS.len()];
+            let pts: Vec<(f64, f64)> = g.points.iter().copied().filter(ok).collect();
+            let (dot, tri, shift) = (px(5), px(7), px(10) as i32);
+            if i < COLORS.len() {
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, dot, color.filled())))
+                    .map_err(e)?
+                    .label(g.label)
+                    .legend(move |(x, y)| Circle::new((x + shift, y), dot, color.filled()));
+            } else {
+                chart
+                    .draw_series(
+                        pts.iter()
+                            .map(|&p| TriangleMarker::new(p, tri, color.filled())),
+                    )
+                    .map_err(e)?
+                    .label(g.label)
+                    .legend(move |(x, y)| TriangleMarker::new((x + shift, y), tri, color.filled()));
+            }
+        }
+        chart
+            .draw_series(
+                front
+                    .iter()
+                    .map(|&p| Circle::new(p, px(8), BLACK.stroke_width(width))),
+            )
+            .map_err(e)?;
+        chart
+            .configure_series_labels()
+            .legend_area_size(px(30))
+            .margin(px(10))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", px(15)))
+            // Cheap and accurate is the corner no run reaches.
+            .position(SeriesLabelPosition::LowerLeft)
+            .draw()
+            .map_err(e)?;
+        Ok(())
+    })
 }

@@ -2,6 +2,7 @@
 //! makes — elements, quadrature orders, time step, ρ∞, Newton kind, contact
 //! stations and stiffness — each as a [`Setting`] applied to the scene file.
 
+use ancf_core::contact::ContactLaw;
 use ancf_core::scene::{
     AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
     station_spacing,
@@ -30,8 +31,10 @@ pub struct Setting {
     pub spectral_radius: Option<f64>,
     /// Dynamic scenes: full or modified Newton.
     pub full_newton: Option<bool>,
-    /// Contact scenes: test stations per element.
+    /// Contact scenes with surface-law rods: test stations per element.
     pub stations: Option<usize>,
+    /// Contact scenes with line-law (line, hertz) rods: Gauss points per active zone.
+    pub zone_points: Option<usize>,
     /// Contact scenes: every rod's penalty stiffness ε_N times this factor.
     pub stiffness_factor: Option<f64>,
 }
@@ -55,7 +58,14 @@ impl Setting {
             time_step,
             spectral_radius,
             full_newton,
-            stations: m.contact().map(|c| c.settings.stations),
+            stations: m
+                .contact()
+                .filter(|c| c.rods.iter().any(|r| r.law == ContactLaw::Surface))
+                .map(|c| c.settings.stations),
+            zone_points: m
+                .contact()
+                .filter(|c| c.rods.iter().any(|r| r.law != ContactLaw::Surface))
+                .map(|c| c.settings.zone_points),
             stiffness_factor: m.contact().map(|_| 1.0),
         }
     }
@@ -82,8 +92,11 @@ impl Setting {
         if let Some(n) = self.stations {
             s += &format!(", {n} stations");
         }
+        if let Some(n) = self.zone_points {
+            s += &format!(", {n} zone points");
+        }
         if let Some(f) = self.stiffness_factor {
-            s += &format!(", ε_N ×{f}");
+            s += &format!(", stiffness ×{f}");
         }
         s
     }
@@ -110,7 +123,7 @@ impl Setting {
                 NewtonSpec::Modified
             });
         }
-        if let Some(n) = self.stations {
+        if self.stations.is_some() || self.zone_points.is_some() {
             let c = f.contact.get_or_insert(ContactSpec {
                 max_penetration: None,
                 stations: None,
@@ -118,7 +131,8 @@ impl Setting {
                 zone_points: None,
                 slip_velocity: None,
             });
-            c.stations = Some(n);
+            c.stations = self.stations.or(c.stations);
+            c.zone_points = self.zone_points.or(c.zone_points);
         }
         if let Some(k) = self.stiffness_factor {
             for r in &mut f.rod {
@@ -234,7 +248,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     // Dynamic: time step × elements at the scene's ρ∞ and Newton kind, then
     // ρ∞ and the other Newton kind at the scene's element count.
     let h0 = base.time_step.expect("dynamic scene has a time step");
-    let contact = base.stations.is_some();
+    let contact = base.stations.is_some() || base.zone_points.is_some();
     let h_factors: &[f64] = if quick {
         &[2.0, 1.0]
     } else if contact {
@@ -318,11 +332,27 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         kind: FamilyKind::Dynamic,
         settings: stepping,
     }];
-    if let Some(s0) = base.stations {
-        let stations: Vec<usize> = if quick {
-            vec![s0]
+    if base.stations.is_some() || base.zone_points.is_some() {
+        // The contact integration refined (stations of the surface law,
+        // zone points of the line laws) against the stiffness.
+        let refine = |k: usize| -> Setting {
+            Setting {
+                stations: base.stations.map(|s0| (s0 << k).min(64)),
+                zone_points: base.zone_points.map(|z0| (z0 << k).min(32)),
+                ..base.clone()
+            }
+        };
+        let levels: Vec<Setting> = if quick {
+            vec![refine(0)]
+        } else if base.zone_points.is_some() {
+            // ½, 1 and 2 × the scene's zone points: three levels for an order.
+            let half = Setting {
+                zone_points: base.zone_points.map(|z0| (z0 / 2).max(1)),
+                ..base.clone()
+            };
+            vec![half, refine(0), refine(1)]
         } else {
-            vec![s0, 2 * s0, (4 * s0).min(64)]
+            vec![refine(0), refine(1), refine(2)]
         };
         let factors: &[f64] = if quick {
             &[0.1, 1.0]
@@ -330,14 +360,13 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
             &[0.01, 0.1, 1.0, 10.0, 100.0]
         };
         let mut contact = Vec::new();
-        for &s in &stations {
+        for level in &levels {
             for &k in factors {
                 push_unique(
                     &mut contact,
                     Setting {
-                        stations: Some(s),
                         stiffness_factor: Some(k),
-                        ..base.clone()
+                        ..level.clone()
                     },
                 );
             }
@@ -359,6 +388,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         spectral_radius: Some(1.0),
         full_newton: Some(true),
         stations: stations_for(&base, length, 2 * n_max).map(|s| (2 * s).min(64)),
+        zone_points: base.zone_points.map(|z| (2 * z).min(32)),
         stiffness_factor: base.stiffness_factor,
     };
     Plan {

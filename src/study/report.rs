@@ -4,7 +4,7 @@
 
 use super::plan::{Family, FamilyKind, Level, Plan, Setting};
 use super::reference::Analytic;
-use super::{Outcome, Sample};
+use super::{CONTACT_WINDOW, Outcome, Sample};
 use crate::plot::{Series, pareto_plot};
 use ancf_core::element::ElementIntegration;
 use ancf_core::scene::Scene;
@@ -111,6 +111,11 @@ pub struct Errors {
     pub peak_time: Option<f64>,
     /// Contact: total normal impulse.
     pub impulse: Option<f64>,
+    /// Contact: the tip trajectory error until the reference's first
+    /// contact + [`CONTACT_WINDOW`].
+    pub tip_window: Option<f64>,
+    /// Contact: the impulse in the first [`CONTACT_WINDOW`] after first contact.
+    pub window_impulse: Option<f64>,
 }
 
 fn norm(a: [f64; 3]) -> f64 {
@@ -174,6 +179,11 @@ impl<'a> Reference<'a> {
             e.tip = Some(norm(sub(o.tip, self.tip)) / norm(self.tip));
         } else {
             let mut worst: f64 = 0.0;
+            let mut worst_window: f64 = 0.0;
+            let window_end = self
+                .contact
+                .and_then(|r| r.first_contact)
+                .map(|t| t + CONTACT_WINDOW);
             let mut matched = 0;
             for s in &o.samples {
                 let k = (s.time / self.interval).round() as i64;
@@ -186,11 +196,15 @@ impl<'a> Reference<'a> {
                         e.divergence_time = Some(s.time);
                     }
                     worst = worst.max(d);
+                    if window_end.is_some_and(|t| s.time <= t + 1e-9) {
+                        worst_window = worst_window.max(d);
+                    }
                     matched += 1;
                 }
             }
             if matched > 0 && self.excursion > 0.0 {
                 e.tip = Some(worst / self.excursion);
+                e.tip_window = window_end.map(|_| worst_window / self.excursion);
             }
             let e0 = o.samples[0].energy;
             if self.kinetic > 0.0 {
@@ -213,6 +227,9 @@ impl<'a> Reference<'a> {
             }
             if let (Some(i), Some(ir)) = (o.impulse, r.impulse) {
                 e.impulse = Some((i - ir).abs() / ir.abs().max(1e-300));
+            }
+            if let (Some(i), Some(ir)) = (o.window_impulse, r.window_impulse) {
+                e.window_impulse = Some((i - ir).abs() / ir.abs().max(1e-300));
             }
         }
         e
@@ -484,7 +501,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
     let mut csv = String::from(
         "family,elements,axial,section,time_step,spectral_radius,full_newton,stations,stiffness_factor,status,wall_s,\
          iterations_per_step,tip_error,divergence_time,energy_error,peak_force,peak_force_error,peak_time,peak_time_error,\
-         max_penetration,impulse,impulse_error,first_contact\n",
+         max_penetration,impulse,impulse_error,first_contact,zone_points,window_tip_error,window_impulse,window_impulse_error\n",
     );
     for (fi, fam) in input.plan.families.iter().enumerate() {
         let outcomes = &input.outcomes[fi];
@@ -504,16 +521,25 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
                 .map(|(o, e)| (o.wall_s, metric(e)))
                 .collect()
         };
-        let primary = against_time(match fam.kind {
-            FamilyKind::Contact => |e| e.peak_force,
+        let contact_scene = reference.contact.is_some();
+        let primary = against_time(match (fam.kind, contact_scene) {
+            (FamilyKind::Contact, _) => |e| e.peak_force,
+            (_, true) => |e| e.tip_window,
             _ => |e| e.tip,
         });
-        let (what, y_label) = match (fam.kind, input.plan.sample_interval) {
-            (FamilyKind::Contact, _) => ("peak contact force", "peak contact force error (%)"),
-            (_, None) => ("tip displacement", "tip displacement error (%)"),
+        let (what, y_label) = match (fam.kind, input.plan.sample_interval, contact_scene) {
+            (FamilyKind::Contact, _, _) => ("filtered peak force", "filtered peak force error (%)"),
+            (_, None, _) => ("tip displacement", "tip displacement error (%)"),
+            (_, _, true) => (
+                "tip trajectory until 0.1 s after first contact",
+                "tip trajectory error until first contact + 0.1 s (%)",
+            ),
             _ => ("tip trajectory", "tip trajectory error (%)"),
         };
-        let png = format!("{slug}_{}.png", what.replace(' ', "_"));
+        let png = format!(
+            "{slug}_{}.png",
+            what.split(' ').take(2).collect::<Vec<_>>().join("_")
+        );
         let title = format!("{name}: {what} error against wall time");
         plot_family(
             &out.join(&png),
@@ -530,13 +556,32 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
         }
         threshold_table(&mut md, &base, what, &fam.settings, &primary);
         if outcomes.iter().any(|o| o.impulse.is_some()) {
+            if fam.kind != FamilyKind::Contact {
+                let peak = against_time(|e| e.peak_force);
+                threshold_table(&mut md, &base, "filtered peak force", &fam.settings, &peak);
+            }
+            let window = against_time(|e| e.window_impulse);
+            threshold_table(
+                &mut md,
+                &base,
+                "impulse of the first 0.1 s of contact",
+                &fam.settings,
+                &window,
+            );
             let impulse = against_time(|e| e.impulse);
-            threshold_table(&mut md, &base, "contact impulse", &fam.settings, &impulse);
+            threshold_table(
+                &mut md,
+                &base,
+                "impulse of the whole run",
+                &fam.settings,
+                &impulse,
+            );
+            convergence_section(&mut md, fam, outcomes, &base);
         }
         if fam.kind == FamilyKind::Contact {
             let _ = writeln!(
                 md,
-                "\nThe reference uses the scene's contact stiffness ε_N: for other values the error includes the \
+                "\nThe reference uses the scene's contact stiffness: for other values the error includes the \
                  change of the penalty model itself; the penetration column shows how close each is to rigid contact."
             );
         }
@@ -571,6 +616,123 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
     Ok(path)
 }
 
+/// Observed order p = ln[(f₃ − f₂)/(f₂ − f₁)] / ln r of three levels
+/// (f₃ coarsest, refinement ratio r) and the fine level's grid convergence
+/// index GCI = 1.25 |f₂ − f₁| / (|f₁| (r^p − 1)) (Roache; SPEC §7.5).
+/// `None` when the differences change sign (oscillatory convergence) or
+/// grow (no convergence yet, or differences at the level of round-off and
+/// solver tolerance): no order then.
+pub fn richardson(coarse: f64, medium: f64, fine: f64, ratio: f64) -> Option<(f64, f64)> {
+    let (d32, d21) = (coarse - medium, medium - fine);
+    if d21 == 0.0 || d32 / d21 <= 1.0 {
+        return None;
+    }
+    let p = (d32 / d21).ln() / ratio.ln();
+    let gci = 1.25 * d21.abs() / (fine.abs() * (ratio.powf(p) - 1.0));
+    Some((p, gci))
+}
+
+/// Per refinement direction of a family (time step, elements, contact
+/// integration), the three finest runs that differ from the scene's setting
+/// only in it: the values of the filtered peak, the first impact's impulse
+/// and the tip position at first contact + 0.1 s, observed orders and GCIs.
+fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base: &Setting) {
+    type Key = fn(&Setting) -> f64;
+    let directions: [(&str, Key, Key); 3] = [
+        (
+            "time step h",
+            |s| s.time_step.unwrap_or(0.0),
+            |s| -s.time_step.unwrap_or(0.0),
+        ),
+        ("elements", |s| s.elements as f64, |s| s.elements as f64),
+        (
+            "contact integration points",
+            |s| s.zone_points.or(s.stations).unwrap_or(0) as f64,
+            |s| s.zone_points.or(s.stations).unwrap_or(0) as f64,
+        ),
+    ];
+    let mut rows = String::new();
+    for (name, value, fineness) in directions {
+        // Runs equal to the scene's setting but for this direction (and the
+        // stations the mesh implies).
+        let same_but = |s: &Setting| {
+            let mut t = s.clone();
+            match name {
+                "time step h" => t.time_step = base.time_step,
+                "elements" => {
+                    t.elements = base.elements;
+                    t.stations = base.stations;
+                }
+                _ => {
+                    t.stations = base.stations;
+                    t.zone_points = base.zone_points;
+                }
+            }
+            t == *base
+        };
+        let mut runs: Vec<(&Setting, &Outcome)> = fam
+            .settings
+            .iter()
+            .zip(outcomes)
+            .filter(|(s, o)| same_but(s) && o.completed())
+            .collect();
+        runs.sort_by(|a, b| fineness(a.0).total_cmp(&fineness(b.0)));
+        runs.dedup_by(|a, b| value(a.0) == value(b.0));
+        if runs.len() < 3 {
+            continue;
+        }
+        let last = &runs[runs.len() - 3..];
+        let ratio = (value(last[0].0) / value(last[1].0)).max(value(last[1].0) / value(last[0].0));
+        let levels = last
+            .iter()
+            .map(|(s, _)| format!("{}", value(s)))
+            .collect::<Vec<_>>()
+            .join(" → ");
+        let tip_z = |o: &Outcome| -> Option<f64> {
+            let t = o.first_contact? + CONTACT_WINDOW;
+            o.samples
+                .iter()
+                .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
+                .map(|s| s.tip[2])
+        };
+        let quantities: [(&str, &dyn Fn(&Outcome) -> Option<f64>); 3] = [
+            ("filtered peak force (N)", &|o| o.peak_force),
+            ("impulse, first 0.1 s of contact (N s)", &|o| {
+                o.window_impulse
+            }),
+            ("tip z at first contact + 0.1 s (m)", &tip_z),
+        ];
+        for (qname, get) in quantities {
+            let f: Vec<Option<f64>> = last.iter().map(|(_, o)| get(o)).collect();
+            let [Some(f3), Some(f2), Some(f1)] = [f[0], f[1], f[2]] else {
+                continue;
+            };
+            let (order, gci) = match richardson(f3, f2, f1, ratio) {
+                Some((p, g)) => (format!("{p:.2}"), format!("{:.2} %", 100.0 * g)),
+                None => {
+                    let spread = (f1.max(f2).max(f3) - f1.min(f2).min(f3)) / f1.abs();
+                    (
+                        "oscillating".into(),
+                        format!("spread {:.2} %", 100.0 * spread),
+                    )
+                }
+            };
+            let _ = writeln!(
+                rows,
+                "| {name} | {levels} | {qname} | {f3:.5} → {f2:.5} → {f1:.5} | {order} | {gci} |"
+            );
+        }
+    }
+    if !rows.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nConvergence (Richardson, the three finest levels of each refinement at the scene's other settings; \
+             GCI of the finest with safety factor 1.25):\n\n| refined | levels | quantity | values | observed order | GCI |\n\
+             |---|---|---|---|---|---|\n{rows}"
+        );
+    }
+}
+
 /// The table of every run of a family (Markdown) and its rows of `runs.csv`.
 fn runs_table(
     md: &mut String,
@@ -597,12 +759,13 @@ fn runs_table(
     }
     if contact {
         md.push_str(
-            " first contact (s) | peak force (N) | peak force error (%) | peak time error (ms) | impulse (N s) | \
-             impulse error (%) | penetration / wire radius |",
+            " trajectory error until first contact + 0.1 s (%) | first contact (s) | filtered peak force (N) | peak force error (%) | peak time error (ms) | impulse (N s) | \
+             impulse error (%) | first 0.1 s impulse (N s) | its error (%) | penetration / wire radius |",
         );
     }
     md.push('\n');
-    let columns = 5 + 2 * usize::from(fam.kind != FamilyKind::Static) + if contact { 7 } else { 0 };
+    let columns =
+        5 + 2 * usize::from(fam.kind != FamilyKind::Static) + if contact { 10 } else { 0 };
     md.push_str(&"|---".repeat(columns));
     md.push_str("|\n");
     for ((s, o), e) in fam.settings.iter().zip(outcomes).zip(errors) {
@@ -635,7 +798,8 @@ fn runs_table(
         if contact {
             let _ = write!(
                 md,
-                " {} | {} | {} | {} | {} | {} | {} |",
+                " {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                pct(e.tip_window),
                 o.first_contact.map_or("–".into(), |t| format!("{t:.4}")),
                 o.peak_force.map_or("–".into(), |f| format!("{f:.1}")),
                 pct(e.peak_force),
@@ -643,6 +807,8 @@ fn runs_table(
                     .map_or("–".into(), |t| format!("{:.2}", t * 1e3)),
                 o.impulse.map_or("–".into(), |i| format!("{i:.3}")),
                 pct(e.impulse),
+                o.window_impulse.map_or("–".into(), |i| format!("{i:.3}")),
+                pct(e.window_impulse),
                 o.max_penetration
                     .filter(|_| o.completed())
                     .map_or("–".into(), |p| format!("{:.3}", p / radius)),
@@ -651,7 +817,7 @@ fn runs_table(
         md.push('\n');
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             slug,
             s.elements,
             s.axial,
@@ -675,6 +841,10 @@ fn runs_table(
             opt(o.impulse),
             opt(e.impulse),
             opt(o.first_contact),
+            s.zone_points.map_or(String::new(), |n| n.to_string()),
+            opt(e.tip_window),
+            opt(o.window_impulse),
+            opt(e.window_impulse),
         );
     }
 }
@@ -755,6 +925,21 @@ fn kernel_section(md: &mut String, k: &[KernelCost]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Second-order data f = 1 + h² at h = 4, 2, 1: p = 2, GCI = 1.25 · 3 / (2 · 3).
+    #[test]
+    fn richardson_recovers_the_order_and_the_error_band() {
+        let f = |h: f64| 1.0 + h * h;
+        let (p, gci) = richardson(f(4.0), f(2.0), f(1.0), 2.0).unwrap();
+        assert!((p - 2.0).abs() < 1e-12, "{p}");
+        assert!((gci - 1.25 * 3.0 / (2.0 * 3.0)).abs() < 1e-12, "{gci}");
+        // The fine value's true error is h² = 1: the band (1.25 · 1 · 2 = 1.25 relative to 2) covers it.
+        assert!(gci * f(1.0) >= 1.0);
+        assert!(
+            richardson(1.0, 2.0, 1.5, 2.0).is_none(),
+            "oscillating: no order"
+        );
+    }
 
     #[test]
     fn pareto_front_keeps_only_runs_more_accurate_than_every_faster_one() {

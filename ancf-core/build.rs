@@ -61,7 +61,7 @@ fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
 
 fn main() {
     println!("cargo:rerun-if-env-changed=ANCF_KERNEL_ORDERS");
-    println!("cargo:rerun-if-changed=../build.rs");
+    println!("cargo:rerun-if-changed=build.rs");
     let spec = std::env::var("ANCF_KERNEL_ORDERS").unwrap_or_else(|_| DEFAULT_ORDERS.to_string());
     let mut orders: Vec<usize> = spec
         .split(',')

@@ -300,7 +300,8 @@ fn issue8_rod_thinner_than_station_spacing_is_refused() {
 }
 
 /// Issue 14: contact laws. A stiffness without a law (the old N/m³ meaning)
-/// is refused naming `contact_law`; each law's bad values name their field;
+/// is refused naming `contact_law`; each law's bad values (and an unknown
+/// rod material under any law) name their field;
 /// the line law needs no station rule, and hertz derives its stiffness.
 #[test]
 fn issue14_contact_laws_are_validated_naming_the_field() {
@@ -336,7 +337,7 @@ fn issue14_contact_laws_are_validated_naming_the_field() {
             "rod[0].contact_stiffness",
         ),
         (
-            "contact_law = \"line\"\ncontact_stiffness = 5e7\nmaterial = \"rod-steel\"\n",
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nmaterial = \"rod-stel\"\n",
             "rod[0].material",
         ),
         (
@@ -348,9 +349,12 @@ fn issue14_contact_laws_are_validated_naming_the_field() {
         let err = Scene::from_toml(&rod(body)).expect_err(body);
         assert_eq!(err.field, field, "{body}: {}", err.message);
     }
-    // The line law has no station-spacing rule (the thin rod above is fine).
-    let line =
-        Scene::from_toml(&rod("contact_law = \"line\"\ncontact_stiffness = 5e7\n")).expect("line");
+    // The line law has no station-spacing rule (the thin rod above is fine);
+    // a line rod may name its material (compared with hertz by the study).
+    let line = Scene::from_toml(&rod(
+        "contact_law = \"line\"\ncontact_stiffness = 5e7\nmaterial = \"rod-steel\"\n",
+    ))
+    .expect("line");
     assert_eq!(line.model.contact().unwrap().rods[0].contact_stiffness, 5e7);
     // Hertz: ε_L = E* √(R_e / (2 R_s)), E* from the rod and the wire's outer layer.
     let hertz = Scene::from_toml(&rod("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\n"))

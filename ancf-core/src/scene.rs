@@ -807,7 +807,13 @@ fn validate_rods(
             }
             None => ContactLaw::Line,
         };
-        let contact_stiffness = match (law, r.contact_stiffness, &r.material) {
+        // The rod's material: checked whenever named (a typo is an error
+        // under every law), used by the hertz law.
+        let rod_material = match &r.material {
+            Some(name) => Some(find(&at("material"), name)?),
+            None => None,
+        };
+        let contact_stiffness = match (law, r.contact_stiffness, rod_material) {
             (ContactLaw::Hertz, Some(_), _) => {
                 return Err(err(
                     at("contact_stiffness"),
@@ -820,25 +826,13 @@ fn validate_rods(
                     "missing: contact_law = \"hertz\" needs the rod's material (E and ν)",
                 ));
             }
-            (ContactLaw::Hertz, None, Some(name)) => {
-                let rod_material = find(&at("material"), name)?;
-                crate::contact::hertz_line_stiffness(
-                    rod_material.model.elastic_constants(),
-                    wire_material.model.elastic_constants(),
-                    wire_radius,
-                    radius,
-                )
-            }
-            (_, _, Some(_)) => {
-                return Err(err(
-                    at("material"),
-                    format!(
-                        "used only by contact_law = \"hertz\" (this rod is \"{}\")",
-                        law.name()
-                    ),
-                ));
-            }
-            (_, None, None) => {
+            (ContactLaw::Hertz, None, Some(m)) => crate::contact::hertz_line_stiffness(
+                m.model.elastic_constants(),
+                wire_material.model.elastic_constants(),
+                wire_radius,
+                radius,
+            ),
+            (_, None, _) => {
                 return Err(err(
                     at("contact_stiffness"),
                     format!(
@@ -848,7 +842,7 @@ fn validate_rods(
                     ),
                 ));
             }
-            (_, Some(k), None) => positive(&at("contact_stiffness"), k)?,
+            (_, Some(k), _) => positive(&at("contact_stiffness"), k)?,
         };
         let friction = finite(&at("friction"), r.friction.unwrap_or(0.0))?;
         if friction < 0.0 {

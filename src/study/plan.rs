@@ -37,6 +37,9 @@ pub struct Setting {
     pub zone_points: Option<usize>,
     /// Contact scenes: every rod's penalty stiffness ε_N times this factor.
     pub stiffness_factor: Option<f64>,
+    /// Contact scenes with line-law rods: every rod switched to this law
+    /// (`None`: the scene's own), see [`Setting::apply`].
+    pub law: Option<ContactLaw>,
 }
 
 impl Setting {
@@ -67,6 +70,7 @@ impl Setting {
                 .filter(|c| c.rods.iter().any(|r| r.law != ContactLaw::Surface))
                 .map(|c| c.settings.zone_points),
             stiffness_factor: m.contact().map(|_| 1.0),
+            law: None,
         }
     }
 
@@ -97,6 +101,9 @@ impl Setting {
         }
         if let Some(f) = self.stiffness_factor {
             s += &format!(", stiffness ×{f}");
+        }
+        if let Some(law) = self.law {
+            s += &format!(", {} law", law.name());
         }
         s
     }
@@ -139,6 +146,17 @@ impl Setting {
                 r.contact_stiffness = r.contact_stiffness.map(|s| s * k);
             }
         }
+        if let Some(law) = self.law {
+            let wire_radius = f
+                .wire
+                .layers
+                .as_ref()
+                .and_then(|l| l.last())
+                .map_or(0.0, |l| l.outer_radius);
+            for r in &mut f.rod {
+                switch_law(r, law, wire_radius);
+            }
+        }
         let every = match (sample_interval, self.time_step) {
             (Some(dt), Some(h)) => Some(((dt / h).round() as usize).max(1)),
             _ => None,
@@ -151,6 +169,37 @@ impl Setting {
             cfc: base.output.as_ref().and_then(|o| o.cfc),
         });
         f
+    }
+}
+
+/// The penetration, as a fraction of the wire radius, at which the surface
+/// law is matched to a line-law rod's crossing force.
+pub const SURFACE_MATCH_PENETRATION: f64 = 0.1;
+
+/// A line-law rod (`law = "line"`) under `law`: hertz takes the stiffness
+/// from the rod's material (the run is refused when the rod names none);
+/// the surface law gets the ε_N (N/m³) whose 90° crossing force equals the
+/// line law's at a penetration δ* = 0.1 R_wire: for small δ the surface
+/// patch carries F ≈ π ε_N √(R_w R_r) δ² and the line F ≈ (4/3) ε_L
+/// √(2 R_s) δ^{3/2} (SPEC §7.2), so
+/// ε_N = (4/3) ε_L √(2 R_s) / (π √(R_w R_r) √δ*). Rods under other laws
+/// keep theirs.
+fn switch_law(r: &mut ancf_core::scene::RodSpec, law: ContactLaw, wire_radius: f64) {
+    if r.contact_law.as_deref() != Some("line") {
+        return;
+    }
+    r.contact_law = Some(law.name().into());
+    match law {
+        ContactLaw::Line => {}
+        ContactLaw::Hertz => r.contact_stiffness = None,
+        ContactLaw::Surface => {
+            let (rw, rr) = (wire_radius, r.radius);
+            let delta = SURFACE_MATCH_PENETRATION * rw;
+            r.contact_stiffness = r.contact_stiffness.map(|eps_l| {
+                4.0 / 3.0 * eps_l * (2.0 * (rw + rr)).sqrt()
+                    / (std::f64::consts::PI * (rw * rr).sqrt() * delta.sqrt())
+            });
+        }
     }
 }
 
@@ -376,6 +425,21 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
             kind: FamilyKind::Contact,
             settings: contact,
         });
+        // The laws side by side on line-law scenes (the scene's own first).
+        if base.zone_points.is_some() && !quick {
+            let laws = [ContactLaw::Line, ContactLaw::Hertz, ContactLaw::Surface];
+            families.push(Family {
+                name: "Contact law".into(),
+                kind: FamilyKind::Contact,
+                settings: laws
+                    .iter()
+                    .map(|&law| Setting {
+                        law: (law != ContactLaw::Line).then_some(law),
+                        ..base.clone()
+                    })
+                    .collect(),
+            });
+        }
     }
     let reference = Setting {
         elements: 2 * n_max,
@@ -390,6 +454,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         stations: stations_for(&base, length, 2 * n_max).map(|s| (2 * s).min(64)),
         zone_points: base.zone_points.map(|z| (2 * z).min(32)),
         stiffness_factor: base.stiffness_factor,
+        law: None,
     };
     Plan {
         families,

@@ -355,7 +355,11 @@ fn threshold_table(
 fn group_key(kind: FamilyKind, s: &Setting, base: &Setting) -> String {
     match kind {
         FamilyKind::Static => format!("axial order {}", s.axial),
-        FamilyKind::Contact => format!("{} stations", s.stations.unwrap_or(0)),
+        FamilyKind::Contact => match (s.law, s.zone_points, s.stations) {
+            (Some(law), _, _) => format!("{} law", law.name()),
+            (None, Some(z), _) => format!("{z} zone points"),
+            (None, None, n) => format!("{} stations", n.unwrap_or(0)),
+        },
         FamilyKind::Dynamic => {
             if s.spectral_radius != base.spectral_radius {
                 format!(
@@ -501,7 +505,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
     let mut csv = String::from(
         "family,elements,axial,section,time_step,spectral_radius,full_newton,stations,stiffness_factor,status,wall_s,\
          iterations_per_step,tip_error,divergence_time,energy_error,peak_force,peak_force_error,peak_time,peak_time_error,\
-         max_penetration,impulse,impulse_error,first_contact,zone_points,window_tip_error,window_impulse,window_impulse_error\n",
+         max_penetration,impulse,impulse_error,first_contact,zone_points,window_tip_error,window_impulse,window_impulse_error,law\n",
     );
     for (fi, fam) in input.plan.families.iter().enumerate() {
         let outcomes = &input.outcomes[fi];
@@ -817,7 +821,7 @@ fn runs_table(
         md.push('\n');
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             slug,
             s.elements,
             s.axial,
@@ -845,6 +849,7 @@ fn runs_table(
             opt(e.tip_window),
             opt(o.window_impulse),
             opt(e.window_impulse),
+            s.law.map_or("", |l| l.name()),
         );
     }
 }

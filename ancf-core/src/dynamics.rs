@@ -183,10 +183,20 @@ pub struct StepInfo {
     pub damping_power: f64,
 }
 
+/// A time step that could not be completed (Newton failed after every
+/// allowed cut, a non-finite residual, a factorization that failed).
 #[derive(Clone, Debug)]
 pub struct StepError {
     pub message: String,
 }
+
+impl std::fmt::Display for StepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for StepError {}
 
 /// The integrator: owns the pattern, the symbolic factorization and the
 /// constant mass values, computed once per model.

@@ -30,3 +30,18 @@ pub mod rod_load;
 pub mod scene;
 pub mod section;
 pub mod statics;
+
+#[cfg(test)]
+mod tests {
+    /// Every error the core returns works with `?` in a caller's
+    /// `Box<dyn Error + Send + Sync>` (issue 15): this does not compile otherwise.
+    #[test]
+    fn errors_are_std_errors() {
+        fn is_error<E: std::error::Error + Send + Sync + 'static>() {}
+        is_error::<crate::dynamics::StepError>();
+        is_error::<crate::linear_solver::FactorError>();
+        is_error::<crate::statics::StaticError>();
+        is_error::<crate::model::ModelError>();
+        is_error::<crate::scene::SceneError>();
+    }
+}

@@ -130,8 +130,18 @@ pub struct SparseSolver {
     pub factorizations: usize,
 }
 
+/// A Newton matrix that could not be factored (not positive definite where
+/// LLᵀ was expected, a zero pivot the fallback could not handle).
 #[derive(Debug, Clone)]
 pub struct FactorError(pub String);
+
+impl std::fmt::Display for FactorError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for FactorError {}
 
 impl SparseSolver {
     pub fn new(pattern: &Pattern) -> Result<Self, FactorError> {

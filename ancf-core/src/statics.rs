@@ -54,6 +54,8 @@ impl std::fmt::Display for StaticError {
     }
 }
 
+impl std::error::Error for StaticError {}
+
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }

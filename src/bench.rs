@@ -59,7 +59,7 @@ pub fn pendulum_step(model: &Model, newton: NewtonKind, steps: usize) -> (f64, f
         newton,
         ..Default::default()
     };
-    let mut integ = Integrator::new(model, settings).expect("solver");
+    let mut integ = Integrator::new(std::sync::Arc::new(model.clone()), settings).expect("solver");
     let mut s = integ
         .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
         .expect("initial state");

@@ -346,7 +346,10 @@ fn run_dynamic(
         .collect();
     let mut phase_starts = vec![0.0];
     phase_starts.extend(releases.iter().copied().filter(|t| *t > 0.0));
-    let phases: Vec<Model> = phase_starts.iter().map(|t| model.holding_at(*t)).collect();
+    let phases: Vec<std::sync::Arc<Model>> = phase_starts
+        .iter()
+        .map(|t| std::sync::Arc::new(model.holding_at(*t)))
+        .collect();
     let fail_setup = |summary: &mut Summary, what: &str, msg: String| {
         summary.status = "failed".into();
         summary.message = format!("{what}: {msg}");
@@ -388,8 +391,8 @@ fn run_dynamic(
 
     let (mut p, mut integ, mut vtk) = match resume {
         Some(p) => {
-            let mut integ =
-                Integrator::new(&phases[p.phase], settings.clone()).map_err(|e| e.message)?;
+            let mut integ = Integrator::new(phases[p.phase].clone(), settings.clone())
+                .map_err(|e| e.message)?;
             integ.restore_energy_reference(p.energy_reference);
             let vtk = if scene.output.vtk {
                 Some(
@@ -435,7 +438,7 @@ fn run_dynamic(
             } else {
                 model.initial_coordinates()
             };
-            let mut integ = match Integrator::new(&phases[0], settings.clone()) {
+            let mut integ = match Integrator::new(phases[0].clone(), settings.clone()) {
                 Ok(i) => i,
                 Err(e) => {
                     fail_setup(summary, "setting up the solver", e.message);
@@ -495,7 +498,7 @@ fn run_dynamic(
         while p.phase + 1 < phases.len() && phase_starts[p.phase + 1] <= p.state.time + 1e-12 * h {
             p.phase += 1;
             let dissipated = p.state.dissipated;
-            integ = match Integrator::new(&phases[p.phase], settings.clone()) {
+            integ = match Integrator::new(phases[p.phase].clone(), settings.clone()) {
                 Ok(i) => i,
                 Err(e) => {
                     fail_setup(summary, "setting up the solver after a release", e.message);

@@ -128,7 +128,7 @@ fn a_slowly_sliding_wrap_transmits_the_capstan_ratio() {
         spectral_radius: 0.0,
         ..Default::default()
     };
-    let mut integ = Integrator::new(&model, dynamic.clone()).unwrap();
+    let mut integ = Integrator::new(std::sync::Arc::new(model.clone()), dynamic.clone()).unwrap();
     let mut s = integ
         .initial_state(q, vec![0.0; model.reference.len()])
         .unwrap();

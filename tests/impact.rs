@@ -31,7 +31,7 @@ fn run(scene: &Scene, end: f64) -> Run {
         panic!("dynamic scene")
     };
     let model = &scene.model;
-    let mut integ = Integrator::new(model, settings.clone()).unwrap();
+    let mut integ = Integrator::new(std::sync::Arc::new(model.clone()), settings.clone()).unwrap();
     let mut s = integ
         .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
         .unwrap();

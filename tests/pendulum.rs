@@ -26,7 +26,7 @@ fn pendulum(n: usize) -> Model {
 }
 
 /// An integrator (ρ∞ = 1, time step h) and the state at rest in the reference.
-fn start(model: &Model, h: f64, newton: NewtonKind) -> (Integrator<'_>, State) {
+fn start(model: &Model, h: f64, newton: NewtonKind) -> (Integrator, State) {
     let settings = DynamicSettings {
         time_step: h,
         end_time: 1.0,
@@ -34,7 +34,7 @@ fn start(model: &Model, h: f64, newton: NewtonKind) -> (Integrator<'_>, State) {
         newton,
         ..Default::default()
     };
-    let mut integ = Integrator::new(model, settings).unwrap();
+    let mut integ = Integrator::new(std::sync::Arc::new(model.clone()), settings).unwrap();
     let s = integ
         .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
         .unwrap();

@@ -7,6 +7,7 @@ use crate::damping::{Damping, kelvin_voigt_element};
 use crate::linear_solver::SparseSolver;
 use crate::model::Model;
 use crate::model::NODE_DOFS;
+use std::sync::Arc;
 
 /// How often the Newton matrix is refactorized.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -200,8 +201,9 @@ impl std::error::Error for StepError {}
 
 /// The integrator: owns the pattern, the symbolic factorization and the
 /// constant mass values, computed once per model.
-pub struct Integrator<'m> {
-    pub model: &'m Model,
+pub struct Integrator {
+    /// The model it integrates (shared: a simulation keeps one per phase).
+    pub model: Arc<Model>,
     pub settings: DynamicSettings,
     params: AlphaParameters,
     pattern: Pattern,
@@ -269,18 +271,18 @@ fn norm_inf(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
-impl<'m> Integrator<'m> {
-    pub fn new(model: &'m Model, settings: DynamicSettings) -> Result<Self, StepError> {
-        let pattern = Pattern::new(model);
+impl Integrator {
+    pub fn new(model: Arc<Model>, settings: DynamicSettings) -> Result<Self, StepError> {
+        let pattern = Pattern::new(&model);
         let solver = SparseSolver::new(&pattern).map_err(|e| StepError { message: e.0 })?;
-        let mass = mass_values(model, &pattern);
+        let mass = mass_values(&model, &pattern);
         let rayleigh = match model.damping() {
             Some(Damping::Rayleigh {
                 mass: alpha,
                 stiffness: beta,
             }) => {
                 let mut k0 = pattern.zeros();
-                assemble(model, &pattern, &model.reference, Some(&mut k0));
+                assemble(&model, &pattern, &model.reference, Some(&mut k0));
                 mass.iter()
                     .zip(&k0)
                     .map(|(m, k)| alpha * m + beta * k)
@@ -291,7 +293,7 @@ impl<'m> Integrator<'m> {
         let ext = model.external_force(1.0);
         Ok(Integrator {
             params: AlphaParameters::new(settings.spectral_radius),
-            model,
+            model: Arc::clone(&model),
             settings,
             mass,
             solver,
@@ -321,10 +323,10 @@ impl<'m> Integrator<'m> {
     /// Initial state at rest at `q0`, with the consistent initial
     /// acceleration M a₀ = Q_ext − Q_e(q₀).
     pub fn initial_state(&mut self, q0: Vec<f64>, v0: Vec<f64>) -> Result<State, StepError> {
-        let (qe, _) = assemble(self.model, &self.pattern, &q0, None);
+        let (qe, _) = assemble(&self.model, &self.pattern, &q0, None);
         let mut rhs_full: Vec<f64> = self.ext.iter().zip(&qe).map(|(a, b)| a - b).collect();
         if let Some(c) = self.model.contact() {
-            let qc = assemble_contact(self.model, c, &self.pattern, &q0, &v0, None, None).force;
+            let qc = assemble_contact(&self.model, c, &self.pattern, &q0, &v0, None, None).force;
             rhs_full.iter_mut().zip(&qc).for_each(|(r, f)| *r += f);
         }
         let mut a = self.model.gather(&rhs_full);
@@ -384,13 +386,13 @@ impl<'m> Integrator<'m> {
 
     /// Energies of a state.
     pub fn energies(&self, s: &State) -> Energies {
-        let (_, strain) = assemble(self.model, &self.pattern, &s.q, None);
+        let (_, strain) = assemble(&self.model, &self.pattern, &s.q, None);
         let mv = self.model.mass_times(&s.v);
         let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
         let (gravity, loads) = self.model.external_potential(&s.q);
         let contact = match self.model.contact() {
             Some(c) => {
-                assemble_contact(self.model, c, &self.pattern, &s.q, &s.v, None, None)
+                assemble_contact(&self.model, c, &self.pattern, &s.q, &s.v, None, None)
                     .total
                     .energy
             }
@@ -491,7 +493,8 @@ impl<'m> Integrator<'m> {
     ) -> (Vec<f64>, f64) {
         let params = self.params;
         let (alpha_m, alpha_f) = (params.alpha_m, params.alpha_f);
-        let model = self.model;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         // Midpoint vectors in workspaces allocated once (at 4096 elements
         // each is 390 KB; allocating six of them per residual showed up as
         // page clearing in perf).
@@ -551,7 +554,8 @@ impl<'m> Integrator<'m> {
         kq: Option<&mut [f64]>,
         kv: Option<&mut [f64]>,
     ) -> (Vec<f64>, f64) {
-        let model = self.model;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         let vu = model.gather(v);
         match model.damping() {
             None => (vec![0.0; model.n_unknowns], 0.0),
@@ -628,7 +632,8 @@ impl<'m> Integrator<'m> {
             beta,
             gamma,
         } = self.params;
-        let model = self.model;
+        let model = Arc::clone(&self.model);
+        let model = &*model;
         let friction = model.contact().is_some_and(|c| c.has_friction());
         // Friction and Kelvin–Voigt damping make the Newton matrix non-symmetric.
         let symmetric = !friction && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }));

@@ -8,11 +8,12 @@ use crate::output::{
 };
 use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
 use crate::vtk::VtkWriter;
-use ancf_core::dynamics::{Energies, Integrator, State};
+use ancf_core::dynamics::{Energies, State};
 use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
 use ancf_core::model::{Effect, Model};
 use ancf_core::rod_load::{LoadHistory, RodLoad};
 use ancf_core::scene::{Analysis, Scene};
+use ancf_core::simulation::{Initial, Simulation, SimulationError, Snapshot};
 use ancf_core::statics::{StaticSettings, solve_static};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -197,23 +198,14 @@ fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 
     (p, [eps[0], eps[1], eps[2]])
 }
 
-/// Everything a dynamic run accumulates: what a checkpoint saves and a
-/// resumed run starts from.
+/// What a run's outputs accumulate besides the simulation's own snapshot:
+/// with it, what a checkpoint saves and a resumed run starts from.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 struct Progress {
-    /// Steps completed.
-    k: usize,
-    phase: usize,
-    state: State,
-    energy_reference: (f64, f64),
-    newton_iterations: usize,
-    factorizations: usize,
-    released: usize,
+    /// The simulation: step, phase, state, statistics, rod loads.
+    sim: Snapshot,
     message: String,
     contact: Option<ContactSummary>,
-    /// The force on each rod at every step (impacts last about a
-    /// millisecond: values sampled at output rows would miss them).
-    rod_loads: Vec<LoadHistory>,
     first_point: Option<ContactPoint>,
     history: History,
     max_drift: f64,
@@ -269,7 +261,7 @@ pub fn resume(dir: &Path, quiet: bool) -> Result<Summary, String> {
     let Analysis::Dynamic { settings, .. } = &scene.analysis else {
         return Err("only dynamic runs have checkpoints".into());
     };
-    let t = ck.progress.state.time;
+    let t = ck.progress.sim.state.time;
     truncate_csv(&dir.join("timeseries.csv"), t)?;
     let opts = RunOptions {
         out: dir.to_path_buf(),
@@ -330,7 +322,6 @@ fn run_dynamic(
     let model = &scene.model;
     let out = &opts.out;
     let contact = model.contact();
-    let n_rods = contact.map_or(0, |c| c.rods.len());
     let resuming = resume.is_some();
     let mut series = if resuming {
         TimeSeries::append(out)
@@ -338,24 +329,7 @@ fn run_dynamic(
         TimeSeries::create(out, contact.is_some())
     }
     .map_err(|e| io_err(out, e))?;
-    // Phases: the model with the supports still holding, between release times.
-    let releases: Vec<f64> = model
-        .release_times()
-        .into_iter()
-        .filter(|t| *t < settings.end_time)
-        .collect();
-    let mut phase_starts = vec![0.0];
-    phase_starts.extend(releases.iter().copied().filter(|t| *t > 0.0));
-    let phases: Vec<std::sync::Arc<Model>> = phase_starts
-        .iter()
-        .map(|t| std::sync::Arc::new(model.holding_at(*t)))
-        .collect();
-    let fail_setup = |summary: &mut Summary, what: &str, msg: String| {
-        summary.status = "failed".into();
-        summary.message = format!("{what}: {msg}");
-    };
     let h = settings.time_step;
-    let n_steps = (settings.end_time / h - 1e-9).ceil() as usize;
     let write = |series: &mut TimeSeries,
                  vtk: &mut Option<VtkWriter>,
                  history: &mut History,
@@ -389,11 +363,10 @@ fn run_dynamic(
         Ok(())
     };
 
-    let (mut p, mut integ, mut vtk) = match resume {
+    let (mut p, mut sim, mut vtk) = match resume {
         Some(p) => {
-            let mut integ = Integrator::new(phases[p.phase].clone(), settings.clone())
-                .map_err(|e| e.message)?;
-            integ.restore_energy_reference(p.energy_reference);
+            let sim = Simulation::resume(model, settings.clone(), p.sim.clone())
+                .map_err(|e| e.to_string())?;
             let vtk = if scene.output.vtk {
                 Some(
                     VtkWriter::resume(&out.join("vtk"), model, p.vtk_frames.clone())
@@ -402,7 +375,7 @@ fn run_dynamic(
             } else {
                 None
             };
-            (p, integ, vtk)
+            (p, sim, vtk)
         }
         None => {
             let mut vtk = if scene.output.vtk {
@@ -411,48 +384,38 @@ fn run_dynamic(
                 None
             };
             // Initial coordinates: static equilibrium with every support holding, or the supports' positions.
-            let mut message = String::new();
-            let q0 = if initial_static {
-                let st = StaticSettings {
-                    load_steps,
-                    ..Default::default()
-                };
-                match solve_static(model, &st) {
-                    Ok(res) => {
-                        message = format!(
-                            "initial static equilibrium in {:?} iterations; ",
-                            res.iterations
-                        );
-                        res.q
-                    }
-                    Err(e) => {
-                        summary.status = "failed".into();
-                        summary.message = format!(
-                            "initial static equilibrium: {}. Likely cause: supports too far from the wire's \
-                             reach or a load too large; increase analysis.load_steps",
-                            e.message
-                        );
-                        return Ok(e.last_converged);
-                    }
-                }
+            let initial = if initial_static {
+                Initial::Static { load_steps }
             } else {
-                model.initial_coordinates()
+                Initial::Reference
             };
-            let mut integ = match Integrator::new(phases[0].clone(), settings.clone()) {
-                Ok(i) => i,
+            let sim = match Simulation::new(model, settings.clone(), initial) {
+                Ok(sim) => sim,
+                Err(SimulationError::Static(e)) => {
+                    summary.status = "failed".into();
+                    summary.message = format!(
+                        "initial static equilibrium: {}. Likely cause: supports too far from the wire's \
+                         reach or a load too large; increase analysis.load_steps",
+                        e.message
+                    );
+                    return Ok(e.last_converged);
+                }
                 Err(e) => {
-                    fail_setup(summary, "setting up the solver", e.message);
-                    return Ok(q0);
+                    summary.status = "failed".into();
+                    summary.message = e.to_string();
+                    return Ok(model.initial_coordinates());
                 }
             };
-            let state = match integ.initial_state(q0.clone(), vec![0.0; q0.len()]) {
-                Ok(s) => s,
-                Err(e) => {
-                    fail_setup(summary, "initial acceleration", e.message);
-                    return Ok(q0);
-                }
+            let message = if initial_static {
+                format!(
+                    "initial static equilibrium in {:?} iterations; ",
+                    sim.static_iterations
+                )
+            } else {
+                String::new()
             };
-            let e0 = integ.energies(&state);
+            let state = sim.state().clone();
+            let e0 = sim.energies();
             let mut history = History::default();
             let no_contact = ancf_core::contact::ContactSample::default();
             write(
@@ -467,16 +430,9 @@ fn run_dynamic(
             .map_err(|e| io_err(out, e))?;
             history.shapes.push((0.0, centerline(model, &state.q)));
             let p = Progress {
-                k: 0,
-                phase: 0,
-                energy_reference: integ.energy_reference(),
-                state,
-                newton_iterations: 0,
-                factorizations: 0,
-                released: 0,
+                sim: sim.snapshot(),
                 message,
                 contact: contact.map(|_| ContactSummary::default()),
-                rod_loads: vec![LoadHistory::default(); n_rods],
                 first_point: None,
                 history,
                 max_drift: 0.0,
@@ -484,49 +440,23 @@ fn run_dynamic(
                 last: e0,
                 vtk_frames: Vec::new(),
             };
-            (p, integ, vtk)
+            (p, sim, vtk)
         }
     };
-    summary.unknowns = phases[0].n_unknowns;
+    let (done, n_steps) = sim.steps();
+    summary.unknowns = model.holding_at(0.0).n_unknowns;
     let bar = progress_bar(n_steps as u64, opts.quiet);
-    bar.set_position(p.k as u64);
+    bar.set_position(done as u64);
     let snapshot_every = (n_steps / 8).max(1);
     summary.status = "completed".into();
     summary.message = format!("{}{n_steps} steps of {h} s", p.message);
-    for k in p.k + 1..=n_steps {
-        // A release inside this step: switch to the next phase at its start.
-        while p.phase + 1 < phases.len() && phase_starts[p.phase + 1] <= p.state.time + 1e-12 * h {
-            p.phase += 1;
-            let dissipated = p.state.dissipated;
-            integ = match Integrator::new(phases[p.phase].clone(), settings.clone()) {
-                Ok(i) => i,
-                Err(e) => {
-                    fail_setup(summary, "setting up the solver after a release", e.message);
-                    break;
-                }
-            };
-            match integ.initial_state(p.state.q.clone(), p.state.v.clone()) {
-                Ok(mut s) => {
-                    s.time = p.state.time;
-                    s.dissipated = dissipated;
-                    integ.set_energy_reference(&s);
-                    p.state = s;
-                    p.released += 1;
-                }
-                Err(e) => {
-                    fail_setup(summary, "acceleration after a release", e.message);
-                    break;
-                }
-            }
-        }
-        if summary.status == "failed" {
-            break;
-        }
+    while !sim.is_finished() {
+        let k = sim.steps().0 + 1;
         if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
             summary.status = "interrupted".into();
             summary.message = format!(
                 "interrupted (Ctrl-C) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
-                p.state.time,
+                sim.state().time,
                 if scene.output.checkpoint_every > 0 {
                     "; continue with `ancf run --resume DIR`"
                 } else {
@@ -535,116 +465,117 @@ fn run_dynamic(
             );
             break;
         }
-        let hk = if k == n_steps {
-            settings.end_time - p.state.time
-        } else {
-            h
-        };
-        match integ.step(&p.state, hk) {
-            Ok((next, info)) => {
-                p.state = next;
-                p.k = k;
-                p.newton_iterations += info.iterations;
-                p.factorizations += info.factorizations;
-                if let Some(cs) = p.contact.as_mut() {
-                    let sample = &info.contact;
-                    if sample.active > 0 && cs.first_time.is_none() {
-                        cs.first_time = Some(p.state.time);
-                        if let Some((el, dp)) = info.deepest {
-                            p.first_point = Some(ContactPoint {
-                                element: el,
-                                xi: dp.xi,
-                                y: dp.y,
-                                z: dp.z,
-                            });
-                        }
-                    }
-                    cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
-                    cs.max_penetration = cs.max_penetration.max(sample.max_penetration);
-                    for (r, f) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
-                        r.push(p.state.time, *f);
-                    }
-                }
-                if k % scene.output.every == 0 || k == n_steps {
-                    let e = integ.energies(&p.state);
-                    if !e.total().is_finite() {
-                        summary.status = "failed".into();
-                        summary.message = format!(
-                            "step {k} at t = {:.6} s: the energy is not finite. Likely cause: an inverted \
-                             element or a time step too large; reduce analysis.time_step",
-                            p.state.time
-                        );
-                        break;
-                    }
-                    p.max_drift = p
-                        .max_drift
-                        .max((e.total() + e.dissipated - p.e0.total()).abs());
-                    p.last = e;
-                    write(
-                        &mut series,
-                        &mut vtk,
-                        &mut p.history,
-                        &p.state,
-                        &e,
-                        info.iterations,
-                        contact.map(|_| &info.contact),
-                    )
-                    .map_err(|e| io_err(out, e))?;
-                    if let Some(cp) = &p.first_point {
-                        let (pos, strains) = point_state(model, &p.state.q, cp);
-                        let (p0, _) = point_state(model, &model.reference, cp);
-                        p.history.contact_point.push([
-                            p.state.time,
-                            pos[2] - p0[2],
-                            strains[0],
-                            strains[1],
-                            strains[2],
-                        ]);
-                    }
-                }
-                if k % snapshot_every == 0 || k == n_steps {
-                    p.history
-                        .shapes
-                        .push((p.state.time, centerline(model, &p.state.q)));
-                }
-                let every = scene.output.checkpoint_every;
-                if every > 0 && k % every == 0 && k < n_steps {
-                    p.energy_reference = integ.energy_reference();
-                    p.vtk_frames = vtk
-                        .as_ref()
-                        .map(|v| v.frames().to_vec())
-                        .unwrap_or_default();
-                    write_checkpoint(out, scene, &p)?;
-                    // The resumed run starts without a factorization: so does this one.
-                    integ.refresh_factorization();
-                }
-                bar.set_position(k as u64);
-                bar.set_message(format!("{:.4} s", p.state.time));
-            }
-            Err(e) => {
+        let t_before = sim.state().time;
+        let info = match sim.step() {
+            Ok(info) => info,
+            Err(SimulationError::Step(e)) => {
+                let hk = if k == n_steps {
+                    settings.end_time - t_before
+                } else {
+                    h
+                };
                 summary.status = "failed".into();
                 summary.message = format!(
                     "step {k} at t = {:.6} s: {}. Likely cause: a time step too large for the stiffness \
                      (material penalty, contact) or an unstable configuration; reduce analysis.time_step. \
                      Output up to t = {:.6} s is kept",
-                    p.state.time + hk,
+                    t_before + hk,
                     e.message,
-                    p.state.time
+                    t_before
                 );
                 break;
             }
+            Err(e) => {
+                summary.status = "failed".into();
+                summary.message = e.to_string();
+                break;
+            }
+        };
+        let state = sim.state();
+        if let Some(cs) = p.contact.as_mut() {
+            let sample = &info.contact;
+            if sample.active > 0 && cs.first_time.is_none() {
+                cs.first_time = Some(state.time);
+                if let Some((el, dp)) = info.deepest {
+                    p.first_point = Some(ContactPoint {
+                        element: el,
+                        xi: dp.xi,
+                        y: dp.y,
+                        z: dp.z,
+                    });
+                }
+            }
+            cs.max_normal_force = cs.max_normal_force.max(sample.normal_force);
+            cs.max_penetration = cs.max_penetration.max(sample.max_penetration);
         }
+        if k % scene.output.every == 0 || k == n_steps {
+            let e = sim.energies();
+            if !e.total().is_finite() {
+                summary.status = "failed".into();
+                summary.message = format!(
+                    "step {k} at t = {:.6} s: the energy is not finite. Likely cause: an inverted \
+                     element or a time step too large; reduce analysis.time_step",
+                    state.time
+                );
+                break;
+            }
+            p.max_drift = p
+                .max_drift
+                .max((e.total() + e.dissipated - p.e0.total()).abs());
+            p.last = e;
+            write(
+                &mut series,
+                &mut vtk,
+                &mut p.history,
+                state,
+                &e,
+                info.iterations,
+                contact.map(|_| &info.contact),
+            )
+            .map_err(|e| io_err(out, e))?;
+            if let Some(cp) = &p.first_point {
+                let (pos, strains) = point_state(model, &state.q, cp);
+                let (p0, _) = point_state(model, &model.reference, cp);
+                p.history.contact_point.push([
+                    state.time,
+                    pos[2] - p0[2],
+                    strains[0],
+                    strains[1],
+                    strains[2],
+                ]);
+            }
+        }
+        if k % snapshot_every == 0 || k == n_steps {
+            p.history
+                .shapes
+                .push((state.time, centerline(model, &state.q)));
+        }
+        let time = state.time;
+        let every = scene.output.checkpoint_every;
+        if every > 0 && k % every == 0 && k < n_steps {
+            p.sim = sim.snapshot();
+            p.vtk_frames = vtk
+                .as_ref()
+                .map(|v| v.frames().to_vec())
+                .unwrap_or_default();
+            write_checkpoint(out, scene, &p)?;
+            // The resumed run starts without a factorization: so does this one.
+            sim.refresh_factorization();
+        }
+        bar.set_position(k as u64);
+        bar.set_message(format!("{time:.4} s"));
     }
     bar.finish_and_clear();
-    if p.released > 0 && summary.status == "completed" {
+    let progress = sim.progress();
+    if progress.released > 0 && summary.status == "completed" {
         summary
             .message
-            .push_str(&format!("; {} support release(s)", p.released));
+            .push_str(&format!("; {} support release(s)", progress.released));
     }
-    summary.steps = p.k;
-    summary.newton_iterations = p.newton_iterations;
-    summary.factorizations = p.factorizations;
-    summary.time = p.state.time;
+    summary.steps = progress.step;
+    summary.newton_iterations = progress.newton_iterations;
+    summary.factorizations = progress.factorizations;
+    summary.time = progress.state.time;
     summary.energy = Some(EnergySummary {
         last: p.last,
         total: p.last.total(),
@@ -655,12 +586,12 @@ fn run_dynamic(
         cs.rods = c
             .rods
             .iter()
-            .zip(&p.rod_loads)
+            .zip(sim.rod_loads())
             .map(|(rod, h)| rod_summary(rod, h.summary(cfc)))
             .collect();
-        write_rod_forces(out, &p.rod_loads, cfc).map_err(|e| io_err(out, e))?;
+        write_rod_forces(out, sim.rod_loads(), cfc).map_err(|e| io_err(out, e))?;
         if scene.output.plots {
-            plot_rod_forces(out, &p.rod_loads, &cs.rods)?;
+            plot_rod_forces(out, sim.rod_loads(), &cs.rods)?;
         }
     }
     summary.contact = p.contact.clone();
@@ -670,7 +601,7 @@ fn run_dynamic(
     if !p.history.contact_point.is_empty() {
         write_contact_point(out, &p.history).map_err(|e| io_err(out, e))?;
     }
-    Ok(p.state.q)
+    Ok(sim.state().q.clone())
 }
 
 fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {

@@ -29,6 +29,7 @@ pub mod quadrature;
 pub mod rod_load;
 pub mod scene;
 pub mod section;
+pub mod simulation;
 pub mod statics;
 
 #[cfg(test)]

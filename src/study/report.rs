@@ -636,6 +636,9 @@ pub fn richardson(coarse: f64, medium: f64, fine: f64, ratio: f64) -> Option<(f6
     Some((p, gci))
 }
 
+/// A quantity a refinement is judged by: its name and how to read it from a run.
+type Quantity<'a> = (&'a str, &'a dyn Fn(&Outcome) -> Option<f64>);
+
 /// Per refinement direction of a family (time step, elements, contact
 /// integration), the three finest runs that differ from the scene's setting
 /// only in it: the values of the filtered peak, the first impact's impulse
@@ -699,7 +702,7 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
                 .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
                 .map(|s| s.tip[2])
         };
-        let quantities: [(&str, &dyn Fn(&Outcome) -> Option<f64>); 3] = [
+        let quantities: [Quantity; 3] = [
             ("filtered peak force (N)", &|o| o.peak_force),
             ("impulse, first 0.1 s of contact (N s)", &|o| {
                 o.window_impulse

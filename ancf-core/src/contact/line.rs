@@ -64,17 +64,16 @@ pub(crate) fn element_rod(
                     kq.as_deref_mut(),
                     kv.as_deref_mut(),
                     &mut sample,
-                ) {
-                    if deepest.is_none_or(|dp| res.penetration > dp.penetration) {
-                        let (y, z) = facing_point(e, xi, &res.n, contact.wire_radius);
-                        deepest = Some(DeepestPoint {
-                            rod: ri,
-                            xi,
-                            y,
-                            z,
-                            penetration: res.penetration,
-                        });
-                    }
+                ) && deepest.is_none_or(|dp| res.penetration > dp.penetration)
+                {
+                    let (y, z) = facing_point(e, xi, &res.n, contact.wire_radius);
+                    deepest = Some(DeepestPoint {
+                        rod: ri,
+                        xi,
+                        y,
+                        z,
+                        penetration: res.penetration,
+                    });
                 }
             }
         }

@@ -84,16 +84,15 @@ pub(crate) fn element_rod(
             kq.as_deref_mut(),
             kv.as_deref_mut(),
             &mut sample,
-        ) {
-            if deepest.is_none_or(|dp| r.penetration > dp.penetration) {
-                deepest = Some(DeepestPoint {
-                    rod: ri,
-                    xi: tp.xi,
-                    y: tp.y,
-                    z: tp.z,
-                    penetration: r.penetration,
-                });
-            }
+        ) && deepest.is_none_or(|dp| r.penetration > dp.penetration)
+        {
+            deepest = Some(DeepestPoint {
+                rod: ri,
+                xi: tp.xi,
+                y: tp.y,
+                z: tp.z,
+                penetration: r.penetration,
+            });
         }
     }
     (sample, deepest)

@@ -1,0 +1,304 @@
+//! A dynamic simulation of one wire: the front door for programs (the CLI,
+//! the study, Python). It owns the phase models (one per support release),
+//! the integrator of the current phase and the state, switches phase at
+//! release times, truncates the last step at the end time, and keeps every
+//! step's rod loads. A [`Snapshot`] is what a checkpoint needs to continue
+//! bit for bit.
+//!
+//! ```
+//! use ancf_core::scene::{Analysis, Scene};
+//! use ancf_core::simulation::{Initial, Simulation};
+//! let scene = Scene::from_toml(include_str!("../../scenes/pendulum.toml")).unwrap();
+//! let Analysis::Dynamic { settings, .. } = &scene.analysis else { unreachable!() };
+//! let mut sim = Simulation::new(&scene.model, settings.clone(), Initial::Reference).unwrap();
+//! while !sim.is_finished() && sim.state().time < 0.1 {
+//!     sim.step().unwrap();
+//! }
+//! let tip = sim.model().node_position(&sim.state().q, sim.model().n_elements);
+//! assert!(tip[2] < 0.0, "the pendulum swings down");
+//! ```
+
+use crate::dynamics::{DynamicSettings, Energies, Integrator, State, StepError, StepInfo};
+use crate::model::Model;
+use crate::rod_load::LoadHistory;
+use crate::statics::{StaticError, StaticSettings, solve_static};
+use std::sync::Arc;
+
+/// Where a simulation starts.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Initial {
+    /// At rest in the initial coordinates (the supports' positions, else the reference).
+    Reference,
+    /// At rest in static equilibrium with every support holding, reached in
+    /// `load_steps` load increments.
+    Static { load_steps: usize },
+}
+
+/// Why a simulation could not start or go on.
+#[derive(Clone, Debug)]
+pub enum SimulationError {
+    /// The initial static equilibrium failed; its last converged state is kept.
+    Static(StaticError),
+    /// The solver could not be set up, or the acceleration of a state not
+    /// found (`what` says which, at the start or after a release).
+    Setup {
+        what: &'static str,
+        error: StepError,
+    },
+    /// A time step failed (after every allowed cut).
+    Step(StepError),
+}
+
+impl std::fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimulationError::Static(e) => write!(f, "initial static equilibrium: {e}"),
+            SimulationError::Setup { what, error } => write!(f, "{what}: {error}"),
+            SimulationError::Step(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+/// Everything a simulation accumulates: what a checkpoint saves and a
+/// resumed simulation starts from.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Snapshot {
+    /// Steps completed.
+    pub step: usize,
+    /// Current phase (number of release times passed).
+    pub phase: usize,
+    pub state: State,
+    /// The energy guard's reference (see [`Integrator::energy_reference`]).
+    pub energy_reference: (f64, f64),
+    pub newton_iterations: usize,
+    pub factorizations: usize,
+    /// Support releases done.
+    pub released: usize,
+    /// The force on each rod at every step.
+    pub rod_loads: Vec<LoadHistory>,
+}
+
+/// A running dynamic simulation.
+pub struct Simulation {
+    /// Newton iterations per load step of the initial static equilibrium
+    /// (empty when starting from the reference).
+    pub static_iterations: Vec<usize>,
+    phases: Vec<Arc<Model>>,
+    phase_starts: Vec<f64>,
+    settings: DynamicSettings,
+    integrator: Integrator,
+    steps: usize,
+    progress: Snapshot,
+}
+
+impl Simulation {
+    /// Starts `model` with `settings` from `initial`.
+    pub fn new(
+        model: &Model,
+        settings: DynamicSettings,
+        initial: Initial,
+    ) -> Result<Self, SimulationError> {
+        let (q0, static_iterations) = match initial {
+            Initial::Reference => (model.initial_coordinates(), Vec::new()),
+            Initial::Static { load_steps } => {
+                let st = StaticSettings {
+                    load_steps,
+                    ..Default::default()
+                };
+                let res = solve_static(model, &st).map_err(SimulationError::Static)?;
+                (res.q, res.iterations)
+            }
+        };
+        let (phases, phase_starts) = Self::phases(model, &settings);
+        let mut integrator =
+            Integrator::new(phases[0].clone(), settings.clone()).map_err(|error| {
+                SimulationError::Setup {
+                    what: "setting up the solver",
+                    error,
+                }
+            })?;
+        let v0 = vec![0.0; q0.len()];
+        let state = integrator
+            .initial_state(q0, v0)
+            .map_err(|error| SimulationError::Setup {
+                what: "initial acceleration",
+                error,
+            })?;
+        let rods = model.contact().map_or(0, |c| c.rods.len());
+        Ok(Simulation {
+            static_iterations,
+            steps: Self::step_count(&settings),
+            progress: Snapshot {
+                step: 0,
+                phase: 0,
+                energy_reference: integrator.energy_reference(),
+                state,
+                newton_iterations: 0,
+                factorizations: 0,
+                released: 0,
+                rod_loads: vec![LoadHistory::default(); rods],
+            },
+            phases,
+            phase_starts,
+            settings,
+            integrator,
+        })
+    }
+
+    /// Continues from a snapshot of the same model and settings; it ends bit
+    /// for bit like the simulation the snapshot was taken of, provided that
+    /// one called [`Simulation::refresh_factorization`] after the snapshot.
+    pub fn resume(
+        model: &Model,
+        settings: DynamicSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, SimulationError> {
+        let (phases, phase_starts) = Self::phases(model, &settings);
+        let phase = phases
+            .get(snapshot.phase)
+            .ok_or_else(|| SimulationError::Setup {
+                what: "resuming",
+                error: StepError {
+                    message: format!("the snapshot's phase {} does not exist", snapshot.phase),
+                },
+            })?;
+        let mut integrator = Integrator::new(phase.clone(), settings.clone()).map_err(|error| {
+            SimulationError::Setup {
+                what: "setting up the solver",
+                error,
+            }
+        })?;
+        integrator.restore_energy_reference(snapshot.energy_reference);
+        Ok(Simulation {
+            static_iterations: Vec::new(),
+            steps: Self::step_count(&settings),
+            progress: snapshot,
+            phases,
+            phase_starts,
+            settings,
+            integrator,
+        })
+    }
+
+    /// The phase models: the supports still holding between release times.
+    fn phases(model: &Model, settings: &DynamicSettings) -> (Vec<Arc<Model>>, Vec<f64>) {
+        let mut starts = vec![0.0];
+        starts.extend(
+            model
+                .release_times()
+                .into_iter()
+                .filter(|t| *t < settings.end_time && *t > 0.0),
+        );
+        let phases = starts
+            .iter()
+            .map(|t| Arc::new(model.holding_at(*t)))
+            .collect();
+        (phases, starts)
+    }
+
+    fn step_count(settings: &DynamicSettings) -> usize {
+        (settings.end_time / settings.time_step - 1e-9).ceil() as usize
+    }
+
+    /// Advances one time step (the last one ends at the end time), first
+    /// switching phase when a support's release time has come. Returns the
+    /// step's statistics; an error leaves the simulation at its last
+    /// completed step.
+    pub fn step(&mut self) -> Result<StepInfo, SimulationError> {
+        let h = self.settings.time_step;
+        let p = &mut self.progress;
+        // A release inside this step: switch to the next phase at its start.
+        while p.phase + 1 < self.phases.len()
+            && self.phase_starts[p.phase + 1] <= p.state.time + 1e-12 * h
+        {
+            let next = p.phase + 1;
+            let mut integrator = Integrator::new(self.phases[next].clone(), self.settings.clone())
+                .map_err(|error| SimulationError::Setup {
+                    what: "setting up the solver after a release",
+                    error,
+                })?;
+            let mut s = integrator
+                .initial_state(p.state.q.clone(), p.state.v.clone())
+                .map_err(|error| SimulationError::Setup {
+                    what: "acceleration after a release",
+                    error,
+                })?;
+            s.time = p.state.time;
+            s.dissipated = p.state.dissipated;
+            integrator.set_energy_reference(&s);
+            self.integrator = integrator;
+            p.phase = next;
+            p.state = s;
+            p.released += 1;
+        }
+        let k = p.step + 1;
+        let hk = if k == self.steps {
+            self.settings.end_time - p.state.time
+        } else {
+            h
+        };
+        let (next, info) = self
+            .integrator
+            .step(&p.state, hk)
+            .map_err(SimulationError::Step)?;
+        p.state = next;
+        p.step = k;
+        p.newton_iterations += info.iterations;
+        p.factorizations += info.factorizations;
+        for (history, force) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
+            history.push(p.state.time, *force);
+        }
+        Ok(info)
+    }
+
+    /// Whether every step up to the end time is done.
+    pub fn is_finished(&self) -> bool {
+        self.progress.step >= self.steps
+    }
+
+    /// The current state (time, coordinates, velocities, accelerations).
+    pub fn state(&self) -> &State {
+        &self.progress.state
+    }
+
+    /// The model of the current phase (its unknowns reflect released supports).
+    pub fn model(&self) -> &Model {
+        &self.integrator.model
+    }
+
+    /// Energies of the current state, J.
+    pub fn energies(&self) -> Energies {
+        self.integrator.energies(&self.progress.state)
+    }
+
+    /// Steps completed and steps in all.
+    pub fn steps(&self) -> (usize, usize) {
+        (self.progress.step, self.steps)
+    }
+
+    /// The force on each rod at every step.
+    pub fn rod_loads(&self) -> &[LoadHistory] {
+        &self.progress.rod_loads
+    }
+
+    /// Everything accumulated so far (statistics, loads), see [`Snapshot`].
+    pub fn progress(&self) -> &Snapshot {
+        &self.progress
+    }
+
+    /// A snapshot to resume from; call [`Simulation::refresh_factorization`]
+    /// after taking it for the resumed run to repeat this one's iterations.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            energy_reference: self.integrator.energy_reference(),
+            ..self.progress.clone()
+        }
+    }
+
+    /// Drops the kept factorization (a resumed run starts without one).
+    pub fn refresh_factorization(&mut self) {
+        self.integrator.refresh_factorization();
+    }
+}

@@ -144,7 +144,7 @@ impl Pattern {
 ///
 /// With enough element work ([`runs_in_parallel`]), the elements are split into
 /// chunks that rayon evaluates in parallel, each writing straight into its
-/// own windows of the force and of the Jacobian's values (see [`Chunk`]).
+/// own windows of the force and of the Jacobian's values (see `Chunk`).
 /// Every value receives its contributions in the serial loop's order, so
 /// the result has the same bits as the serial loop with any number of
 /// threads (tests: `chunked_assembly_equals_the_serial_loop` here,

@@ -77,7 +77,7 @@ pub fn position(e: &ElementVector, xi: f64, y: f64, z: f64, l: f64) -> [f64; 3] 
     std::array::from_fn(|k| (0..8).map(|i| s[i] * e[3 * i + k]).sum())
 }
 
-/// Deformation gradient F[k][a] = Σ_i e[3i+k] ∂s_i/∂x_a.
+/// Deformation gradient F\[k\]\[a\] = Σ_i e\[3i+k\] ∂s_i/∂x_a.
 pub fn deformation_gradient(e: &ElementVector, g: &[[f64; 3]; 8]) -> [[f64; 3]; 3] {
     std::array::from_fn(|k| std::array::from_fn(|a| (0..8).map(|i| e[3 * i + k] * g[i][a]).sum()))
 }

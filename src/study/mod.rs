@@ -3,7 +3,7 @@
 //! ([`plan`]), runs every setting with the ordinary run pipeline (each run
 //! single-threaded in its own one-thread rayon pool, runs in parallel on
 //! worker threads), measures its error
-//! against an analytic value ([`reference`]) or a finer reference run, and
+//! against an analytic value ([`mod@reference`]) or a finer reference run, and
 //! writes a Markdown report with log–log error-against-time plots
 //! ([`report`]).
 

@@ -278,7 +278,7 @@ pub fn cheapest(points: &[(f64, Option<f64>)], threshold: f64) -> Option<usize> 
 const TIME_TIE: f64 = 0.10;
 
 /// The cheapest run reaching `threshold`; among runs as fast within
-/// [`TIME_TIE`], the scene's own section and axial order first, then the
+/// `TIME_TIE`, the scene's own section and axial order first, then the
 /// lowest orders, then fewest elements (a user should not pick section
 /// order 5 over 3 because of timing noise when the results are the same).
 pub fn cheapest_setting(

@@ -6,7 +6,7 @@
 //! Run: `cargo run --release --example pendulum_scaling [max_elements]`
 
 use ancf::bench::{pendulum, pendulum_step};
-use ancf_core::dynamics::NewtonKind;
+use ancf_core::solve::dynamics::NewtonKind;
 
 fn main() {
     let max: usize = std::env::args()

@@ -9,7 +9,7 @@ use ancf_core::element::ElementIntegration;
 use ancf_core::material::{Material, MaterialModel};
 use ancf_core::model::{Model, PointLoad, Support, SupportKind};
 use ancf_core::section::Section;
-use ancf_core::statics::{StaticSettings, solve_static};
+use ancf_core::solve::statics::{StaticSettings, solve_static};
 
 const L: f64 = 1.0;
 

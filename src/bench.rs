@@ -4,12 +4,12 @@
 //! unless stated (a 1-thread rayon pool); wall-clock medians of repeats.
 
 use crate::run::{RunOptions, run_scene};
-use ancf_core::dynamics::{DynamicSettings, Integrator, NewtonKind};
 use ancf_core::element::{ElementIntegration, reference_coordinates};
 use ancf_core::material::{Material, MaterialModel};
 use ancf_core::model::{Model, Support, SupportKind};
 use ancf_core::scene::Scene;
 use ancf_core::section::Section;
+use ancf_core::solve::dynamics::{DynamicSettings, Integrator, NewtonKind};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -86,11 +86,11 @@ pub fn pendulum_step(model: &Model, newton: NewtonKind, steps: usize) -> (f64, f
 /// values) at a deformed state (the reference stretched by 1 %), as a
 /// Newton iteration does, on the current rayon pool.
 pub fn assembly_us(model: &Model) -> f64 {
-    let pattern = ancf_core::assembly::Pattern::new(model);
+    let pattern = ancf_core::forces::assembly::Pattern::new(model);
     let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
     let mut k = pattern.zeros();
     time_us(|| {
-        std::hint::black_box(ancf_core::assembly::assemble(
+        std::hint::black_box(ancf_core::forces::assembly::assemble(
             model,
             &pattern,
             std::hint::black_box(&q),

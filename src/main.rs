@@ -1,7 +1,7 @@
 //! `ancf`: run, check and inspect ANCF wire simulations.
 
 use ancf::run::{RunOptions, run_scene};
-use ancf_core::quadrature::ring_rule;
+use ancf_core::math::quadrature::ring_rule;
 use ancf_core::scene::Scene;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;

@@ -2,7 +2,7 @@
 //! rows are flushed as they are produced), so a failed run keeps what it
 //! computed.
 
-use ancf_core::dynamics::Energies;
+use ancf_core::solve::dynamics::Energies;
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -54,7 +54,7 @@ pub struct RodSummary {
     /// Peaks (raw and CFC-filtered), impulse, contact duration; for a
     /// static run the final force is the peak.
     #[serde(flatten)]
-    pub load: ancf_core::rod_load::RodLoad,
+    pub load: ancf_core::loads::rod_load::RodLoad,
 }
 
 /// `summary.json`.

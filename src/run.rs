@@ -8,13 +8,13 @@ use crate::output::{
 };
 use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
 use crate::vtk::VtkWriter;
-use ancf_core::dynamics::{Energies, State};
 use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
+use ancf_core::loads::rod_load::{LoadHistory, RodLoad};
 use ancf_core::model::{Effect, Model};
-use ancf_core::rod_load::{LoadHistory, RodLoad};
 use ancf_core::scene::{Analysis, Scene};
-use ancf_core::simulation::{Initial, Simulation, SimulationError, Snapshot};
-use ancf_core::statics::{StaticSettings, solve_static};
+use ancf_core::solve::dynamics::{Energies, State};
+use ancf_core::solve::simulation::{Initial, Simulation, SimulationError, Snapshot};
+use ancf_core::solve::statics::{StaticSettings, solve_static};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -312,7 +312,7 @@ fn finish(
 #[allow(clippy::too_many_arguments)]
 fn run_dynamic(
     scene: &Scene,
-    settings: &ancf_core::dynamics::DynamicSettings,
+    settings: &ancf_core::solve::dynamics::DynamicSettings,
     initial_static: bool,
     load_steps: usize,
     opts: &RunOptions,
@@ -336,7 +336,7 @@ fn run_dynamic(
                  s: &State,
                  e: &Energies,
                  its: usize,
-                 c: Option<&ancf_core::contact::ContactSample>|
+                 c: Option<&ancf_core::forces::contact::ContactSample>|
      -> std::io::Result<()> {
         let p = model.node_position(&s.q, model.n_elements);
         let mut row = vec![
@@ -417,7 +417,7 @@ fn run_dynamic(
             let state = sim.state().clone();
             let e0 = sim.energies();
             let mut history = History::default();
-            let no_contact = ancf_core::contact::ContactSample::default();
+            let no_contact = ancf_core::forces::contact::ContactSample::default();
             write(
                 &mut series,
                 &mut vtk,
@@ -741,7 +741,7 @@ fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
 }
 
 /// A rod's entry in the summary: its law and stiffness, and its load.
-fn rod_summary(rod: &ancf_core::contact::Rod, load: RodLoad) -> crate::output::RodSummary {
+fn rod_summary(rod: &ancf_core::forces::contact::Rod, load: RodLoad) -> crate::output::RodSummary {
     crate::output::RodSummary {
         law: rod.law.name().into(),
         contact_stiffness: rod.contact_stiffness,
@@ -865,9 +865,9 @@ fn plot_rod_forces(
 /// (no impulse, no duration, nothing to filter).
 fn static_contact(model: &Model, q: &[f64]) -> Option<ContactSummary> {
     let c = model.contact()?;
-    let pattern = ancf_core::assembly::Pattern::new(model);
+    let pattern = ancf_core::forces::assembly::Pattern::new(model);
     let v = vec![0.0; q.len()];
-    let cf = ancf_core::assembly::assemble_contact(model, c, &pattern, q, &v, None, None);
+    let cf = ancf_core::forces::assembly::assemble_contact(model, c, &pattern, q, &v, None, None);
     let rods = c
         .rods
         .iter()

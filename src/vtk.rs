@@ -8,8 +8,8 @@
 //! instead of vtkio: vtkio 0.6 pulls nom 3, quick-xml 0.22 and syn 1 with
 //! future-incompatibility warnings (CRATES.md), for a format this small.
 
-use ancf_core::contact::Rod;
 use ancf_core::element::{deformation_gradient, green_lagrange, shape_functions, shape_gradients};
+use ancf_core::forces::contact::Rod;
 use ancf_core::model::Model;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

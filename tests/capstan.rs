@@ -16,10 +16,10 @@
 //! element, independent of ω).
 
 mod common;
-use ancf_core::contact::{ContactLaw, ContactSettings, Rod};
-use ancf_core::dynamics::{DynamicSettings, Integrator};
+use ancf_core::forces::contact::{ContactLaw, ContactSettings, Rod};
 use ancf_core::model::{Model, PointLoad};
 use ancf_core::section::Section;
+use ancf_core::solve::dynamics::{DynamicSettings, Integrator};
 
 const R_WIRE: f64 = 0.005; // m
 const R_ROD: f64 = 0.02; // m

@@ -4,7 +4,7 @@
 //! points (away from the contact boundary) and for the line law.
 
 mod common;
-use ancf_core::contact::{Contact, ContactLaw, ContactSettings, Rod};
+use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, Rod};
 use common::*;
 
 const L: f64 = 0.25;
@@ -144,7 +144,7 @@ fn far_elements_are_skipped_by_the_broad_phase() {
 /// Issue 8: the Kelvin–Voigt force's Jacobians against central differences.
 #[test]
 fn kelvin_voigt_jacobians_match_finite_differences() {
-    use ancf_core::damping::kelvin_voigt_element;
+    use ancf_core::forces::damping::kelvin_voigt_element;
     let el = element(two_layer(svk(2e9, 0.3, 0.5), mooney_rivlin(1e3), 3), L, 3);
     let mut rng = Rng::new(4);
     let e = deformed(&mut rng, L, 0.1);

@@ -3,7 +3,7 @@
 //! μ > 0, the centerline term only for layers with ω < 1, and the
 //! Mooney–Rivlin law only in layers that use it.
 
-use ancf_core::contact::ContactSettings;
+use ancf_core::forces::contact::ContactSettings;
 use ancf_core::model::Effect;
 use ancf_core::scene::Scene;
 

@@ -2,8 +2,8 @@
 //! dissipated), a stiff wire first touches the rod when a rigid pendulum
 //! would, and penetration falls as the contact stiffness rises.
 
-use ancf_core::dynamics::{Energies, Integrator};
 use ancf_core::scene::{Analysis, Scene};
+use ancf_core::solve::dynamics::{Energies, Integrator};
 
 fn scene(edit: impl Fn(String) -> String) -> Scene {
     let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();

@@ -5,8 +5,8 @@
 //! carries a uniform line load.
 
 mod common;
-use ancf_core::contact::{Contact, ContactLaw, ContactSettings, Rod};
 use ancf_core::element::reference_coordinates;
+use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, Rod};
 
 const L: f64 = 0.125; // element length, m
 const RW: f64 = 0.01407; // wire radius, m

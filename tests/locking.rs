@@ -6,7 +6,7 @@ use ancf_core::element::ElementIntegration;
 use ancf_core::material::{Locking, Material};
 use ancf_core::model::{Model, PointLoad, Support, SupportKind};
 use ancf_core::section::Section;
-use ancf_core::statics::{StaticSettings, solve_static};
+use ancf_core::solve::statics::{StaticSettings, solve_static};
 use common::*;
 use std::f64::consts::PI;
 

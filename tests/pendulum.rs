@@ -2,9 +2,9 @@
 //! trajectory converges at second order in the time step.
 
 mod common;
-use ancf_core::dynamics::{DynamicSettings, Integrator, NewtonKind, State};
 use ancf_core::element::ElementIntegration;
 use ancf_core::model::{Model, Support, SupportKind};
+use ancf_core::solve::dynamics::{DynamicSettings, Integrator, NewtonKind, State};
 use common::*;
 
 const LENGTH: f64 = 1.0;
@@ -161,7 +161,7 @@ fn parallel_assembly_is_deterministic_with(n: usize, cover: ancf_core::material:
         vec![],
     )
     .unwrap();
-    assert!(ancf_core::assembly::runs_in_parallel(&model, true));
+    assert!(ancf_core::forces::assembly::runs_in_parallel(&model, true));
     let run_with = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -224,7 +224,7 @@ fn issue7_predictor_follows_the_flipping_stiff_modes() {
 /// step of another size is ignored.
 #[test]
 fn issue7_predictor_is_exact_for_constant_and_stiff_parts() {
-    use ancf_core::dynamics::{PreviousStep, predict};
+    use ancf_core::solve::dynamics::{PreviousStep, predict};
     let model = pendulum(4);
     let n = model.reference.len();
     let c: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();

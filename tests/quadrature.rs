@@ -1,7 +1,7 @@
 //! Issue 2 §1: the ring/disk rule and Gauss–Legendre are exact where theory
 //! says, and only there.
 
-use ancf_core::quadrature::{gauss_legendre_unit, ring_monomial_integral, ring_rule};
+use ancf_core::math::quadrature::{gauss_legendre_unit, ring_monomial_integral, ring_rule};
 
 /// Largest relative error over the monomials of total degree `deg`.
 fn worst_error(n: usize, r1: f64, r2: f64, deg: u32) -> f64 {
@@ -85,7 +85,7 @@ fn build_time_axial_constants_match_runtime_rules() {
 
 #[test]
 fn weighted_ring_rule_integrates_layered_stiffness_exactly() {
-    use ancf_core::quadrature::ring_rule_weighted;
+    use ancf_core::math::quadrature::ring_rule_weighted;
     let pieces = [(0.0, 0.0052, 3.0), (0.0052, 0.01407, 1.0)];
     for n in 1..=6 {
         let pts = ring_rule_weighted(n, &pieces);

@@ -2,7 +2,7 @@
 //! support, and the static initial state of a dynamic run.
 
 use ancf_core::scene::Scene;
-use ancf_core::statics::{StaticSettings, solve_static};
+use ancf_core::solve::statics::{StaticSettings, solve_static};
 
 /// A conductor of unstretched length `l0` pinned at (0,0,0) and at `(span, 0, 0)`.
 fn span_scene(l0: f64, span: f64, elements: usize, extra: &str) -> String {

@@ -5,7 +5,7 @@ mod common;
 use ancf_core::element::ElementIntegration;
 use ancf_core::model::{Model, PointLoad, Support, SupportKind};
 use ancf_core::section::Section;
-use ancf_core::statics::{StaticSettings, solve_static};
+use ancf_core::solve::statics::{StaticSettings, solve_static};
 use common::*;
 
 const LENGTH: f64 = 1.0;

@@ -3,7 +3,8 @@
 //! Absolute nodal coordinate formulation (ANCF) beams for electrical wires
 //! and cables: the fully parameterized 24-DOF element with a multilayer
 //! circular cross section (Lan, Tian & Yu 2020). Data flows one way:
-//! scene → model → assembly → solver → outputs. See ARCHITECTURE.md.
+//! scene → model → forces → linear algebra → solver → loads and outputs.
+//! See ARCHITECTURE.md.
 //!
 //! Units are SI throughout (m, kg, s, N, Pa).
 
@@ -11,26 +12,19 @@
 // formulas they implement (Σ_i e[3i+k] g[i][a]); iterator chains would not.
 #![allow(clippy::needless_range_loop)]
 
-pub mod assembly;
-pub mod band_cholesky;
-pub mod band_lu;
-pub mod band_split;
-pub mod cfc;
-pub mod contact;
-pub mod damping;
-pub mod dynamics;
+// The folders follow the data flow: scene → model → forces → linear algebra
+// → solvers → loads. `math`, `element`, `material` and `section` are what a
+// model is made of.
 pub mod element;
-pub mod linear_solver;
+pub mod forces;
+pub mod linalg;
+pub mod loads;
 pub mod material;
+pub mod math;
 pub mod model;
-pub mod parallel;
-pub mod preintegration;
-pub mod quadrature;
-pub mod rod_load;
 pub mod scene;
 pub mod section;
-pub mod simulation;
-pub mod statics;
+pub mod solve;
 
 #[cfg(test)]
 mod tests {
@@ -39,9 +33,9 @@ mod tests {
     #[test]
     fn errors_are_std_errors() {
         fn is_error<E: std::error::Error + Send + Sync + 'static>() {}
-        is_error::<crate::dynamics::StepError>();
-        is_error::<crate::linear_solver::FactorError>();
-        is_error::<crate::statics::StaticError>();
+        is_error::<crate::solve::dynamics::StepError>();
+        is_error::<crate::linalg::linear_solver::FactorError>();
+        is_error::<crate::solve::statics::StaticError>();
         is_error::<crate::model::ModelError>();
         is_error::<crate::scene::SceneError>();
     }

@@ -4,7 +4,7 @@
 //! moments the mass matrix needs.
 
 use crate::material::{LayerLaws, Material};
-use crate::quadrature::{SectionPoint, rectangle_rule, ring_rule};
+use crate::math::quadrature::{SectionPoint, rectangle_rule, ring_rule};
 use std::f64::consts::PI;
 
 /// One layer of a section, ready for integration.

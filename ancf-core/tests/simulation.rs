@@ -4,11 +4,11 @@
 //! the uninterrupted one.
 
 use ancf_core::scene::{Analysis, Scene};
-use ancf_core::simulation::{Initial, Simulation};
+use ancf_core::solve::simulation::{Initial, Simulation};
 
 /// The impact scene shortened to 0.4 s on 16 elements, with a pinned second
 /// support at the free end released at 0.05 s.
-fn scene() -> (Scene, ancf_core::dynamics::DynamicSettings) {
+fn scene() -> (Scene, ancf_core::solve::dynamics::DynamicSettings) {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../scenes/wire_rod_impact.toml"

@@ -2,7 +2,7 @@
 //! makes — elements, quadrature orders, time step, ρ∞, Newton kind, contact
 //! stations and stiffness — each as a [`Setting`] applied to the scene file.
 
-use ancf_core::contact::ContactLaw;
+use ancf_core::forces::contact::ContactLaw;
 use ancf_core::scene::{
     AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
     station_spacing,
@@ -50,7 +50,7 @@ impl Setting {
             ancf_core::scene::Analysis::Dynamic { settings, .. } => (
                 Some(settings.time_step),
                 Some(settings.spectral_radius),
-                Some(settings.newton == ancf_core::dynamics::NewtonKind::Full),
+                Some(settings.newton == ancf_core::solve::dynamics::NewtonKind::Full),
             ),
             ancf_core::scene::Analysis::Static { .. } => (None, None, None),
         };

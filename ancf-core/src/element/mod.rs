@@ -12,7 +12,7 @@
 //! Which one runs for an element is reported by [`ElementIntegration::kernel_path`].
 
 use crate::material::Law;
-use crate::quadrature::{Rule1d, gauss_legendre_unit};
+use crate::math::quadrature::{Rule1d, gauss_legendre_unit};
 use crate::section::Section;
 use nalgebra::{SMatrix, Vector6};
 
@@ -25,6 +25,8 @@ pub type ElementMatrix = [f64; 576];
 /// and, when asked, its Jacobian (N/m) to `k`; returns the strain energy (J).
 pub type ElementKernelFn =
     fn(&ElementIntegration, &ElementVector, &mut ElementVector, Option<&mut ElementMatrix>) -> f64;
+
+pub mod preintegration;
 
 mod generated {
     include!(concat!(env!("OUT_DIR"), "/generated_kernels.rs"));
@@ -212,7 +214,7 @@ type RadialPiece = (f64, f64, f64);
 /// Section points sharing one law.
 #[derive(Clone, Debug)]
 pub struct PointGroup {
-    pub points: Vec<crate::quadrature::SectionPoint>,
+    pub points: Vec<crate::math::quadrature::SectionPoint>,
     pub law: Law,
 }
 
@@ -229,7 +231,7 @@ pub struct PointGroup {
 #[derive(Clone, Debug)]
 pub struct IntegrationPlan {
     /// Linear laws, pre-integrated over the section (see `preintegration.rs`).
-    pub preintegrated: Option<crate::preintegration::PreIntegrated>,
+    pub preintegrated: Option<crate::element::preintegration::PreIntegrated>,
     pub groups: Vec<PointGroup>,
     /// Centerline laws with their weights (m²).
     pub centerline: Vec<(Law, f64)>,
@@ -268,24 +270,27 @@ impl IntegrationPlan {
         }
         for (d, pieces) in merged {
             groups.push(PointGroup {
-                points: crate::quadrature::ring_rule_weighted(3, &pieces),
+                points: crate::math::quadrature::ring_rule_weighted(3, &pieces),
                 law: Law::Linear(d),
             });
         }
         // Linear laws on symmetric rules: pre-integrated (their own moments, so
         // the result equals the point rule's exactly).
-        let mut pre = crate::preintegration::PreIntegrated::zero();
+        let mut pre = crate::element::preintegration::PreIntegrated::zero();
         let mut any = false;
-        groups.retain(
-            |g| match (&g.law, crate::preintegration::Moments::of(&g.points)) {
+        groups.retain(|g| {
+            match (
+                &g.law,
+                crate::element::preintegration::Moments::of(&g.points),
+            ) {
                 (Law::Linear(d), Some(m)) => {
                     pre.add_section(d, &m);
                     any = true;
                     false
                 }
                 _ => true,
-            },
-        );
+            }
+        });
         let mut centerline = Vec::new();
         for layer in &section.layers {
             match &layer.laws.centerline {

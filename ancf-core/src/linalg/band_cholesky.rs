@@ -64,7 +64,7 @@ impl BandCholesky {
     /// The band structure of an n × n symmetric matrix whose entries are
     /// (pattern value index, row, column), both triangles or the lower one
     /// given (a part of a larger pattern in its own numbering, for
-    /// [`crate::band_split`]).
+    /// [`crate::linalg::band_split`]).
     pub(crate) fn from_entries(
         n: usize,
         p: usize,

@@ -2,7 +2,7 @@
 //! wire puts on the rod at every time step, its raw peak, its CFC-filtered
 //! peak, impulse and contact duration.
 
-use crate::cfc::{cfc_filter, corner_frequency};
+use crate::loads::cfc::{cfc_filter, corner_frequency};
 
 /// Default channel frequency class: CFC 60 (−3 dB at 100 Hz), the class
 /// SAE J211-1 gives barrier face forces — the load an impacting structure

@@ -255,7 +255,7 @@ pub enum Analysis {
     /// their positions, release times ignored) at rest, solved in
     /// `load_steps` increments.
     Dynamic {
-        settings: crate::dynamics::DynamicSettings,
+        settings: crate::solve::dynamics::DynamicSettings,
         initial_static: bool,
         load_steps: usize,
     },
@@ -597,13 +597,13 @@ impl Scene {
                         format!("must be in [0, 1], got {rho}"),
                     ));
                 }
-                let settings = crate::dynamics::DynamicSettings {
+                let settings = crate::solve::dynamics::DynamicSettings {
                     time_step: h,
                     end_time,
                     spectral_radius: rho,
                     newton: match a.newton.unwrap_or(NewtonSpec::Modified) {
-                        NewtonSpec::Full => crate::dynamics::NewtonKind::Full,
-                        NewtonSpec::Modified => crate::dynamics::NewtonKind::Modified,
+                        NewtonSpec::Full => crate::solve::dynamics::NewtonKind::Full,
+                        NewtonSpec::Modified => crate::solve::dynamics::NewtonKind::Modified,
                     },
                     tolerance: tolerance(a)?,
                     max_iterations: a.max_iterations.unwrap_or(25).max(1),
@@ -627,7 +627,10 @@ impl Scene {
                     checkpoint_every: o.checkpoint_every.unwrap_or(defaults::CHECKPOINT_EVERY),
                     vtk: o.vtk.unwrap_or(true),
                     plots: o.plots.unwrap_or(true),
-                    cfc: positive("output.cfc", o.cfc.unwrap_or(crate::rod_load::DEFAULT_CFC))?,
+                    cfc: positive(
+                        "output.cfc",
+                        o.cfc.unwrap_or(crate::loads::rod_load::DEFAULT_CFC),
+                    )?,
                 }
             }
             None => OutputSettings {
@@ -635,7 +638,7 @@ impl Scene {
                 checkpoint_every: defaults::CHECKPOINT_EVERY,
                 vtk: true,
                 plots: true,
-                cfc: crate::rod_load::DEFAULT_CFC,
+                cfc: crate::loads::rod_load::DEFAULT_CFC,
             },
         };
 
@@ -698,7 +701,7 @@ fn tolerance(a: &AnalysisSpec) -> Result<f64, SceneError> {
 
 fn validate_damping(
     spec: Option<&DampingSpec>,
-) -> Result<Option<crate::damping::Damping>, SceneError> {
+) -> Result<Option<crate::forces::damping::Damping>, SceneError> {
     let Some(d) = spec else { return Ok(None) };
     let reject = |pairs: &[(&str, bool)]| -> Result<(), SceneError> {
         for (k, given) in pairs {
@@ -724,7 +727,7 @@ fn validate_damping(
                 )
             })?;
             let c = positive("damping.strain_rate_coefficient", c)?;
-            Ok(Some(crate::damping::Damping::KelvinVoigt {
+            Ok(Some(crate::forces::damping::Damping::KelvinVoigt {
                 coefficient: c,
             }))
         }
@@ -741,7 +744,7 @@ fn validate_damping(
                     format!("need mass ≥ 0, stiffness ≥ 0, not both 0; got {alpha}, {beta}"),
                 ));
             }
-            Ok(Some(crate::damping::Damping::Rayleigh {
+            Ok(Some(crate::forces::damping::Damping::Rayleigh {
                 mass: alpha,
                 stiffness: beta,
             }))
@@ -756,7 +759,7 @@ fn validate_damping(
 /// Largest distance (m) between consecutive contact stations along the
 /// wire: Gauss nodes inside an element and across element ends.
 pub fn station_spacing(stations: usize, element_length: f64) -> f64 {
-    let x = crate::quadrature::gauss_legendre_unit(stations).nodes;
+    let x = crate::math::quadrature::gauss_legendre_unit(stations).nodes;
     let inner = x.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
     inner.max(2.0 * x[0]) * element_length
 }
@@ -768,8 +771,14 @@ fn validate_rods(
     wire_radius: f64,
     wire_material: &Material,
     find: &dyn Fn(&str, &str) -> Result<Material, SceneError>,
-) -> Result<(Vec<crate::contact::Rod>, crate::contact::ContactSettings), SceneError> {
-    use crate::contact::ContactLaw;
+) -> Result<
+    (
+        Vec<crate::forces::contact::Rod>,
+        crate::forces::contact::ContactSettings,
+    ),
+    SceneError,
+> {
+    use crate::forces::contact::ContactLaw;
     let mut rods = Vec::new();
     for (i, r) in specs.iter().enumerate() {
         let at = |k: &str| format!("rod[{i}].{k}");
@@ -826,7 +835,7 @@ fn validate_rods(
                     "missing: contact_law = \"hertz\" needs the rod's material (E and ν)",
                 ));
             }
-            (ContactLaw::Hertz, None, Some(m)) => crate::contact::hertz_line_stiffness(
+            (ContactLaw::Hertz, None, Some(m)) => crate::forces::contact::hertz_line_stiffness(
                 m.model.elastic_constants(),
                 wire_material.model.elastic_constants(),
                 wire_radius,
@@ -848,7 +857,7 @@ fn validate_rods(
         if friction < 0.0 {
             return Err(err(at("friction"), format!("must be ≥ 0, got {friction}")));
         }
-        rods.push(crate::contact::Rod {
+        rods.push(crate::forces::contact::Rod {
             center,
             axis: axis.map(|v| v / n),
             radius,
@@ -858,7 +867,7 @@ fn validate_rods(
             friction,
         });
     }
-    let mut settings = crate::contact::ContactSettings::default();
+    let mut settings = crate::forces::contact::ContactSettings::default();
     if let Some(c) = contact {
         if rods.is_empty() {
             return Err(err("contact", "contact settings without any [[rod]]"));

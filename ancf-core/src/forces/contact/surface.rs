@@ -8,7 +8,7 @@
 use super::point::{PointInput, axis_offset, point_contact};
 use super::{Contact, ContactSample, DeepestPoint, Rod};
 use crate::element::{ElementMatrix, ElementVector, shape_functions};
-use crate::quadrature::gauss_legendre_unit;
+use crate::math::quadrature::gauss_legendre_unit;
 
 /// One surface test point, in material coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -69,9 +69,9 @@ pub enum Effect {
     /// Point loads.
     PointLoads(Vec<PointLoad>),
     /// Penalty contact with rigid rods (friction only where a rod has μ > 0).
-    Contact(crate::contact::Contact),
+    Contact(crate::forces::contact::Contact),
     /// Structural damping (Kelvin–Voigt or Rayleigh).
-    Damping(crate::damping::Damping),
+    Damping(crate::forces::damping::Damping),
 }
 
 /// A straight wire of `n_elements` equal elements.
@@ -486,7 +486,7 @@ impl Model {
     }
 
     /// The contact effect, when the scene has rods.
-    pub fn contact(&self) -> Option<&crate::contact::Contact> {
+    pub fn contact(&self) -> Option<&crate::forces::contact::Contact> {
         self.effects.iter().find_map(|e| match e {
             Effect::Contact(c) => Some(c),
             _ => None,
@@ -494,7 +494,7 @@ impl Model {
     }
 
     /// The damping effect, when the scene names one.
-    pub fn damping(&self) -> Option<&crate::damping::Damping> {
+    pub fn damping(&self) -> Option<&crate::forces::damping::Damping> {
         self.effects.iter().find_map(|e| match e {
             Effect::Damping(d) => Some(d),
             _ => None,
@@ -502,7 +502,7 @@ impl Model {
     }
 
     /// Add damping as one of the model's effects.
-    pub fn with_damping(mut self, damping: Option<crate::damping::Damping>) -> Self {
+    pub fn with_damping(mut self, damping: Option<crate::forces::damping::Damping>) -> Self {
         if let Some(d) = damping {
             self.effects.push(Effect::Damping(d));
         }
@@ -512,11 +512,11 @@ impl Model {
     /// Add rods: contact becomes one of the model's effects.
     pub fn with_rods(
         mut self,
-        rods: Vec<crate::contact::Rod>,
-        settings: crate::contact::ContactSettings,
+        rods: Vec<crate::forces::contact::Rod>,
+        settings: crate::forces::contact::ContactSettings,
     ) -> Self {
         if !rods.is_empty() {
-            let c = crate::contact::Contact::new(
+            let c = crate::forces::contact::Contact::new(
                 rods,
                 settings,
                 self.element.section.outer_radius(),

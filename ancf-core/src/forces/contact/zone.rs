@@ -206,8 +206,8 @@ pub fn active_zones(e: &ElementVector, l: f64, rod: &Rod, reach: f64) -> Zones {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::ContactLaw;
     use crate::element::reference_coordinates;
+    use crate::forces::contact::ContactLaw;
 
     fn rod(x: f64, z: f64) -> Rod {
         Rod {

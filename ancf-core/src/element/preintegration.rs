@@ -15,7 +15,7 @@
 //! that does not depend on the number of section points or layers.
 
 use crate::element::{ElementMatrix, ElementVector};
-use crate::quadrature::SectionPoint;
+use crate::math::quadrature::SectionPoint;
 use nalgebra::{Matrix6, SMatrix, SVector, Vector3};
 
 type M15 = SMatrix<f64, 15, 15>;

@@ -13,7 +13,7 @@
 //! `a[i (2p + 1) + (j − i + p)]`; L (unit diagonal, not stored) and U
 //! overwrite A. Row operations are contiguous multiply-adds.
 
-use crate::band_cholesky::{dot, envelope, pattern_entries};
+use crate::linalg::band_cholesky::{dot, envelope, pattern_entries};
 
 /// L U of a band matrix with the map from the sparse pattern's value slots
 /// to the band, computed once per pattern.
@@ -143,7 +143,7 @@ impl BandLu {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::band_cholesky::tests::{TestMatrix, block_tridiagonal, uniform};
+    use crate::linalg::band_cholesky::tests::{TestMatrix, block_tridiagonal, uniform};
 
     #[test]
     fn solves_nonsymmetric_band_systems_to_round_off() {

@@ -25,10 +25,10 @@
 //! The arithmetic does not depend on whether the halves run in parallel:
 //! one thread and two give the same bits.
 
-use crate::band_cholesky::{BandCholesky, NotPositiveDefinite, pattern_entries};
-use crate::parallel::run_tasks;
+use crate::linalg::band_cholesky::{BandCholesky, NotPositiveDefinite, pattern_entries};
+use crate::linalg::parallel::run_tasks;
 
-/// From this many unknowns on, [`crate::linear_solver`] uses the split
+/// From this many unknowns on, [`crate::linalg::linear_solver`] uses the split
 /// factorization (decided by the size alone, so results never depend on
 /// the thread count), and its two halves run on two threads. Full-Newton
 /// steps on 2 threads against 1 at 256 / 384 elements (3081 / 4617
@@ -221,7 +221,7 @@ fn dense_solve(l: &[f64], p: usize, x: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::band_cholesky::tests::{band_spd, block_tridiagonal};
+    use crate::linalg::band_cholesky::tests::{band_spd, block_tridiagonal};
 
     #[test]
     fn solves_band_systems_to_round_off() {
@@ -265,7 +265,7 @@ mod tests {
     fn same_bits_on_one_and_two_threads() {
         let (n, p) = (PARALLEL_SOLVE_MIN_UNKNOWNS + 5, 5);
         // A band SPD matrix as compressed columns, without a dense copy.
-        let mut rand = crate::band_cholesky::tests::uniform(3);
+        let mut rand = crate::linalg::band_cholesky::tests::uniform(3);
         let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
         let mut lower = vec![0.0; n * (p + 1)];
         for c in 0..n {

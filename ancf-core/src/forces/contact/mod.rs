@@ -22,7 +22,7 @@ pub use hertz::hertz_line_stiffness;
 pub use surface::TestPoint;
 
 use crate::element::{ElementMatrix, ElementVector, shape_functions};
-use crate::quadrature::{Rule1d, gauss_legendre_unit};
+use crate::math::quadrature::{Rule1d, gauss_legendre_unit};
 use point::dot;
 
 /// How a rod's contact force is computed.

@@ -196,7 +196,7 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 /// and starts ≈ 40 µs late, and the Jacobian columns it wrote must travel
 /// back to the core that forms the Newton matrix. Full-Newton steps of the
 /// SVK pendulum on 2 threads against 1 (median of 5 pairs, with
-/// [`crate::parallel::run_tasks`]): 1.02× at 64 elements (77 µs of element
+/// [`crate::linalg::parallel::run_tasks`]): 1.02× at 64 elements (77 µs of element
 /// work), 1.10× at 128, 1.19× at 256; modified-Newton steps (force only)
 /// 1.02× at 512 elements, 1.06× at 1024. With rayon's own join and a
 /// 250 µs threshold they had been 0.87–1.0× up to 128 elements
@@ -267,7 +267,7 @@ impl Part {
     }
 }
 
-/// The chunks in parallel ([`crate::parallel::run_tasks`]), each zeroing
+/// The chunks in parallel ([`crate::linalg::parallel::run_tasks`]), each zeroing
 /// its window of the Jacobian first
 /// (zeroed by the calling thread, the values had to travel to the other
 /// core's cache: 1.16× at 256 elements instead of 1.87×).
@@ -315,7 +315,7 @@ fn assemble_chunks(
         .zip(values_w)
         .map(|(((c, f), e), v)| (c, f, e, v))
         .collect();
-    crate::parallel::run_tasks(tasks, |(c, f, e, mut v): ChunkTask| {
+    crate::linalg::parallel::run_tasks(tasks, |(c, f, e, mut v): ChunkTask| {
         if let Some((v, _)) = v.as_mut() {
             v.fill(0.0);
         }
@@ -420,19 +420,19 @@ pub struct ContactForces {
     /// Generalized contact force, full coordinates (N).
     pub force: Vec<f64>,
     /// Summed over rods.
-    pub total: crate::contact::ContactSample,
+    pub total: crate::forces::contact::ContactSample,
     /// Resultant contact force (normal + friction) the wire puts on each
     /// rod (N), in the scene's rod order.
     pub rod_forces: Vec<[f64; 3]>,
     /// Deepest penetrating point: (element, point).
-    pub deepest: Option<(usize, crate::contact::DeepestPoint)>,
+    pub deepest: Option<(usize, crate::forces::contact::DeepestPoint)>,
 }
 
 /// Contact at (q, v): the forces, −∂Q/∂q added to `jac_q` and −∂Q/∂v added
 /// to `jac_v` (pattern slots).
 pub fn assemble_contact(
     model: &Model,
-    contact: &crate::contact::Contact,
+    contact: &crate::forces::contact::Contact,
     pattern: &Pattern,
     q: &[f64],
     v: &[f64],

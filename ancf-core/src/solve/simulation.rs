@@ -7,8 +7,8 @@
 //!
 //! ```
 //! use ancf_core::scene::{Analysis, Scene};
-//! use ancf_core::simulation::{Initial, Simulation};
-//! let scene = Scene::from_toml(include_str!("../../scenes/pendulum.toml")).unwrap();
+//! use ancf_core::solve::simulation::{Initial, Simulation};
+//! let scene = Scene::from_toml(include_str!("../../../scenes/pendulum.toml")).unwrap();
 //! let Analysis::Dynamic { settings, .. } = &scene.analysis else { unreachable!() };
 //! let mut sim = Simulation::new(&scene.model, settings.clone(), Initial::Reference).unwrap();
 //! while !sim.is_finished() && sim.state().time < 0.1 {
@@ -18,10 +18,10 @@
 //! assert!(tip[2] < 0.0, "the pendulum swings down");
 //! ```
 
-use crate::dynamics::{DynamicSettings, Energies, Integrator, State, StepError, StepInfo};
+use crate::loads::rod_load::LoadHistory;
 use crate::model::Model;
-use crate::rod_load::LoadHistory;
-use crate::statics::{StaticError, StaticSettings, solve_static};
+use crate::solve::dynamics::{DynamicSettings, Energies, Integrator, State, StepError, StepInfo};
+use crate::solve::statics::{StaticError, StaticSettings, solve_static};
 use std::sync::Arc;
 
 /// Where a simulation starts.

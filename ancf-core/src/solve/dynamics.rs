@@ -1,10 +1,10 @@
 //! Implicit generalized-α time integration (Chung–Hulbert, SPEC §6), Newton
 //! on the accelerations, with full or modified Newton and step cutting.
 
-use crate::assembly::{Pattern, assemble, assemble_contact, mass_values};
-use crate::contact::{ContactSample, DeepestPoint};
-use crate::damping::{Damping, kelvin_voigt_element};
-use crate::linear_solver::SparseSolver;
+use crate::forces::assembly::{Pattern, assemble, assemble_contact, mass_values};
+use crate::forces::contact::{ContactSample, DeepestPoint};
+use crate::forces::damping::{Damping, kelvin_voigt_element};
+use crate::linalg::linear_solver::SparseSolver;
 use crate::model::Model;
 use crate::model::NODE_DOFS;
 use std::sync::Arc;

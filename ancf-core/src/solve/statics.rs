@@ -1,8 +1,8 @@
 //! Static equilibrium Q_e(q) = λ Q_ext by Newton–Raphson with load
 //! increments and a backtracking line search (SPEC §5).
 
-use crate::assembly::{Pattern, assemble};
-use crate::linear_solver::SparseSolver;
+use crate::forces::assembly::{Pattern, assemble};
+use crate::linalg::linear_solver::SparseSolver;
 use crate::model::{Model, NODE_DOFS};
 
 /// Settings of the static solver.
@@ -90,7 +90,7 @@ fn internal_force(
     let (mut qe, energy) = assemble(model, pattern, q, k.as_deref_mut());
     if let Some(c) = model.contact() {
         let v = vec![0.0; q.len()];
-        let qc = crate::assembly::assemble_contact(model, c, pattern, q, &v, k, None).force;
+        let qc = crate::forces::assembly::assemble_contact(model, c, pattern, q, &v, k, None).force;
         qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
     }
     (qe, energy)

@@ -1,0 +1,9 @@
+//! The Newton matrix's linear algebra: band LLᵀ and LU (the wire's matrix is
+//! block tridiagonal), the split band factorization for two threads, the
+//! solver choice, and the work sharing of the short parallel sections.
+
+pub mod band_cholesky;
+pub mod band_lu;
+pub mod band_split;
+pub mod linear_solver;
+pub mod parallel;

@@ -1,0 +1,3 @@
+//! Numerical building blocks with no knowledge of wires: quadrature rules.
+
+pub mod quadrature;

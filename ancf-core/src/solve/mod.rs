@@ -1,0 +1,6 @@
+//! Solvers: static equilibrium, generalized-α time steps, and the
+//! [`simulation::Simulation`] that runs a scene's dynamics through its phases.
+
+pub mod dynamics;
+pub mod simulation;
+pub mod statics;

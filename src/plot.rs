@@ -163,6 +163,26 @@ pub fn line_plot(
     })
 }
 
+/// The series legend: a framed box at `position`, font `font` px, every
+/// pixel size times `scale` (the supersampling factor, or a panel's scale).
+fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    scale: f64,
+    font: f64,
+    position: SeriesLabelPosition,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let px = |v: f64| (v * scale).round() as u32;
+    chart
+        .configure_series_labels()
+        .legend_area_size(px(30.0))
+        .margin(px(10.0))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", px(font)))
+        .position(position)
+        .draw()
+}
+
 /// Draw one chart into `area` (fonts scaled by `scale`); false when there is nothing to draw.
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
@@ -221,20 +241,13 @@ fn draw_panel<DB: DrawingBackend>(
         )))?;
     }
     if p.series.len() > 1 {
-        chart
-            .configure_series_labels()
-            .legend_area_size(size(30.0))
-            .margin(size(10.0))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", size(13.0)))
-            // Marks label the largest values, usually near the top right.
-            .position(if p.marks.is_empty() {
-                SeriesLabelPosition::UpperRight
-            } else {
-                SeriesLabelPosition::UpperLeft
-            })
-            .draw()?;
+        // Marks label the largest values, usually near the top right.
+        let position = if p.marks.is_empty() {
+            SeriesLabelPosition::UpperRight
+        } else {
+            SeriesLabelPosition::UpperLeft
+        };
+        draw_legend(&mut chart, scale, 13.0, position)?;
     }
     Ok(true)
 }
@@ -348,16 +361,7 @@ pub fn configurations_plot(
                     PathElement::new(vec![(x, y), (x + legend, y)], color.stroke_width(width))
                 });
         }
-        chart
-            .configure_series_labels()
-            .legend_area_size(px(30))
-            .margin(px(10))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", px(14)))
-            .position(SeriesLabelPosition::LowerLeft)
-            .draw()
-            .map_err(e)?;
+        draw_legend(&mut chart, s as f64, 14.0, SeriesLabelPosition::LowerLeft).map_err(e)?;
         Ok(())
     })
 }
@@ -457,17 +461,8 @@ pub fn pareto_plot(
                     .map(|&p| Circle::new(p, px(8), BLACK.stroke_width(width))),
             )
             .map_err(e)?;
-        chart
-            .configure_series_labels()
-            .legend_area_size(px(30))
-            .margin(px(10))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", px(15)))
-            // Cheap and accurate is the corner no run reaches.
-            .position(SeriesLabelPosition::LowerLeft)
-            .draw()
-            .map_err(e)?;
+        // Cheap and accurate is the corner no run reaches.
+        draw_legend(&mut chart, s as f64, 15.0, SeriesLabelPosition::LowerLeft).map_err(e)?;
         Ok(())
     })
 }

@@ -10,6 +10,7 @@ use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
 use crate::vtk::VtkWriter;
 use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
 use ancf_core::loads::rod_load::{LoadHistory, RodLoad};
+use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
 use ancf_core::scene::{Analysis, Scene};
 use ancf_core::solve::dynamics::{Energies, State};
@@ -774,7 +775,7 @@ fn write_rod_forces(out: &Path, loads: &[LoadHistory], cfc: f64) -> std::io::Res
         s += &format!("{:.9e}", loads[0].time[k]);
         for (h, f) in loads.iter().zip(&filtered) {
             let v = h.force[k];
-            let mag = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            let mag = norm(v);
             s += &format!(
                 ",{mag:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
                 f[k], v[0], v[1], v[2]
@@ -816,7 +817,7 @@ fn plot_rod_forces(
                 .time
                 .iter()
                 .zip(&h.force)
-                .map(|(t, v)| (*t, (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()))
+                .map(|(t, v)| (*t, norm(*v)))
                 .collect();
             let (grid, mags) = h.filtered(r.load.cfc);
             Panel {
@@ -873,7 +874,7 @@ fn static_contact(model: &Model, q: &[f64]) -> Option<ContactSummary> {
         .iter()
         .zip(&cf.rod_forces)
         .map(|(rod, f)| {
-            let force = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            let force = norm(*f);
             rod_summary(
                 rod,
                 RodLoad {

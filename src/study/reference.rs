@@ -5,6 +5,7 @@
 //! St. Venant–Kirchhoff material and ν = 0.
 
 use ancf_core::material::MaterialModel;
+use ancf_core::math::vec3::dot;
 use ancf_core::model::{Effect, SupportKind};
 use ancf_core::scene::{Analysis, Scene};
 use ancf_core::section::SectionShape;
@@ -16,10 +17,6 @@ pub struct Analytic {
     pub displacement: [f64; 3],
     /// What the value is, for the report.
     pub description: String,
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Exact St. Venant–Kirchhoff bar (ν = 0): EA λ(λ² − 1)/2 = F; returns λ − 1.

@@ -7,6 +7,7 @@ use super::reference::Analytic;
 use super::{CONTACT_WINDOW, Outcome, Sample};
 use crate::plot::{Series, pareto_plot};
 use ancf_core::element::ElementIntegration;
+use ancf_core::math::vec3::{norm, sub};
 use ancf_core::scene::Scene;
 use ancf_core::section::{Section, SectionShape};
 use std::collections::HashMap;
@@ -116,14 +117,6 @@ pub struct Errors {
     pub tip_window: Option<f64>,
     /// Contact: the impulse in the first [`CONTACT_WINDOW`] after first contact.
     pub window_impulse: Option<f64>,
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// The reference a run is compared with.

@@ -3,6 +3,7 @@
 //! peak, impulse and contact duration.
 
 use crate::loads::cfc::{cfc_filter, corner_frequency};
+use crate::math::vec3::norm;
 
 /// Default channel frequency class: CFC 60 (−3 dB at 100 Hz), the class
 /// SAE J211-1 gives barrier face forces — the load an impacting structure
@@ -43,10 +44,6 @@ pub struct RodLoad {
     pub cfc: f64,
 }
 
-fn norm(f: &[f64; 3]) -> f64 {
-    (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt()
-}
-
 impl LoadHistory {
     /// Record the force `f` (N) at the end of a step ending at `t` (s).
     pub fn push(&mut self, t: f64, f: [f64; 3]) {
@@ -68,7 +65,10 @@ impl LoadHistory {
     pub fn filtered(&self, cfc: f64) -> (Vec<f64>, Vec<f64>) {
         let n = self.time.len();
         if n < 2 {
-            return (self.time.clone(), self.force.iter().map(norm).collect());
+            return (
+                self.time.clone(),
+                self.force.iter().map(|f| norm(*f)).collect(),
+            );
         }
         let h = self
             .time
@@ -98,7 +98,7 @@ impl LoadHistory {
             cfc_filter(&x, dt, cfc)
         });
         let mags = (0..m)
-            .map(|j| norm(&[comps[0][j], comps[1][j], comps[2][j]]))
+            .map(|j| norm([comps[0][j], comps[1][j], comps[2][j]]))
             .collect();
         (grid, mags)
     }
@@ -111,7 +111,7 @@ impl LoadHistory {
         };
         let mut prev = None;
         for (t, f) in self.time.iter().zip(&self.force) {
-            let mag = norm(f);
+            let mag = norm(*f);
             if mag > load.peak_force {
                 load.peak_force = mag;
                 load.peak_time = *t;

@@ -1,3 +1,5 @@
-//! Numerical building blocks with no knowledge of wires: quadrature rules.
+//! Numerical building blocks with no knowledge of wires: quadrature rules
+//! and 3-vector helpers.
 
 pub mod quadrature;
+pub mod vec3;

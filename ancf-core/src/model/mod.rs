@@ -3,6 +3,7 @@
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
+use crate::math::vec3::{cross, dot, sub, unit};
 
 /// Coordinates per node: r, r_x, r_y, r_z.
 pub const NODE_DOFS: usize = 12;
@@ -152,57 +153,30 @@ fn eliminate(
     Ok((dof_map, n_unknowns))
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// Rotate v by the smallest rotation taking unit `from` to unit `to` (Rodrigues).
 fn rotate_between(from: [f64; 3], to: [f64; 3], v: [f64; 3]) -> [f64; 3] {
-    let k = cross3(from, to);
-    let s = dot3(k, k).sqrt();
-    let c = dot3(from, to);
+    let k = cross(from, to);
+    let s = dot(k, k).sqrt();
+    let c = dot(from, to);
     if s < 1e-14 {
         return if c > 0.0 { v } else { v.map(|x| -x) };
     }
     let k = k.map(|x| x / s);
-    let kv = cross3(k, v);
-    let kkv = dot3(k, v);
+    let kv = cross(k, v);
+    let kkv = dot(k, v);
     std::array::from_fn(|i| v[i] * c + kv[i] * s + k[i] * kkv * (1.0 - c))
 }
 
 /// Two unit vectors completing `axis` to a right-handed frame; for the
 /// default axis x they are y and z.
 pub fn section_frame(axis: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let norm = |a: [f64; 3]| {
-        let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        [a[0] / n, a[1] / n, a[2] / n]
-    };
     // z-direction of the section: global z projected off the axis, unless the axis is vertical.
     let up = if axis[2].abs() < 0.9 {
         [0.0, 0.0, 1.0]
     } else {
         [1.0, 0.0, 0.0]
     };
-    let ny = norm(cross(up, axis));
+    let ny = unit(cross(up, axis));
     let nz = cross(axis, ny);
     (ny, nz)
 }
@@ -333,7 +307,7 @@ impl Model {
             .collect();
         if moved.iter().all(|(n, p)| {
             let r = self.node_position(&self.reference, *n);
-            dot3(sub(*p, r), sub(*p, r)) == 0.0
+            dot(sub(*p, r), sub(*p, r)) == 0.0
         }) {
             return q;
         }
@@ -354,7 +328,7 @@ impl Model {
         let l = self.element.length;
         let down = {
             let g = self.gravity_acceleration().unwrap_or([0.0, 0.0, -1.0]);
-            let n = dot3(g, g).sqrt();
+            let n = dot(g, g).sqrt();
             g.map(|x| x / n)
         };
         let set_node = |q: &mut [f64], n: usize, p: [f64; 3], tangent: [f64; 3], stretch: f64| {
@@ -390,7 +364,7 @@ impl Model {
         for pair in held.windows(2) {
             let ((na, pa), (nb, pb)) = (pair[0], pair[1]);
             let chord = sub(pb, pa);
-            let c = dot3(chord, chord).sqrt();
+            let c = dot(chord, chord).sqrt();
             let s_len = (nb - na) as f64 * l;
             if c == 0.0 || nb == na {
                 continue;
@@ -410,8 +384,8 @@ impl Model {
                 continue;
             }
             // Sag direction: `down` with its chord component removed.
-            let mut w = sub(down, u.map(|x| x * dot3(down, u)));
-            let wn = dot3(w, w).sqrt();
+            let mut w = sub(down, u.map(|x| x * dot(down, u)));
+            let wn = dot(w, w).sqrt();
             if wn < 1e-9 {
                 w = self.section_y;
             } else {
@@ -453,7 +427,7 @@ impl Model {
                     std::array::from_fn(|k| pa[k] + t * c * u[k] + 4.0 * f * t * (1.0 - t) * w[k]);
                 let d: [f64; 3] =
                     std::array::from_fn(|k| c * u[k] + 4.0 * f * (1.0 - 2.0 * t) * w[k]);
-                let dn = dot3(d, d).sqrt();
+                let dn = dot(d, d).sqrt();
                 set_node(&mut q, n, p, d.map(|x| x / dn), 1.0);
             }
         }

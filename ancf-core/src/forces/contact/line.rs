@@ -8,10 +8,11 @@
 //! add nothing to the force's derivative: the tangent is the Gauss sum of
 //! the pointwise tangents.
 
-use super::point::{PointInput, axis_offset, dot, point_contact};
+use super::point::{PointInput, axis_offset, point_contact};
 use super::zone::active_zones;
 use super::{Contact, ContactSample, DeepestPoint, Rod};
 use crate::element::{ElementMatrix, ElementVector, shape_functions};
+use crate::math::vec3::dot;
 
 /// A zone longer than this (in ξ) is split into pieces of at most this
 /// length, each with its own Gauss points.
@@ -87,8 +88,8 @@ pub(crate) fn element_rod(
 fn facing_point(e: &ElementVector, xi: f64, n: &[f64; 3], radius: f64) -> (f64, f64) {
     let ry: [f64; 3] = std::array::from_fn(|c| (1.0 - xi) * e[6 + c] + xi * e[18 + c]);
     let rz: [f64; 3] = std::array::from_fn(|c| (1.0 - xi) * e[9 + c] + xi * e[21 + c]);
-    let (a, b, c) = (dot(&ry, &ry), dot(&ry, &rz), dot(&rz, &rz));
-    let (fy, fz) = (-dot(n, &ry), -dot(n, &rz));
+    let (a, b, c) = (dot(ry, ry), dot(ry, rz), dot(rz, rz));
+    let (fy, fz) = (-dot(*n, ry), -dot(*n, rz));
     let det = a * c - b * b;
     let (y, z) = ((c * fy - b * fz) / det, (a * fz - b * fy) / det);
     let norm = (y * y + z * z).sqrt();

@@ -23,7 +23,7 @@ pub use surface::TestPoint;
 
 use crate::element::{ElementMatrix, ElementVector, shape_functions};
 use crate::math::quadrature::{Rule1d, gauss_legendre_unit};
-use point::dot;
+use crate::math::vec3::dot;
 
 /// How a rod's contact force is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -227,7 +227,7 @@ impl Contact {
             .iter()
             .map(|b| {
                 let d = [b[0] - centre[0], b[1] - centre[1], b[2] - centre[2]];
-                dot(&d, &d)
+                dot(d, d)
             })
             .fold(0.0, f64::max)
             .sqrt();
@@ -239,13 +239,13 @@ impl Contact {
                 p[1] - rod.center[1],
                 p[2] - rod.center[2],
             ];
-            let along = dot(&rel, &rod.axis);
+            let along = dot(rel, rod.axis);
             let perp = [
                 rel[0] - along * rod.axis[0],
                 rel[1] - along * rod.axis[1],
                 rel[2] - along * rod.axis[2],
             ];
-            (along, dot(&perp, &perp).sqrt())
+            (along, dot(perp, perp).sqrt())
         };
         let (along, distance) = axis_coordinates(&centre);
         if distance > reach + radius

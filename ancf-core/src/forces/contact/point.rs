@@ -5,10 +5,7 @@
 
 use super::{ContactSample, Rod};
 use crate::element::{ElementMatrix, ElementVector};
-
-pub(crate) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+use crate::math::vec3::dot;
 
 /// The vector from the rod's nearest axis point to `p` (m), and whether the
 /// nearest point is inside the rod's length (`true`: the vector is normal to
@@ -21,7 +18,7 @@ pub(crate) fn axis_offset(rod: &Rod, p: &[f64; 3], caps: bool) -> Option<([f64; 
         p[1] - rod.center[1],
         p[2] - rod.center[2],
     ];
-    let along = dot(&rel, &d);
+    let along = dot(rel, d);
     let (foot, inside) = match rod.length {
         Some(len) if along.abs() > 0.5 * len => {
             if !caps {
@@ -82,7 +79,7 @@ pub(crate) fn point_contact(
     sample: &mut ContactSample,
 ) -> Option<PointResult> {
     let w = pt.w;
-    let dist = dot(&w, &w).sqrt();
+    let dist = dot(w, w).sqrt();
     let g = dist - pt.offset;
     if g >= 0.0 || dist == 0.0 {
         return None;
@@ -112,16 +109,16 @@ pub(crate) fn point_contact(
     let friction = rod.friction > 0.0;
     if friction {
         let vp: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| pt.s[i] * v[3 * i + c]).sum());
-        let vn = dot(&vp, &n);
+        let vn = dot(vp, n);
         let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
         let eps = slip_velocity;
-        let s = (dot(&vt, &vt) + eps * eps).sqrt();
+        let s = (dot(vt, vt) + eps * eps).sqrt();
         let t = [vt[0] / s, vt[1] / s, vt[2] / s];
         let mu = rod.friction;
         for c in 0..3 {
             f[c] -= mu * fnorm * t[c];
         }
-        sample.friction_power += mu * fnorm * dot(&vt, &vt) / s;
+        sample.friction_power += mu * fnorm * dot(vt, vt) / s;
         // A = ∂t/∂v_t = (I − v_t v_tᵀ / s²) / s
         let amat = |a: usize, b: usize| ((a == b) as u8 as f64 - vt[a] * vt[b] / (s * s)) / s;
         // ∂t/∂n = −A (n v_pᵀ + (v_p·n) I)

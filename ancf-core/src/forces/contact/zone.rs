@@ -13,8 +13,9 @@
 //! moves the force smoothly.
 
 use super::Rod;
-use super::point::{axis_offset, dot};
+use super::point::axis_offset;
 use crate::element::ElementVector;
+use crate::math::vec3::dot;
 
 /// At most this many separate zones per element and rod (a cubic
 /// centerline has at most three along an infinite rod).
@@ -100,16 +101,16 @@ impl Gap<'_> {
         let (w, inside) = axis_offset(self.rod, &r, true).expect("caps always give an offset");
         // ∂w/∂ξ = Π r′ with Π = I − d dᵀ inside the rod's length, I on a cap.
         let d = self.rod.axis;
-        let along = if inside { dot(&r1, &d) } else { 0.0 };
+        let along = if inside { dot(r1, d) } else { 0.0 };
         let pr1 = [
             r1[0] - along * d[0],
             r1[1] - along * d[1],
             r1[2] - along * d[2],
         ];
         [
-            dot(&w, &w) - self.reach * self.reach,
-            2.0 * dot(&w, &pr1),
-            2.0 * (dot(&r1, &pr1) + dot(&w, &r2)),
+            dot(w, w) - self.reach * self.reach,
+            2.0 * dot(w, pr1),
+            2.0 * (dot(r1, pr1) + dot(w, r2)),
         ]
     }
 

@@ -1,0 +1,49 @@
+"""ancf — ANCF beam simulator for electrical wires and cables, from Python.
+
+Scenes use the same TOML schema and validation as the ``ancf`` command
+line; results are NumPy arrays. Units are SI (m, kg, s, N, Pa, J).
+
+    >>> import ancf
+    >>> sim = ancf.Simulation(ancf.Scene.from_file("scenes/pendulum.toml"))
+    >>> r = sim.run(until=1.0, every=10)
+    >>> r.tip[-1]            # last node's position at t = 1 s, m
+"""
+
+import json as _json
+import os as _os
+
+from ._ancf import (  # noqa: F401
+    RunResult,
+    Scene,
+    SceneError,
+    Simulation,
+    SimulationError,
+    quadrature,
+)
+from . import _ancf
+
+__all__ = [
+    "Scene",
+    "Simulation",
+    "RunResult",
+    "SceneError",
+    "SimulationError",
+    "run",
+    "quadrature",
+]
+
+
+def run(scene, out, quiet=True):
+    """Run a scene as ``ancf run`` does and return its summary (a dict).
+
+    ``scene`` is a path to a scene file or an ``ancf.Scene``; the outputs
+    (summary.json, timeseries.csv, rod_forces.csv, plots, VTK) are written
+    into the directory ``out``. A run that fails numerically still returns
+    its summary, whose ``status`` is ``"failed"`` and whose ``message``
+    names the step, the time and the likely cause.
+    """
+    if not isinstance(scene, Scene):
+        if not isinstance(scene, (str, _os.PathLike)):
+            raise TypeError("scene: a path to a scene file or an ancf.Scene")
+        scene = Scene.from_file(_os.fspath(scene))
+    return _json.loads(_ancf._run(scene, _os.fspath(out), quiet))

@@ -1,0 +1,604 @@
+//! `ancf._ancf`: the Python face of ancf-core (issue 16). Scenes are read
+//! and validated exactly as by the CLI; a `Simulation` wraps the core's
+//! `Simulation`; results come back as NumPy arrays. Every error is a Python
+//! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
+
+use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
+use ancf_core::solve::simulation::{
+    Initial, Simulation as CoreSimulation, SimulationError as CoreSimError,
+};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+
+create_exception!(
+    ancf,
+    SceneError,
+    PyValueError,
+    "A scene that cannot be run: `.field` names the field at fault (e.g. \"wire.elements\")."
+);
+create_exception!(
+    ancf,
+    SimulationError,
+    PyRuntimeError,
+    "A simulation that could not go on: the message names the step, the time and the likely cause."
+);
+
+fn scene_error(py: Python<'_>, e: &CoreSceneError) -> PyErr {
+    let err = SceneError::new_err(e.to_string());
+    let _ = err.value(py).setattr("field", e.field.clone());
+    err
+}
+
+/// A Python value as TOML, for `Scene.from_dict`; `path` names the key for errors.
+fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, CoreSceneError> {
+    let bad = |what: String| CoreSceneError {
+        field: path.to_string(),
+        message: what,
+    };
+    if let Ok(d) = value.cast::<PyDict>() {
+        let mut table = toml::Table::new();
+        for (k, v) in d.iter() {
+            let key: String = k.extract().map_err(|_| {
+                bad(format!(
+                    "keys must be strings, got {}",
+                    k.get_type()
+                        .name()
+                        .map(|n| n.to_string())
+                        .unwrap_or_default()
+                ))
+            })?;
+            let sub = if path.is_empty() {
+                key.clone()
+            } else {
+                format!("{path}.{key}")
+            };
+            table.insert(key, to_toml(&v, &sub)?);
+        }
+        Ok(toml::Value::Table(table))
+    } else if value.is_instance_of::<PyBool>() {
+        Ok(toml::Value::Boolean(value.extract().unwrap_or(false)))
+    } else if value.is_instance_of::<PyInt>() {
+        value
+            .extract::<i64>()
+            .map(toml::Value::Integer)
+            .map_err(|_| bad("integer out of range".into()))
+    } else if value.is_instance_of::<PyFloat>() {
+        Ok(toml::Value::Float(value.extract().unwrap_or(f64::NAN)))
+    } else if value.is_instance_of::<PyString>() {
+        Ok(toml::Value::String(value.extract().unwrap_or_default()))
+    } else if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let mut items = Vec::new();
+        for (i, v) in value
+            .try_iter()
+            .map_err(|_| bad("not iterable".into()))?
+            .enumerate()
+        {
+            let v = v.map_err(|_| bad("not iterable".into()))?;
+            items.push(to_toml(&v, &format!("{path}[{i}]"))?);
+        }
+        Ok(toml::Value::Array(items))
+    } else {
+        let name = value
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        Err(bad(format!(
+            "unsupported type {name} (use dict, list, str, int, float, bool)"
+        )))
+    }
+}
+
+/// A validated scene (the same schema and validation as `ancf check`).
+#[pyclass(module = "ancf", frozen)]
+pub struct Scene {
+    inner: CoreScene,
+}
+
+#[pymethods]
+impl Scene {
+    /// Reads and validates a scene file (TOML). Raises `SceneError`.
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Scene> {
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            let err = SceneError::new_err(format!("cannot read {}: {e}", path.display()));
+            let _ = err.value(py).setattr("field", "");
+            err
+        })?;
+        Self::from_toml(py, &text)
+    }
+
+    /// Validates a scene given as TOML text. Raises `SceneError`.
+    #[staticmethod]
+    fn from_toml(py: Python<'_>, text: &str) -> PyResult<Scene> {
+        CoreScene::from_toml(text)
+            .map(|inner| Scene { inner })
+            .map_err(|e| scene_error(py, &e))
+    }
+
+    /// Validates a scene given as nested dicts and lists with the scene
+    /// file's keys (`{"wire": {"length": 2.0, ...}, "rod": [{...}], ...}`).
+    #[staticmethod]
+    fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+        let value = to_toml(d.as_any(), "").map_err(|e| scene_error(py, &e))?;
+        let text = toml::to_string(&value).map_err(|e| {
+            scene_error(
+                py,
+                &CoreSceneError {
+                    field: String::new(),
+                    message: e.to_string(),
+                },
+            )
+        })?;
+        Self::from_toml(py, &text)
+    }
+
+    /// Number of elements.
+    #[getter]
+    fn elements(&self) -> usize {
+        self.inner.model.n_elements
+    }
+
+    /// Unknowns of the model (coordinates not fixed by supports).
+    #[getter]
+    fn unknowns(&self) -> usize {
+        self.inner.model.n_unknowns
+    }
+
+    /// "static" or "dynamic".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.inner.analysis {
+            Analysis::Static { .. } => "static",
+            Analysis::Dynamic { .. } => "dynamic",
+        }
+    }
+
+    /// The TOML text the scene was read from.
+    #[getter]
+    fn source(&self) -> &str {
+        &self.inner.source
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ancf.Scene({} analysis, {} elements, {} unknowns)",
+            self.kind(),
+            self.elements(),
+            self.unknowns()
+        )
+    }
+}
+
+/// A dynamic simulation of a scene. Units: SI (m, s, N, J).
+#[pyclass(module = "ancf")]
+pub struct Simulation {
+    scene: CoreScene,
+    sim: CoreSimulation,
+}
+
+fn simulation_error(e: &CoreSimError, step: usize, time: f64) -> PyErr {
+    let cause = match e {
+        CoreSimError::Step(_) => {
+            "Likely cause: a time step too large for the stiffness (material penalty, contact) or an unstable \
+             configuration; reduce analysis.time_step"
+        }
+        CoreSimError::Static(_) => {
+            "Likely cause: a load too large for one step; increase analysis.load_steps"
+        }
+        CoreSimError::Setup { .. } => "Likely cause: a singular model (too few supports?)",
+    };
+    SimulationError::new_err(format!("step {step} at t = {time:.6} s: {e}. {cause}"))
+}
+
+impl Simulation {
+    fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
+        let m = self.sim.model();
+        (0..m.n_nodes()).map(|n| m.node_position(v, n)).collect()
+    }
+
+    /// One step; the error names the step and the time.
+    fn advance(&mut self) -> Result<(), PyErr> {
+        let (k, _) = self.sim.steps();
+        let t = self.sim.state().time;
+        self.sim
+            .step()
+            .map(|_| ())
+            .map_err(|e| simulation_error(&e, k + 1, t))
+    }
+}
+
+fn matrix<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    PyArray1::from_vec(py, flat)
+        .reshape([rows.len(), 3])
+        .expect("n × 3 reshape of 3n values")
+}
+
+#[pymethods]
+impl Simulation {
+    /// Starts `scene` (a dynamic scene) at its initial state: the static
+    /// equilibrium when the scene says `initial = "static"`, else at rest.
+    #[new]
+    fn new(py: Python<'_>, scene: &Scene) -> PyResult<Simulation> {
+        let Analysis::Dynamic {
+            settings,
+            initial_static,
+            load_steps,
+        } = &scene.inner.analysis
+        else {
+            let err = SceneError::new_err(
+                "analysis.kind: Simulation runs dynamic scenes; run a static scene with ancf.run",
+            );
+            let _ = err.value(py).setattr("field", "analysis.kind");
+            return Err(err);
+        };
+        let initial = if *initial_static {
+            Initial::Static {
+                load_steps: *load_steps,
+            }
+        } else {
+            Initial::Reference
+        };
+        let model = scene.inner.model.clone();
+        let settings = settings.clone();
+        let sim = py
+            .detach(move || CoreSimulation::new(&model, settings, initial))
+            .map_err(|e| simulation_error(&e, 0, 0.0))?;
+        Ok(Simulation {
+            scene: scene.inner.clone(),
+            sim,
+        })
+    }
+
+    /// Advances one time step (the last one ends at the end time).
+    fn step(&mut self) -> PyResult<()> {
+        if self.sim.is_finished() {
+            return Err(SimulationError::new_err(
+                "the simulation has reached its end time",
+            ));
+        }
+        self.advance()
+    }
+
+    /// Steps until time `until` (s; default: the scene's end time), recording
+    /// every `every`-th step and the last; `callback(sim)` is called at each
+    /// record. Returns a `RunResult` of NumPy arrays. The steps run without
+    /// the GIL; Ctrl-C raises KeyboardInterrupt and leaves the simulation at
+    /// its last completed step.
+    #[pyo3(signature = (until=None, every=1, callback=None))]
+    fn run(
+        slf: &Bound<'_, Self>,
+        until: Option<f64>,
+        every: usize,
+        callback: Option<Py<PyAny>>,
+    ) -> PyResult<RunResult> {
+        let py = slf.py();
+        if every == 0 {
+            return Err(PyValueError::new_err("every: must be at least 1"));
+        }
+        if until.is_some_and(|t| !t.is_finite()) {
+            return Err(PyValueError::new_err("until: must be a finite time in s"));
+        }
+        let (rods, h) = {
+            let this = slf.borrow();
+            let h = match &this.scene.analysis {
+                Analysis::Dynamic { settings, .. } => settings.time_step,
+                Analysis::Static { .. } => unreachable!("a Simulation is dynamic"),
+            };
+            (this.scene.model.contact().map_or(0, |c| c.rods.len()), h)
+        };
+        let done = move |s: &CoreSimulation| {
+            s.is_finished() || until.is_some_and(|t| s.state().time >= t - 1e-9 * h)
+        };
+        let mut result = RunResult::default();
+        loop {
+            {
+                let mut this = slf.borrow_mut();
+                if done(&this.sim) {
+                    break;
+                }
+                // Up to `every` steps without the GIL, then a record.
+                let sim = &mut this.sim;
+                let outcome = py.detach(|| {
+                    for _ in 0..every {
+                        if done(sim) {
+                            break;
+                        }
+                        let (k, _) = sim.steps();
+                        let t = sim.state().time;
+                        if let Err(e) = sim.step() {
+                            return Err((e, k + 1, t));
+                        }
+                    }
+                    Ok(())
+                });
+                if let Err((e, k, t)) = outcome {
+                    return Err(simulation_error(&e, k, t));
+                }
+                result.record(&this, rods);
+            }
+            if let Some(cb) = &callback {
+                cb.call1(py, (slf.clone(),))?;
+            }
+            py.check_signals()?;
+        }
+        Ok(result)
+    }
+
+    /// Time, s.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.sim.state().time
+    }
+
+    /// Steps completed and steps in all.
+    #[getter]
+    fn steps(&self) -> (usize, usize) {
+        self.sim.steps()
+    }
+
+    /// Node positions, (n + 1) × 3, m.
+    #[getter]
+    fn nodes<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        matrix(py, &self.positions(&self.sim.state().q))
+    }
+
+    /// Node velocities, (n + 1) × 3, m/s.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        matrix(py, &self.positions(&self.sim.state().v))
+    }
+
+    /// Position of the last node, m.
+    #[getter]
+    fn tip<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let m = self.sim.model();
+        PyArray1::from_vec(
+            py,
+            m.node_position(&self.sim.state().q, m.n_elements).to_vec(),
+        )
+    }
+
+    /// Energies of the current state, J: kinetic, strain, gravity, loads,
+    /// contact, total (their sum) and dissipated (friction, damping).
+    #[getter]
+    fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let e = self.sim.energies();
+        let d = PyDict::new(py);
+        for (k, v) in [
+            ("kinetic", e.kinetic),
+            ("strain", e.strain),
+            ("gravity", e.gravity),
+            ("loads", e.loads),
+            ("contact", e.contact),
+            ("total", e.total()),
+            ("dissipated", e.dissipated),
+        ] {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// Per rod: the force on it at the last step (N, vector and magnitude)
+    /// and its load so far (peaks raw and CFC-filtered, impulse, duration).
+    #[getter]
+    fn contact<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        let cfc = self.scene.output.cfc;
+        for h in self.sim.rod_loads() {
+            let d = PyDict::new(py);
+            let f = h.force.last().copied().unwrap_or([0.0; 3]);
+            d.set_item("force", PyArray1::from_vec(py, f.to_vec()))?;
+            d.set_item("force_magnitude", ancf_core::math::vec3::norm(f))?;
+            let load = h.summary(cfc);
+            for (k, v) in [
+                ("peak_force", load.peak_force),
+                ("peak_time", load.peak_time),
+                ("filtered_peak_force", load.filtered_peak_force),
+                ("filtered_peak_time", load.filtered_peak_time),
+                ("impulse", load.impulse),
+                ("contact_duration", load.contact_duration),
+                ("cfc", load.cfc),
+            ] {
+                d.set_item(k, v)?;
+            }
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// What the run has accumulated, as a dict: time, steps, Newton
+    /// iterations, factorizations, releases, energies, tip, contact.
+    fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.sim.progress();
+        let d = PyDict::new(py);
+        d.set_item("time", p.state.time)?;
+        d.set_item("steps", p.step)?;
+        d.set_item("newton_iterations", p.newton_iterations)?;
+        d.set_item("factorizations", p.factorizations)?;
+        d.set_item("releases", p.released)?;
+        d.set_item("energies", self.energies(py)?)?;
+        d.set_item("tip", self.tip(py))?;
+        d.set_item("contact", self.contact(py)?)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        let (k, n) = self.sim.steps();
+        format!(
+            "ancf.Simulation(t = {:.6} s, step {k} of {n})",
+            self.sim.state().time
+        )
+    }
+}
+
+/// Recorded samples of a run, one row per record; every attribute is a
+/// NumPy array (float64): time (k, s), tip (k × 3, m), kinetic, strain,
+/// gravity, total, dissipated (k, J), rod_force (k × rods, N).
+#[pyclass(module = "ancf", frozen)]
+#[derive(Default)]
+pub struct RunResult {
+    time: Vec<f64>,
+    tip: Vec<[f64; 3]>,
+    kinetic: Vec<f64>,
+    strain: Vec<f64>,
+    gravity: Vec<f64>,
+    total: Vec<f64>,
+    dissipated: Vec<f64>,
+    rod_force: Vec<Vec<f64>>,
+    rods: usize,
+}
+
+impl RunResult {
+    fn record(&mut self, s: &Simulation, rods: usize) {
+        let m = s.sim.model();
+        let state = s.sim.state();
+        let e = s.sim.energies();
+        self.rods = rods;
+        self.time.push(state.time);
+        self.tip.push(m.node_position(&state.q, m.n_elements));
+        self.kinetic.push(e.kinetic);
+        self.strain.push(e.strain);
+        self.gravity.push(e.gravity);
+        self.total.push(e.total());
+        self.dissipated.push(e.dissipated);
+        self.rod_force.push(
+            s.sim
+                .rod_loads()
+                .iter()
+                .map(|h| {
+                    h.force
+                        .last()
+                        .map_or(0.0, |f| ancf_core::math::vec3::norm(*f))
+                })
+                .collect(),
+        );
+    }
+}
+
+#[pymethods]
+impl RunResult {
+    /// Record times, s.
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.time)
+    }
+    /// Last node's position at each record, k × 3, m.
+    #[getter]
+    fn tip<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        matrix(py, &self.tip)
+    }
+    /// Kinetic energy, J.
+    #[getter]
+    fn kinetic<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.kinetic)
+    }
+    /// Strain energy, J.
+    #[getter]
+    fn strain<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.strain)
+    }
+    /// Gravity potential, J.
+    #[getter]
+    fn gravity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.gravity)
+    }
+    /// Total mechanical energy, J.
+    #[getter]
+    fn total<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.total)
+    }
+    /// Energy dissipated by friction and damping since t = 0, J.
+    #[getter]
+    fn dissipated<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.dissipated)
+    }
+    /// |force| on each rod at each record, k × rods, N.
+    #[getter]
+    fn rod_force<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = self.rod_force.iter().flatten().copied().collect();
+        PyArray1::from_vec(py, flat).reshape([self.rod_force.len(), self.rods])
+    }
+    fn __len__(&self) -> usize {
+        self.time.len()
+    }
+    fn __repr__(&self) -> String {
+        format!("ancf.RunResult({} records)", self.time.len())
+    }
+}
+
+/// Runs a scene as `ancf run` does, writing its outputs into `out`; returns
+/// summary.json's text.
+#[pyfunction]
+#[pyo3(signature = (scene, out, quiet=true))]
+fn _run(py: Python<'_>, scene: &Scene, out: std::path::PathBuf, quiet: bool) -> PyResult<String> {
+    let opts = ancf::run::RunOptions {
+        out: out.clone(),
+        quiet,
+    };
+    let inner = scene.inner.clone();
+    let summary = py
+        .detach(move || ancf::run::run_scene(&inner, &opts))
+        .map_err(PyRuntimeError::new_err)?;
+    std::fs::read_to_string(out.join("summary.json")).map_err(|e| {
+        PyRuntimeError::new_err(format!(
+            "{}: {e} (status {})",
+            out.display(),
+            summary.status
+        ))
+    })
+}
+
+/// The ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2): arrays y, z, weight.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn quadrature<'py>(
+    py: Python<'py>,
+    inner: f64,
+    outer: f64,
+    order: usize,
+) -> PyResult<(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+)> {
+    if !(inner >= 0.0 && outer > inner && outer.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "need 0 ≤ inner < outer (finite), got inner = {inner}, outer = {outer}"
+        )));
+    }
+    if !(1..=16).contains(&order) {
+        return Err(PyValueError::new_err(format!(
+            "order: must be 1..=16, got {order}"
+        )));
+    }
+    let points = ancf_core::math::quadrature::ring_rule(order, inner, outer);
+    let col = |f: fn(&ancf_core::math::quadrature::SectionPoint) -> f64| {
+        PyArray1::from_vec(py, points.iter().map(f).collect())
+    };
+    Ok((col(|p| p.y), col(|p| p.z), col(|p| p.weight)))
+}
+
+/// Panics on purpose: the tests check that a Rust panic reaches Python as
+/// an exception and leaves the interpreter running.
+#[pyfunction]
+fn _panic_for_test() {
+    panic!("a deliberate panic inside ancf");
+}
+
+#[pymodule]
+fn _ancf(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Scene>()?;
+    m.add_class::<Simulation>()?;
+    m.add_class::<RunResult>()?;
+    m.add_function(wrap_pyfunction!(_run, m)?)?;
+    m.add_function(wrap_pyfunction!(quadrature, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    m.add("SceneError", m.py().get_type::<SceneError>())?;
+    m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    Ok(())
+}

@@ -1,0 +1,148 @@
+"""Issue 16: the Python API — scenes, simulations, NumPy results, errors.
+
+Run from the repository root: `python -m pytest ancf-python/tests`.
+"""
+
+import json
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+import ancf
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+PENDULUM = ROOT / "scenes" / "pendulum.toml"
+IMPACT = ROOT / "scenes" / "wire_rod_impact.toml"
+
+BASE = {
+    "analysis": {"kind": "dynamic", "end_time": 0.01, "time_step": 1e-3, "spectral_radius": 1.0},
+    "gravity": {"acceleration": [0.0, 0.0, -9.81]},
+    "material": [
+        {"name": "steel", "model": "st-venant-kirchhoff", "density": 7800.0,
+         "youngs_modulus": 2e11, "poisson_ratio": 0.3}
+    ],
+    "wire": {"length": 1.0, "elements": 4, "layers": [{"material": "steel", "outer_radius": 0.01}]},
+    "support": [{"node": 0, "kind": "pin"}],
+}
+
+
+def test_scene_from_file_toml_and_dict_agree():
+    a = ancf.Scene.from_file(PENDULUM)
+    b = ancf.Scene.from_toml(PENDULUM.read_text())
+    assert (a.elements, a.unknowns, a.kind) == (b.elements, b.unknowns, b.kind)
+    c = ancf.Scene.from_dict(BASE)
+    assert c.elements == 4 and c.kind == "dynamic"
+    assert "4 elements" in repr(c)
+
+
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (lambda d: d["wire"].update(elements=0), "wire.elements"),
+        (lambda d: d["wire"]["layers"][0].update(outer_radius=-0.01), "wire.layers[0].outer_radius"),
+        (lambda d: d["wire"].update(length=math.nan), "wire.length"),
+        (lambda d: d["analysis"].update(time_step="1e-3"), ""),  # wrong type: the parser names the line
+        (lambda d: d["wire"].update(colour="red"), ""),  # unknown key
+        (lambda d: d["wire"].update(length=object()), "wire.length"),  # not a TOML type
+    ],
+)
+def test_bad_input_raises_scene_error_naming_the_field(edit, field):
+    d = json.loads(json.dumps(BASE))
+    edit(d)
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Scene.from_dict(d)
+    assert isinstance(e.value, ValueError)
+    assert e.value.field == field
+    if field:
+        assert field in str(e.value)
+
+
+def test_unknown_key_and_wrong_type_are_named_in_the_message():
+    d = json.loads(json.dumps(BASE))
+    d["wire"]["colour"] = "red"
+    with pytest.raises(ancf.SceneError, match="colour"):
+        ancf.Scene.from_dict(d)
+    with pytest.raises(ancf.SceneError, match="cannot read"):
+        ancf.Scene.from_file(ROOT / "no-such-scene.toml")
+
+
+def test_pendulum_tip_equals_the_cli_run(tmp_path):
+    sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
+    r = sim.run(until=1.0, every=10)
+    summary = ancf.run(PENDULUM, tmp_path / "out")
+    assert summary["status"] == "completed"
+    # Same core, same steps: the same bits, not approximately.
+    assert list(r.tip[-1]) == summary["tip"]["position"]
+    assert list(sim.tip) == summary["tip"]["position"]
+    assert (tmp_path / "out" / "timeseries.csv").exists()
+
+
+def test_arrays_have_numpy_shapes_and_dtypes():
+    scene = ancf.Scene.from_file(PENDULUM)
+    sim = ancf.Simulation(scene)
+    r = sim.run(until=0.05, every=5)
+    assert len(r) == 10
+    assert r.time.dtype == np.float64 and r.time.shape == (10,)
+    assert r.tip.shape == (10, 3)
+    for name in ["kinetic", "strain", "gravity", "total", "dissipated"]:
+        assert getattr(r, name).shape == (10,)
+    assert r.rod_force.shape == (10, 0)
+    assert sim.nodes.shape == (scene.elements + 1, 3)
+    assert sim.velocities.shape == (scene.elements + 1, 3)
+    assert sim.tip.shape == (3,)
+    assert set(sim.energies) >= {"kinetic", "strain", "gravity", "total", "dissipated"}
+    assert sim.steps == (50, 1000)
+    assert abs(sim.time - 0.05) < 1e-12
+
+
+def test_step_callback_and_energy_balance():
+    sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
+    sim.step()
+    assert sim.steps[0] == 1
+    seen = []
+    r = sim.run(until=0.1, every=20, callback=lambda s: seen.append(s.time))
+    assert seen == list(r.time)
+    # ρ∞ = 1: total energy conserved (the swing exchanges tens of J).
+    assert np.max(np.abs(r.total - r.total[0])) < 1e-2
+
+
+def test_contact_loads_per_rod():
+    text = IMPACT.read_text().replace("end_time = 1.0", "end_time = 0.3").replace("elements = 64", "elements = 16")
+    sim = ancf.Simulation(ancf.Scene.from_toml(text))
+    r = sim.run(every=100)
+    assert r.rod_force.shape == (len(r), 1)
+    (rod,) = sim.contact
+    assert rod["peak_force"] > 0 and rod["impulse"] > 0 and rod["cfc"] == 60.0
+    assert rod["force"].shape == (3,)
+    s = sim.summary()
+    assert s["steps"] == 3000 and s["contact"][0]["impulse"] == rod["impulse"]
+
+
+def test_simulation_errors():
+    static = dict(json.loads(json.dumps(BASE)), analysis={"kind": "static"})
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Simulation(ancf.Scene.from_dict(static))
+    assert e.value.field == "analysis.kind"
+    sim = ancf.Simulation(ancf.Scene.from_dict(BASE))
+    sim.run()
+    with pytest.raises(ancf.SimulationError, match="end time"):
+        sim.step()
+    with pytest.raises(ValueError):
+        sim.run(every=0)
+
+
+def test_a_rust_panic_is_a_python_exception():
+    with pytest.raises(BaseException, match="deliberate panic"):
+        ancf._ancf._panic_for_test()
+    # The interpreter goes on.
+    assert ancf.Scene.from_dict(BASE).elements == 4
+
+
+def test_quadrature_integrates_the_area():
+    y, z, w = ancf.quadrature(0.5, 1.0, 3)
+    assert y.shape == z.shape == w.shape == (7,)
+    assert abs(w.sum() - math.pi * (1.0 - 0.25)) < 1e-12
+    with pytest.raises(ValueError):
+        ancf.quadrature(1.0, 0.5, 3)

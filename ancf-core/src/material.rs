@@ -238,6 +238,40 @@ pub struct Material {
 }
 
 impl Material {
+    /// St. Venant–Kirchhoff: density (kg/m³), Young's modulus (Pa), Poisson's
+    /// ratio and the weakened-bending coefficient ω (1: plain continuum);
+    /// the default locking remedy.
+    pub fn st_venant_kirchhoff(
+        density: f64,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        bending_factor: f64,
+    ) -> Self {
+        Material {
+            density,
+            model: MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                bending_factor,
+            },
+            locking: Default::default(),
+        }
+    }
+
+    /// Nearly incompressible Mooney–Rivlin: density (kg/m³), μ10, μ01 (Pa)
+    /// and the volume penalty κ; the default locking remedy.
+    pub fn mooney_rivlin(density: f64, mu10: f64, mu01: f64, penalty: f64) -> Self {
+        Material {
+            density,
+            model: MaterialModel::MooneyRivlin {
+                mu10,
+                mu01,
+                penalty,
+            },
+            locking: Default::default(),
+        }
+    }
+
     /// How this layer integrates its energy (see [`MaterialModel::layer_laws`]).
     pub fn layer_laws(&self) -> LayerLaws {
         self.model.layer_laws(self.locking)

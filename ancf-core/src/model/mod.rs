@@ -2,6 +2,9 @@
 //! coordinates), loads and the list of effects it contains. Built from a
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
+mod builder;
+pub use builder::WireBuilder;
+
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
 use crate::math::vec3::{cross, dot, sub, unit};
 

@@ -79,6 +79,35 @@ pub struct Rod {
     pub friction: f64,
 }
 
+impl Rod {
+    /// An infinite, frictionless rod under the line law: a point on its axis
+    /// and its direction, radius (m) and ε_L (N/m²).
+    pub fn line(center: [f64; 3], axis: [f64; 3], radius: f64, stiffness: f64) -> Self {
+        Rod {
+            center,
+            axis: crate::math::vec3::unit(axis),
+            radius,
+            length: None,
+            law: ContactLaw::Line,
+            contact_stiffness: stiffness,
+            friction: 0.0,
+        }
+    }
+
+    /// The same rod with Coulomb friction μ.
+    pub fn with_friction(self, friction: f64) -> Self {
+        Rod { friction, ..self }
+    }
+
+    /// The same rod, `length` m long (centred on its point).
+    pub fn with_length(self, length: f64) -> Self {
+        Rod {
+            length: Some(length),
+            ..self
+        }
+    }
+}
+
 /// Resolution of the contact integration and the friction regularization.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactSettings {

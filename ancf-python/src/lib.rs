@@ -173,6 +173,197 @@ impl Scene {
     }
 }
 
+/// A layer material (SI units).
+#[pyclass(module = "ancf", frozen)]
+#[derive(Clone)]
+pub struct Material {
+    inner: ancf_core::material::Material,
+}
+
+#[pymethods]
+impl Material {
+    /// St. Venant–Kirchhoff: density (kg/m³), Young's modulus (Pa),
+    /// Poisson's ratio, weakened-bending coefficient ω (1: plain continuum).
+    #[staticmethod]
+    #[pyo3(signature = (density, youngs_modulus, poisson_ratio=0.0, bending_factor=1.0))]
+    fn st_venant_kirchhoff(
+        density: f64,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        bending_factor: f64,
+    ) -> PyResult<Material> {
+        positive("density", density)?;
+        positive("youngs_modulus", youngs_modulus)?;
+        if !(-1.0..0.5).contains(&poisson_ratio) {
+            return Err(PyValueError::new_err(format!(
+                "poisson_ratio: must be in [-1, 0.5), got {poisson_ratio}"
+            )));
+        }
+        if !(bending_factor > 0.0 && bending_factor <= 1.0) {
+            return Err(PyValueError::new_err(format!(
+                "bending_factor: must be in (0, 1], got {bending_factor}"
+            )));
+        }
+        Ok(Material {
+            inner: ancf_core::material::Material::st_venant_kirchhoff(
+                density,
+                youngs_modulus,
+                poisson_ratio,
+                bending_factor,
+            ),
+        })
+    }
+
+    /// Nearly incompressible Mooney–Rivlin: density (kg/m³), μ10, μ01 (Pa), volume penalty κ.
+    #[staticmethod]
+    #[pyo3(signature = (density, mu10, mu01, penalty=1e3))]
+    fn mooney_rivlin(density: f64, mu10: f64, mu01: f64, penalty: f64) -> PyResult<Material> {
+        positive("density", density)?;
+        positive("penalty", penalty)?;
+        if !(mu10.is_finite()
+            && mu01.is_finite()
+            && mu10 >= 0.0
+            && mu01 >= 0.0
+            && mu10 + mu01 > 0.0)
+        {
+            return Err(PyValueError::new_err(
+                "mu10, mu01: must be ≥ 0 and not both 0",
+            ));
+        }
+        Ok(Material {
+            inner: ancf_core::material::Material::mooney_rivlin(density, mu10, mu01, penalty),
+        })
+    }
+}
+
+fn positive(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(PyValueError::new_err(format!(
+            "{name}: must be a finite number > 0, got {v}"
+        )))
+    }
+}
+
+fn vec3(name: &str, v: Vec<f64>) -> PyResult<[f64; 3]> {
+    match v.as_slice() {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([*x, *y, *z]),
+        _ => Err(PyValueError::new_err(format!(
+            "{name}: must be 3 finite numbers, got {v:?}"
+        ))),
+    }
+}
+
+/// A wire described in code (no scene file): each method returns a new
+/// `Wire`, so calls chain. Units: m, N, m/s².
+#[pyclass(module = "ancf", frozen)]
+#[derive(Clone)]
+pub struct Wire {
+    builder: ancf_core::model::WireBuilder,
+}
+
+#[pymethods]
+impl Wire {
+    /// A straight wire of `length` (m) in `elements` elements, along x from the origin.
+    #[new]
+    fn new(length: f64, elements: usize) -> PyResult<Wire> {
+        positive("length", length)?;
+        Ok(Wire {
+            builder: ancf_core::model::WireBuilder::new(length, elements),
+        })
+    }
+
+    /// Where the wire starts (m) and its direction.
+    fn placed(&self, origin: Vec<f64>, direction: Vec<f64>) -> PyResult<Wire> {
+        let b = self
+            .builder
+            .clone()
+            .placed(vec3("origin", origin)?, vec3("direction", direction)?);
+        Ok(Wire { builder: b })
+    }
+
+    /// The next concentric layer outward, up to `outer_radius` (m).
+    fn layer(&self, material: &Material, outer_radius: f64) -> PyResult<Wire> {
+        positive("outer_radius", outer_radius)?;
+        Ok(Wire {
+            builder: self
+                .builder
+                .clone()
+                .layer(material.inner.clone(), outer_radius),
+        })
+    }
+
+    /// A support at `node`: kind "pin" (position), "clamp" or "fixed".
+    fn support(&self, node: usize, kind: &str) -> PyResult<Wire> {
+        use ancf_core::model::SupportKind;
+        let kind = match kind {
+            "pin" => SupportKind::Pin,
+            "clamp" => SupportKind::Clamp,
+            "fixed" => SupportKind::Fixed,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "kind: unknown support \"{other}\" (pin, clamp, fixed)"
+                )));
+            }
+        };
+        Ok(Wire {
+            builder: self.builder.clone().support(node, kind),
+        })
+    }
+
+    /// Gravity acceleration, m/s².
+    fn gravity(&self, acceleration: Vec<f64>) -> PyResult<Wire> {
+        Ok(Wire {
+            builder: self
+                .builder
+                .clone()
+                .gravity(vec3("acceleration", acceleration)?),
+        })
+    }
+
+    /// A constant force (N) at a node.
+    fn load(&self, node: usize, force: Vec<f64>) -> PyResult<Wire> {
+        Ok(Wire {
+            builder: self.builder.clone().load(node, vec3("force", force)?),
+        })
+    }
+
+    /// A rigid rod under the line law: a point on its axis, its direction,
+    /// radius (m), stiffness ε_L (N/m²), Coulomb μ and length (m, None: infinite).
+    #[pyo3(signature = (center, axis, radius, stiffness, friction=0.0, length=None))]
+    fn rod(
+        &self,
+        center: Vec<f64>,
+        axis: Vec<f64>,
+        radius: f64,
+        stiffness: f64,
+        friction: f64,
+        length: Option<f64>,
+    ) -> PyResult<Wire> {
+        positive("radius", radius)?;
+        positive("stiffness", stiffness)?;
+        if !(friction.is_finite() && friction >= 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "friction: must be ≥ 0, got {friction}"
+            )));
+        }
+        let axis = vec3("axis", axis)?;
+        if axis.iter().all(|a| *a == 0.0) {
+            return Err(PyValueError::new_err("axis: must not be the zero vector"));
+        }
+        let mut rod =
+            ancf_core::forces::contact::Rod::line(vec3("center", center)?, axis, radius, stiffness)
+                .with_friction(friction);
+        if let Some(l) = length {
+            rod = rod.with_length(positive("length", l)?);
+        }
+        Ok(Wire {
+            builder: self.builder.clone().rod(rod),
+        })
+    }
+}
+
 /// A dynamic simulation of a scene. Units: SI (m, s, N, J).
 #[pyclass(module = "ancf")]
 pub struct Simulation {
@@ -252,6 +443,65 @@ impl Simulation {
             scene: scene.inner.clone(),
             sim,
         })
+    }
+
+    /// Starts a wire built in code at rest, stepping `time_step` (s) up to
+    /// `end_time` (s) with generalized-α of spectral radius ρ∞.
+    #[staticmethod]
+    #[pyo3(signature = (wire, time_step, end_time, spectral_radius=1.0))]
+    fn from_wire(
+        py: Python<'_>,
+        wire: &Wire,
+        time_step: f64,
+        end_time: f64,
+        spectral_radius: f64,
+    ) -> PyResult<Simulation> {
+        positive("time_step", time_step)?;
+        positive("end_time", end_time)?;
+        if !(0.0..=1.0).contains(&spectral_radius) {
+            return Err(PyValueError::new_err(format!(
+                "spectral_radius: must be in [0, 1], got {spectral_radius}"
+            )));
+        }
+        if end_time / time_step > 1e8 {
+            return Err(PyValueError::new_err(
+                "time_step: more than 1e8 steps to end_time; check the units",
+            ));
+        }
+        let model = wire.builder.clone().build().map_err(|e| {
+            let err = SceneError::new_err(e.0.clone());
+            let _ = err
+                .value(py)
+                .setattr("field", e.0.split(':').next().unwrap_or("").to_string());
+            err
+        })?;
+        let settings = ancf_core::solve::dynamics::DynamicSettings {
+            time_step,
+            end_time,
+            spectral_radius,
+            ..Default::default()
+        };
+        let scene = CoreScene {
+            source: String::new(),
+            model,
+            analysis: Analysis::Dynamic {
+                settings: settings.clone(),
+                initial_static: false,
+                load_steps: 1,
+            },
+            output: ancf_core::scene::OutputSettings {
+                every: 1,
+                checkpoint_every: 0,
+                vtk: false,
+                plots: false,
+                cfc: ancf_core::loads::rod_load::DEFAULT_CFC,
+            },
+        };
+        let model = scene.model.clone();
+        let sim = py
+            .detach(move || CoreSimulation::new(&model, settings, Initial::Reference))
+            .map_err(|e| simulation_error(&e, 0, 0.0))?;
+        Ok(Simulation { scene, sim })
     }
 
     /// Advances one time step (the last one ends at the end time).
@@ -595,6 +845,8 @@ fn _ancf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
     m.add_class::<Simulation>()?;
     m.add_class::<RunResult>()?;
+    m.add_class::<Material>()?;
+    m.add_class::<Wire>()?;
     m.add_function(wrap_pyfunction!(_run, m)?)?;
     m.add_function(wrap_pyfunction!(quadrature, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;

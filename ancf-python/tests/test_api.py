@@ -146,3 +146,54 @@ def test_quadrature_integrates_the_area():
     assert abs(w.sum() - math.pi * (1.0 - 0.25)) < 1e-12
     with pytest.raises(ValueError):
         ancf.quadrature(1.0, 0.5, 3)
+
+
+def test_a_wire_built_in_code_equals_the_pendulum_scene():
+    # scenes/pendulum.toml written as code: same model, same bits.
+    core = ancf.Material.st_venant_kirchhoff(density=7200.0, youngs_modulus=2e9)
+    wire = (
+        ancf.Wire(1.0, 4)
+        .layer(core, 0.01)
+        .layer(core, 0.02)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+    )
+    built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=1.0)
+    from_file = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
+    built.run(every=1000)
+    from_file.run(every=1000)
+    assert list(built.tip) == list(from_file.tip)
+
+
+def test_wire_builder_errors():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    with pytest.raises(ValueError, match="length"):
+        ancf.Wire(-1.0, 4)
+    with pytest.raises(ValueError, match="outer_radius"):
+        ancf.Wire(1.0, 4).layer(steel, -0.01)
+    with pytest.raises(ValueError, match="kind"):
+        ancf.Wire(1.0, 4).support(0, "glue")
+    with pytest.raises(ValueError, match="axis"):
+        ancf.Wire(1.0, 4).rod([0, 0, 0], [0, 0, 0], 0.02, 5e7)
+    with pytest.raises(TypeError):
+        ancf.Wire(1.0, "four")
+    with pytest.raises(ancf.SceneError) as e:  # no layer
+        ancf.Simulation.from_wire(ancf.Wire(1.0, 4), time_step=1e-3, end_time=0.01)
+    assert e.value.field == "layers"
+    with pytest.raises(ValueError, match="poisson_ratio"):
+        ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.7)
+
+
+def test_a_wire_with_a_rod_reports_contact():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3, 0.1)
+    wire = (
+        ancf.Wire(1.0, 16)
+        .layer(steel, 0.01)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+        .rod([0.5, 0.0, -0.2], [0.0, 1.0, 0.0], 0.02, 5e7, friction=0.3, length=0.4)
+    )
+    sim = ancf.Simulation.from_wire(wire, time_step=1e-4, end_time=0.3)
+    r = sim.run(every=100)
+    assert r.rod_force.shape == (30, 1)
+    assert sim.contact[0]["impulse"] > 0.0

@@ -13,11 +13,13 @@ import json as _json
 import os as _os
 
 from ._ancf import (  # noqa: F401
+    Material,
     RunResult,
     Scene,
     SceneError,
     Simulation,
     SimulationError,
+    Wire,
     quadrature,
 )
 from . import _ancf
@@ -25,6 +27,8 @@ from . import _ancf
 __all__ = [
     "Scene",
     "Simulation",
+    "Material",
+    "Wire",
     "RunResult",
     "SceneError",
     "SimulationError",

@@ -32,6 +32,35 @@ class Scene:
     @property
     def source(self) -> str: ...
 
+class Material:
+    """A layer material (SI units)."""
+
+    @staticmethod
+    def st_venant_kirchhoff(
+        density: float, youngs_modulus: float, poisson_ratio: float = 0.0, bending_factor: float = 1.0
+    ) -> Material: ...
+    @staticmethod
+    def mooney_rivlin(density: float, mu10: float, mu01: float, penalty: float = 1e3) -> Material: ...
+
+class Wire:
+    """A wire described in code; every method returns a new Wire (calls chain)."""
+
+    def __init__(self, length: float, elements: int) -> None: ...
+    def placed(self, origin: list[float], direction: list[float]) -> Wire: ...
+    def layer(self, material: Material, outer_radius: float) -> Wire: ...
+    def support(self, node: int, kind: str) -> Wire: ...
+    def gravity(self, acceleration: list[float]) -> Wire: ...
+    def load(self, node: int, force: list[float]) -> Wire: ...
+    def rod(
+        self,
+        center: list[float],
+        axis: list[float],
+        radius: float,
+        stiffness: float,
+        friction: float = 0.0,
+        length: Optional[float] = None,
+    ) -> Wire: ...
+
 class RunResult:
     """Records of a run; every attribute is a float64 NumPy array."""
 
@@ -57,6 +86,8 @@ class Simulation:
     """A dynamic simulation of a scene, started at its initial state."""
 
     def __init__(self, scene: Scene) -> None: ...
+    @staticmethod
+    def from_wire(wire: Wire, time_step: float, end_time: float, spectral_radius: float = 1.0) -> Simulation: ...
     def step(self) -> None: ...
     def run(
         self,

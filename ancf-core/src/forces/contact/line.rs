@@ -8,10 +8,10 @@
 //! add nothing to the force's derivative: the tangent is the Gauss sum of
 //! the pointwise tangents.
 
-use super::point::{PointInput, axis_offset, point_contact};
+use super::point::{ElementOut, PointInput, axis_offset, point_contact};
 use super::zone::active_zones;
-use super::{Contact, ContactSample, DeepestPoint, Rod};
-use crate::element::{ElementMatrix, ElementVector, shape_functions};
+use super::{Contact, DeepestPoint, Rod};
+use crate::element::{ElementVector, shape_functions};
 use crate::math::vec3::dot;
 
 /// A zone longer than this (in ξ) is split into pieces of at most this
@@ -20,18 +20,13 @@ pub const MAX_PIECE: f64 = 0.5;
 
 /// Line contact of one element with `rod` (index `ri`): see
 /// [`Contact::element_rod`].
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn element_rod(
     contact: &Contact,
     ri: usize,
     rod: &Rod,
     e: &ElementVector,
-    v: &ElementVector,
-    q: &mut ElementVector,
-    mut kq: Option<&mut ElementMatrix>,
-    mut kv: Option<&mut ElementMatrix>,
-) -> (ContactSample, Option<DeepestPoint>) {
-    let mut sample = ContactSample::default();
+    out: &mut ElementOut,
+) -> Option<DeepestPoint> {
     let mut deepest: Option<DeepestPoint> = None;
     let l = contact.element_length;
     let reach = rod.radius + contact.wire_radius;
@@ -56,16 +51,8 @@ pub(crate) fn element_rod(
                     stiffness: rod.contact_stiffness * w * len * l,
                 };
                 let slip = contact.settings.slip_velocity;
-                if let Some(res) = point_contact(
-                    &input,
-                    rod,
-                    slip,
-                    v,
-                    q,
-                    kq.as_deref_mut(),
-                    kv.as_deref_mut(),
-                    &mut sample,
-                ) && deepest.is_none_or(|dp| res.penetration > dp.penetration)
+                if let Some(res) = point_contact(&input, rod, slip, out)
+                    && deepest.is_none_or(|dp| res.penetration > dp.penetration)
                 {
                     let (y, z) = facing_point(e, xi, &res.n, contact.wire_radius);
                     deepest = Some(DeepestPoint {
@@ -79,7 +66,7 @@ pub(crate) fn element_rod(
             }
         }
     }
-    (sample, deepest)
+    deepest
 }
 
 /// Section coordinates (y, z) of the outer surface point at ξ that faces

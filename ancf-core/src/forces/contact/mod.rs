@@ -335,12 +335,18 @@ impl Contact {
         if !self.may_touch(rod, e) {
             return (ContactSample::default(), None);
         }
-        match rod.law {
-            ContactLaw::Surface => surface::element_rod(self, ri, rod, e, v, q, kq, kv),
-            ContactLaw::Line | ContactLaw::Hertz => {
-                line::element_rod(self, ri, rod, e, v, q, kq, kv)
-            }
-        }
+        let mut out = point::ElementOut {
+            v,
+            q,
+            kq,
+            kv,
+            sample: ContactSample::default(),
+        };
+        let deepest = match rod.law {
+            ContactLaw::Surface => surface::element_rod(self, ri, rod, e, &mut out),
+            ContactLaw::Line | ContactLaw::Hertz => line::element_rod(self, ri, rod, e, &mut out),
+        };
+        (out.sample, deepest)
     }
 }
 

@@ -38,6 +38,18 @@ pub(crate) fn axis_offset(rod: &Rod, p: &[f64; 3], caps: bool) -> Option<([f64; 
     ))
 }
 
+/// What contact adds to one element: the generalized force (N) and, when
+/// asked, −∂Q/∂q and −∂Q/∂v; with the element's velocities (friction).
+pub(crate) struct ElementOut<'a> {
+    /// Element velocities (m/s and 1/s), read by friction.
+    pub v: &'a ElementVector,
+    pub q: &'a mut ElementVector,
+    pub kq: Option<&'a mut ElementMatrix>,
+    pub kv: Option<&'a mut ElementMatrix>,
+    /// Energy, normal force, friction power and resultant so far.
+    pub sample: ContactSample,
+}
+
 /// One point of contact: where it is and how stiff it is.
 pub(crate) struct PointInput<'a> {
     /// Shape functions of the point (its position is S e).
@@ -64,20 +76,16 @@ pub(crate) struct PointResult {
 
 /// Penalty force k ⟨−g⟩ n and regularized Coulomb friction
 /// −μ k ⟨−g⟩ v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
-/// element force `q` and their derivatives −∂f/∂q into `kq`, −∂f/∂v into
-/// `kv`, and adds energy ½ k g², normal force, friction power and the
-/// force to `sample`. `None` when the point is apart (g ≥ 0).
-#[allow(clippy::too_many_arguments)]
+/// element force `out.q` and their derivatives −∂f/∂q into `out.kq`,
+/// −∂f/∂v into `out.kv`, and adds energy ½ k g², normal force, friction
+/// power and the force to `out.sample`. `None` when the point is apart (g ≥ 0).
 pub(crate) fn point_contact(
     pt: &PointInput,
     rod: &Rod,
     slip_velocity: f64,
-    v: &ElementVector,
-    q: &mut ElementVector,
-    kq: Option<&mut ElementMatrix>,
-    kv: Option<&mut ElementMatrix>,
-    sample: &mut ContactSample,
+    out: &mut ElementOut,
 ) -> Option<PointResult> {
+    let (v, sample) = (out.v, &mut out.sample);
     let w = pt.w;
     let dist = dot(w, w).sqrt();
     let g = dist - pt.offset;
@@ -149,7 +157,7 @@ pub(crate) fn point_contact(
     let s = pt.s;
     for i in 0..8 {
         for c in 0..3 {
-            q[3 * i + c] += s[i] * f[c];
+            out.q[3 * i + c] += s[i] * f[c];
         }
     }
     let add = |m: &mut ElementMatrix, blk: &[[f64; 3]; 3]| {
@@ -167,10 +175,10 @@ pub(crate) fn point_contact(
             }
         }
     };
-    if let Some(k) = kq {
+    if let Some(k) = out.kq.as_deref_mut() {
         add(k, &dfdp);
     }
-    if friction && let Some(k) = kv {
+    if friction && let Some(k) = out.kv.as_deref_mut() {
         add(k, &dfdv);
     }
     Some(PointResult { penetration: -g, n })

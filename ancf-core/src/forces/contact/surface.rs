@@ -5,9 +5,9 @@
 //! area (ε_N in N/m³). Kept for comparison and for sections whose squeeze
 //! matters; its force jumps as test points enter the contact patch.
 
-use super::point::{PointInput, axis_offset, point_contact};
-use super::{Contact, ContactSample, DeepestPoint, Rod};
-use crate::element::{ElementMatrix, ElementVector, shape_functions};
+use super::point::{ElementOut, PointInput, axis_offset, point_contact};
+use super::{Contact, DeepestPoint, Rod};
+use crate::element::{ElementVector, shape_functions};
 use crate::math::quadrature::gauss_legendre_unit;
 
 /// One surface test point, in material coordinates.
@@ -48,18 +48,13 @@ pub fn test_points(stations: usize, angles: usize, wire_radius: f64, l: f64) -> 
 
 /// Surface contact of one element with `rod` (index `ri`): see
 /// [`Contact::element_rod`].
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn element_rod(
     contact: &Contact,
     ri: usize,
     rod: &Rod,
     e: &ElementVector,
-    v: &ElementVector,
-    q: &mut ElementVector,
-    mut kq: Option<&mut ElementMatrix>,
-    mut kv: Option<&mut ElementMatrix>,
-) -> (ContactSample, Option<DeepestPoint>) {
-    let mut sample = ContactSample::default();
+    out: &mut ElementOut,
+) -> Option<DeepestPoint> {
     let mut deepest: Option<DeepestPoint> = None;
     for tp in &contact.points {
         let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * e[3 * i + c]).sum());
@@ -75,16 +70,8 @@ pub(crate) fn element_rod(
             stiffness: rod.contact_stiffness * tp.area,
         };
         let slip = contact.settings.slip_velocity;
-        if let Some(r) = point_contact(
-            &input,
-            rod,
-            slip,
-            v,
-            q,
-            kq.as_deref_mut(),
-            kv.as_deref_mut(),
-            &mut sample,
-        ) && deepest.is_none_or(|dp| r.penetration > dp.penetration)
+        if let Some(r) = point_contact(&input, rod, slip, out)
+            && deepest.is_none_or(|dp| r.penetration > dp.penetration)
         {
             deepest = Some(DeepestPoint {
                 rod: ri,
@@ -95,5 +82,5 @@ pub(crate) fn element_rod(
             });
         }
     }
-    (sample, deepest)
+    deepest
 }

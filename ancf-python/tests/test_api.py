@@ -197,3 +197,35 @@ def test_a_wire_with_a_rod_reports_contact():
     r = sim.run(every=100)
     assert r.rod_force.shape == (30, 1)
     assert sim.contact[0]["impulse"] > 0.0
+
+
+def test_ctrl_c_stops_a_run_at_its_last_completed_step():
+    import os
+    import signal
+    import threading
+
+    text = IMPACT.read_text().replace("elements = 64", "elements = 16")
+    sim = ancf.Simulation(ancf.Scene.from_toml(text))
+    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.run(every=20)
+    finally:
+        timer.cancel()
+    done, total = sim.steps
+    assert 0 < done < total and done % 20 == 0, (done, total)
+    t = sim.time
+    sim.step()  # the simulation goes on from there
+    assert sim.time > t
+
+
+def test_a_failing_run_raises_with_the_cause_and_keeps_its_output(tmp_path):
+    text = PENDULUM.read_text().replace("time_step = 1e-3", "time_step = 0.2").replace(
+        "end_time = 1.0", "end_time = 1.0\nmax_iterations = 1"
+    )
+    with pytest.raises(ancf.SimulationError) as e:
+        ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")
+    assert "step" in str(e.value) and "Likely cause" in str(e.value)
+    assert e.value.summary["status"] == "failed"
+    assert (tmp_path / "out" / "summary.json").exists()

@@ -42,12 +42,18 @@ def run(scene, out, quiet=True):
 
     ``scene`` is a path to a scene file or an ``ancf.Scene``; the outputs
     (summary.json, timeseries.csv, rod_forces.csv, plots, VTK) are written
-    into the directory ``out``. A run that fails numerically still returns
-    its summary, whose ``status`` is ``"failed"`` and whose ``message``
-    names the step, the time and the likely cause.
+    into the directory ``out``. A run that fails numerically raises
+    ``SimulationError`` naming the step, the time and the likely cause; the
+    outputs up to the last converged step are kept, and the exception's
+    ``summary`` attribute holds the summary.
     """
     if not isinstance(scene, Scene):
         if not isinstance(scene, (str, _os.PathLike)):
             raise TypeError("scene: a path to a scene file or an ancf.Scene")
         scene = Scene.from_file(_os.fspath(scene))
-    return _json.loads(_ancf._run(scene, _os.fspath(out), quiet))
+    summary = _json.loads(_ancf._run(scene, _os.fspath(out), quiet))
+    if summary["status"] == "failed":
+        error = SimulationError(summary["message"])
+        error.summary = summary
+        raise error
+    return summary

@@ -661,19 +661,69 @@ impl Simulation {
         Ok(list)
     }
 
-    /// What the run has accumulated, as a dict: time, steps, Newton
-    /// iterations, factorizations, releases, energies, tip, contact.
+    /// The run so far with summary.json's keys, as far as a simulation in
+    /// progress knows them: status ("running" or "completed"), analysis,
+    /// elements, unknowns, time, steps, newton_iterations, factorizations,
+    /// kernel, tip {position, displacement}, energy {…, total, dissipated}
+    /// and, with rods, contact {rods: [law, contact_stiffness,
+    /// stiffness_unit, peak_force, peak_time, filtered_peak_force,
+    /// filtered_peak_time, impulse, contact_duration, cfc]}.
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = self.sim.progress();
+        let model = &self.scene.model;
         let d = PyDict::new(py);
+        d.set_item(
+            "status",
+            if self.sim.is_finished() {
+                "completed"
+            } else {
+                "running"
+            },
+        )?;
+        d.set_item("analysis", "dynamic")?;
+        d.set_item("elements", model.n_elements)?;
+        d.set_item("unknowns", model.n_unknowns)?;
         d.set_item("time", p.state.time)?;
         d.set_item("steps", p.step)?;
         d.set_item("newton_iterations", p.newton_iterations)?;
         d.set_item("factorizations", p.factorizations)?;
-        d.set_item("releases", p.released)?;
-        d.set_item("energies", self.energies(py)?)?;
-        d.set_item("tip", self.tip(py))?;
-        d.set_item("contact", self.contact(py)?)?;
+        d.set_item("kernel", model.element.kernel_path().to_string())?;
+        let tip = PyDict::new(py);
+        let position = model.node_position(&p.state.q, model.n_elements);
+        let start = model.node_position(&model.reference, model.n_elements);
+        tip.set_item("position", position.to_vec())?;
+        tip.set_item(
+            "displacement",
+            (0..3).map(|c| position[c] - start[c]).collect::<Vec<f64>>(),
+        )?;
+        d.set_item("tip", tip)?;
+        d.set_item("energy", self.energies(py)?)?;
+        if let Some(c) = model.contact() {
+            let rods = PyList::empty(py);
+            let cfc = self.scene.output.cfc;
+            for (rod, h) in c.rods.iter().zip(self.sim.rod_loads()) {
+                let r = PyDict::new(py);
+                r.set_item("law", rod.law.name())?;
+                r.set_item("contact_stiffness", rod.contact_stiffness)?;
+                r.set_item("stiffness_unit", rod.law.stiffness_unit())?;
+                let load = h.summary(cfc);
+                for (k, v) in [
+                    ("peak_force", load.peak_force),
+                    ("peak_time", load.peak_time),
+                    ("filtered_peak_force", load.filtered_peak_force),
+                    ("filtered_peak_time", load.filtered_peak_time),
+                    ("impulse", load.impulse),
+                    ("contact_duration", load.contact_duration),
+                    ("cfc", load.cfc),
+                ] {
+                    r.set_item(k, v)?;
+                }
+                rods.append(r)?;
+            }
+            let contact = PyDict::new(py);
+            contact.set_item("rods", rods)?;
+            d.set_item("contact", contact)?;
+        }
         Ok(d)
     }
 
@@ -782,17 +832,31 @@ impl RunResult {
 }
 
 /// Runs a scene as `ancf run` does, writing its outputs into `out`; returns
-/// summary.json's text.
+/// summary.json's text. The run goes on a worker thread while this one
+/// watches for Ctrl-C: then the run stops at its next step as the CLI's does
+/// (status "interrupted", outputs kept) and KeyboardInterrupt is raised.
 #[pyfunction]
 #[pyo3(signature = (scene, out, quiet=true))]
 fn _run(py: Python<'_>, scene: &Scene, out: std::path::PathBuf, quiet: bool) -> PyResult<String> {
+    use std::sync::atomic::Ordering;
     let opts = ancf::run::RunOptions {
         out: out.clone(),
         quiet,
     };
     let inner = scene.inner.clone();
-    let summary = py
-        .detach(move || ancf::run::run_scene(&inner, &opts))
+    let handle = std::thread::spawn(move || ancf::run::run_scene(&inner, &opts));
+    while !handle.is_finished() {
+        py.detach(|| std::thread::sleep(std::time::Duration::from_millis(20)));
+        if let Err(interrupt) = py.check_signals() {
+            ancf::run::INTERRUPTED.store(true, Ordering::Relaxed);
+            let _ = py.detach(|| handle.join());
+            ancf::run::INTERRUPTED.store(false, Ordering::Relaxed);
+            return Err(interrupt);
+        }
+    }
+    let summary = handle
+        .join()
+        .map_err(|_| PyRuntimeError::new_err("the run panicked"))?
         .map_err(PyRuntimeError::new_err)?;
     std::fs::read_to_string(out.join("summary.json")).map_err(|e| {
         PyRuntimeError::new_err(format!(

@@ -79,6 +79,18 @@ def test_pendulum_tip_equals_the_cli_run(tmp_path):
     assert (tmp_path / "out" / "timeseries.csv").exists()
 
 
+def test_summary_has_the_cli_summary_keys_and_numbers(tmp_path):
+    sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
+    sim.run(every=1000)
+    ours = sim.summary()
+    cli = ancf.run(PENDULUM, tmp_path / "out")
+    for key in ["status", "analysis", "elements", "unknowns", "time", "steps", "newton_iterations",
+                "factorizations", "kernel", "tip"]:
+        assert ours[key] == cli[key], key
+    for key, value in ours["energy"].items():
+        assert value == cli["energy"][key], key
+
+
 def test_arrays_have_numpy_shapes_and_dtypes():
     scene = ancf.Scene.from_file(PENDULUM)
     sim = ancf.Simulation(scene)
@@ -117,7 +129,8 @@ def test_contact_loads_per_rod():
     assert rod["peak_force"] > 0 and rod["impulse"] > 0 and rod["cfc"] == 60.0
     assert rod["force"].shape == (3,)
     s = sim.summary()
-    assert s["steps"] == 3000 and s["contact"][0]["impulse"] == rod["impulse"]
+    assert s["steps"] == 3000 and s["contact"]["rods"][0]["impulse"] == rod["impulse"]
+    assert s["contact"]["rods"][0]["law"] == "line"
 
 
 def test_simulation_errors():
@@ -229,3 +242,21 @@ def test_a_failing_run_raises_with_the_cause_and_keeps_its_output(tmp_path):
     assert "step" in str(e.value) and "Likely cause" in str(e.value)
     assert e.value.summary["status"] == "failed"
     assert (tmp_path / "out" / "summary.json").exists()
+
+
+def test_ctrl_c_stops_ancf_run_and_keeps_the_output(tmp_path):
+    import os
+    import signal
+    import threading
+
+    text = IMPACT.read_text().replace("elements = 64", "elements = 16")
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")
+    finally:
+        timer.cancel()
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["status"] == "interrupted"
+    assert (tmp_path / "out" / "timeseries.csv").exists()

@@ -9,7 +9,7 @@ use crate::output::{
 use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
 use crate::vtk::VtkWriter;
 use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
-use ancf_core::loads::rod_load::{LoadHistory, RodLoad};
+use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
 use ancf_core::scene::{Analysis, Scene};
@@ -469,20 +469,11 @@ fn run_dynamic(
         let t_before = sim.state().time;
         let info = match sim.step() {
             Ok(info) => info,
-            Err(SimulationError::Step(e)) => {
-                let hk = if k == n_steps {
-                    settings.end_time - t_before
-                } else {
-                    h
-                };
+            Err(e @ SimulationError::Step { .. }) => {
                 summary.status = "failed".into();
                 summary.message = format!(
-                    "step {k} at t = {:.6} s: {}. Likely cause: a time step too large for the stiffness \
-                     (material penalty, contact) or an unstable configuration; reduce analysis.time_step. \
-                     Output up to t = {:.6} s is kept",
-                    t_before + hk,
-                    e.message,
-                    t_before
+                    "{e}. Likely cause: a time step too large for the stiffness (material penalty, contact) or an \
+                     unstable configuration; reduce analysis.time_step. Output up to t = {t_before:.6} s is kept"
                 );
                 break;
             }
@@ -584,15 +575,18 @@ fn run_dynamic(
     });
     if let (Some(cs), Some(c)) = (p.contact.as_mut(), contact) {
         let cfc = scene.output.cfc;
+        // Filtered once per rod, for the summary, the CSV and the plot.
+        let filtered: Vec<Filtered> = sim.rod_loads().iter().map(|h| h.filtered(cfc)).collect();
         cs.rods = c
             .rods
             .iter()
             .zip(sim.rod_loads())
-            .map(|(rod, h)| rod_summary(rod, h.summary(cfc)))
+            .zip(&filtered)
+            .map(|((rod, h), f)| rod_summary(rod, h.summary(f)))
             .collect();
-        write_rod_forces(out, sim.rod_loads(), cfc).map_err(|e| io_err(out, e))?;
+        write_rod_forces(out, sim.rod_loads(), &filtered).map_err(|e| io_err(out, e))?;
         if scene.output.plots {
-            plot_rod_forces(out, sim.rod_loads(), &cs.rods)?;
+            plot_rod_forces(out, sim.rod_loads(), &filtered, &cs.rods)?;
         }
     }
     summary.contact = p.contact.clone();
@@ -754,31 +748,29 @@ fn rod_summary(rod: &ancf_core::forces::contact::Rod, load: RodLoad) -> crate::o
 /// `rod_forces.csv`: every step's force on each rod, |F| raw and CFC
 /// filtered (interpolated from the filter's grid to the step times), and
 /// the components.
-fn write_rod_forces(out: &Path, loads: &[LoadHistory], cfc: f64) -> std::io::Result<()> {
+fn write_rod_forces(
+    out: &Path,
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+) -> std::io::Result<()> {
     let mut s = String::from("time");
     for i in 0..loads.len() {
         s += &format!(",rod{i}_force,rod{i}_filtered,rod{i}_fx,rod{i}_fy,rod{i}_fz");
     }
     s.push('\n');
-    let filtered: Vec<Vec<f64>> = loads
-        .iter()
-        .map(|h| {
-            let (grid, mags) = h.filtered(cfc);
-            h.time
-                .iter()
-                .map(|t| interpolate(&grid, &mags, *t))
-                .collect()
-        })
-        .collect();
     let steps = loads.first().map_or(0, |h| h.time.len());
     for k in 0..steps {
-        s += &format!("{:.9e}", loads[0].time[k]);
-        for (h, f) in loads.iter().zip(&filtered) {
+        let t = loads[0].time[k];
+        s += &format!("{t:.9e}");
+        for (h, f) in loads.iter().zip(filtered) {
             let v = h.force[k];
             let mag = norm(v);
             s += &format!(
                 ",{mag:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                f[k], v[0], v[1], v[2]
+                f.at(t),
+                v[0],
+                v[1],
+                v[2]
             );
         }
         s.push('\n');
@@ -786,23 +778,11 @@ fn write_rod_forces(out: &Path, loads: &[LoadHistory], cfc: f64) -> std::io::Res
     std::fs::write(out.join("rod_forces.csv"), s)
 }
 
-/// Linear interpolation of (xs, ys) at x (xs increasing).
-fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
-    let k = xs.partition_point(|&v| v <= x);
-    match k {
-        0 => ys.first().copied().unwrap_or(0.0),
-        k if k >= xs.len() => ys.last().copied().unwrap_or(0.0),
-        k => {
-            let s = (x - xs[k - 1]) / (xs[k] - xs[k - 1]);
-            (1.0 - s) * ys[k - 1] + s * ys[k]
-        }
-    }
-}
-
 /// `rod_forces.png`: per rod, the raw and the filtered force with both peaks marked.
 fn plot_rod_forces(
     out: &Path,
     loads: &[LoadHistory],
+    filtered: &[Filtered],
     rods: &[crate::output::RodSummary],
 ) -> Result<(), String> {
     let titles: Vec<String> = (0..loads.len())
@@ -810,16 +790,16 @@ fn plot_rod_forces(
         .collect();
     let panels: Vec<Panel> = loads
         .iter()
+        .zip(filtered)
         .zip(rods)
         .zip(&titles)
-        .map(|((h, r), title)| {
+        .map(|(((h, f), r), title)| {
             let raw = h
                 .time
                 .iter()
                 .zip(&h.force)
                 .map(|(t, v)| (*t, norm(*v)))
                 .collect();
-            let (grid, mags) = h.filtered(r.load.cfc);
             Panel {
                 title,
                 x_label: "time t (s)",
@@ -832,7 +812,12 @@ fn plot_rod_forces(
                     },
                     Series {
                         label: "CFC filtered",
-                        points: grid.into_iter().zip(mags).collect(),
+                        points: f
+                            .time
+                            .iter()
+                            .copied()
+                            .zip(f.force.iter().copied())
+                            .collect(),
                     },
                 ],
                 marks: vec![

@@ -371,9 +371,10 @@ pub struct Simulation {
     sim: CoreSimulation,
 }
 
-fn simulation_error(e: &CoreSimError, step: usize, time: f64) -> PyErr {
+/// A core error as `SimulationError`, with the CLI's likely cause.
+fn simulation_error(e: &CoreSimError) -> PyErr {
     let cause = match e {
-        CoreSimError::Step(_) => {
+        CoreSimError::Step { .. } => {
             "Likely cause: a time step too large for the stiffness (material penalty, contact) or an unstable \
              configuration; reduce analysis.time_step"
         }
@@ -382,7 +383,7 @@ fn simulation_error(e: &CoreSimError, step: usize, time: f64) -> PyErr {
         }
         CoreSimError::Setup { .. } => "Likely cause: a singular model (too few supports?)",
     };
-    SimulationError::new_err(format!("step {step} at t = {time:.6} s: {e}. {cause}"))
+    SimulationError::new_err(format!("{e}. {cause}"))
 }
 
 impl Simulation {
@@ -393,13 +394,27 @@ impl Simulation {
 
     /// One step; the error names the step and the time.
     fn advance(&mut self) -> Result<(), PyErr> {
-        let (k, _) = self.sim.steps();
-        let t = self.sim.state().time;
         self.sim
             .step()
             .map(|_| ())
-            .map_err(|e| simulation_error(&e, k + 1, t))
+            .map_err(|e| simulation_error(&e))
     }
+}
+
+/// A rod's load into `d` with summary.json's keys.
+fn set_load(d: &Bound<'_, PyDict>, load: &ancf_core::loads::rod_load::RodLoad) -> PyResult<()> {
+    for (k, v) in [
+        ("peak_force", load.peak_force),
+        ("peak_time", load.peak_time),
+        ("filtered_peak_force", load.filtered_peak_force),
+        ("filtered_peak_time", load.filtered_peak_time),
+        ("impulse", load.impulse),
+        ("contact_duration", load.contact_duration),
+        ("cfc", load.cfc),
+    ] {
+        d.set_item(k, v)?;
+    }
+    Ok(())
 }
 
 fn matrix<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
@@ -438,7 +453,7 @@ impl Simulation {
         let settings = settings.clone();
         let sim = py
             .detach(move || CoreSimulation::new(&model, settings, initial))
-            .map_err(|e| simulation_error(&e, 0, 0.0))?;
+            .map_err(|e| simulation_error(&e))?;
         Ok(Simulation {
             scene: scene.inner.clone(),
             sim,
@@ -500,7 +515,7 @@ impl Simulation {
         let model = scene.model.clone();
         let sim = py
             .detach(move || CoreSimulation::new(&model, settings, Initial::Reference))
-            .map_err(|e| simulation_error(&e, 0, 0.0))?;
+            .map_err(|e| simulation_error(&e))?;
         Ok(Simulation { scene, sim })
     }
 
@@ -558,16 +573,12 @@ impl Simulation {
                         if done(sim) {
                             break;
                         }
-                        let (k, _) = sim.steps();
-                        let t = sim.state().time;
-                        if let Err(e) = sim.step() {
-                            return Err((e, k + 1, t));
-                        }
+                        sim.step()?;
                     }
                     Ok(())
                 });
-                if let Err((e, k, t)) = outcome {
-                    return Err(simulation_error(&e, k, t));
+                if let Err(e) = outcome {
+                    return Err(simulation_error(&e));
                 }
                 result.record(&this, rods);
             }
@@ -644,18 +655,7 @@ impl Simulation {
             let f = h.force.last().copied().unwrap_or([0.0; 3]);
             d.set_item("force", PyArray1::from_vec(py, f.to_vec()))?;
             d.set_item("force_magnitude", ancf_core::math::vec3::norm(f))?;
-            let load = h.summary(cfc);
-            for (k, v) in [
-                ("peak_force", load.peak_force),
-                ("peak_time", load.peak_time),
-                ("filtered_peak_force", load.filtered_peak_force),
-                ("filtered_peak_time", load.filtered_peak_time),
-                ("impulse", load.impulse),
-                ("contact_duration", load.contact_duration),
-                ("cfc", load.cfc),
-            ] {
-                d.set_item(k, v)?;
-            }
+            set_load(&d, &h.summary(&h.filtered(cfc)))?;
             list.append(d)?;
         }
         Ok(list)
@@ -706,18 +706,7 @@ impl Simulation {
                 r.set_item("law", rod.law.name())?;
                 r.set_item("contact_stiffness", rod.contact_stiffness)?;
                 r.set_item("stiffness_unit", rod.law.stiffness_unit())?;
-                let load = h.summary(cfc);
-                for (k, v) in [
-                    ("peak_force", load.peak_force),
-                    ("peak_time", load.peak_time),
-                    ("filtered_peak_force", load.filtered_peak_force),
-                    ("filtered_peak_time", load.filtered_peak_time),
-                    ("impulse", load.impulse),
-                    ("contact_duration", load.contact_duration),
-                    ("cfc", load.cfc),
-                ] {
-                    r.set_item(k, v)?;
-                }
+                set_load(&r, &h.summary(&h.filtered(cfc)))?;
                 rods.append(r)?;
             }
             let contact = PyDict::new(py);

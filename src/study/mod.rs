@@ -59,12 +59,12 @@ pub struct Outcome {
     pub tip: [f64; 3],
     /// Dynamic runs: the rows at the study's sample times.
     pub samples: Vec<Sample>,
-    /// Contact runs: peak total normal force (N), the time of the largest
-    /// rod peak (s) and the largest penetration (m).
+    /// Contact runs: the largest CFC-filtered rod peak (N) and its time (s),
+    /// and the largest penetration (m).
     pub peak_force: Option<f64>,
     pub peak_time: Option<f64>,
     pub max_penetration: Option<f64>,
-    /// Contact runs: total normal impulse over all rods (N s) and the first
+    /// Contact runs: impulse over all rods (∫|F| dt, N s) and the first
     /// contact time (s).
     pub impulse: Option<f64>,
     pub first_contact: Option<f64>,

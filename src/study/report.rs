@@ -106,11 +106,11 @@ pub struct Errors {
     pub divergence_time: Option<f64>,
     /// Dynamic: max |E + D − E(0)| over the reference's largest kinetic energy.
     pub energy: Option<f64>,
-    /// Contact: peak total normal force.
+    /// Contact: the largest CFC-filtered rod peak.
     pub peak_force: Option<f64>,
     /// Contact: |t_peak − t_peak,ref|, s.
     pub peak_time: Option<f64>,
-    /// Contact: total normal impulse.
+    /// Contact: impulse of the whole run over all rods.
     pub impulse: Option<f64>,
     /// Contact: the tip trajectory error until the reference's first
     /// contact + [`CONTACT_WINDOW`].

@@ -16,6 +16,33 @@ use crate::math::vec3::norm;
 /// for a structure that responds above 100 Hz, with a mesh that resolves it.
 pub const DEFAULT_CFC: f64 = 60.0;
 
+/// A load history's CFC-filtered |F| on a uniform grid.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Filtered {
+    /// The channel frequency class, Hz.
+    pub cfc: f64,
+    /// Grid times, s.
+    pub time: Vec<f64>,
+    /// |F| filtered, N.
+    pub force: Vec<f64>,
+}
+
+impl Filtered {
+    /// The filtered |F| at time `t` (s), linear between grid points,
+    /// constant beyond the ends.
+    pub fn at(&self, t: f64) -> f64 {
+        let (xs, ys) = (&self.time, &self.force);
+        match xs.partition_point(|&v| v <= t) {
+            0 => ys.first().copied().unwrap_or(0.0),
+            k if k >= xs.len() => ys.last().copied().unwrap_or(0.0),
+            k => {
+                let s = (t - xs[k - 1]) / (xs[k] - xs[k - 1]);
+                (1.0 - s) * ys[k - 1] + s * ys[k]
+            }
+        }
+    }
+}
+
 /// The force on one rod at every completed time step.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LoadHistory {
@@ -58,17 +85,17 @@ impl LoadHistory {
         self.force.truncate(n);
     }
 
-    /// The CFC-filtered |F| on a uniform grid: (times, magnitudes). Each
-    /// component is resampled linearly at a spacing that divides the time
-    /// step and samples ≥ 10× the filter's −3 dB frequency, filtered, and
-    /// recombined.
-    pub fn filtered(&self, cfc: f64) -> (Vec<f64>, Vec<f64>) {
+    /// The CFC-filtered |F| (class `cfc`, Hz). Each component is resampled
+    /// linearly at a spacing that divides the time step and samples ≥ 10×
+    /// the filter's −3 dB frequency, filtered, and recombined.
+    pub fn filtered(&self, cfc: f64) -> Filtered {
         let n = self.time.len();
         if n < 2 {
-            return (
-                self.time.clone(),
-                self.force.iter().map(|f| norm(*f)).collect(),
-            );
+            return Filtered {
+                cfc,
+                time: self.time.clone(),
+                force: self.force.iter().map(|f| norm(*f)).collect(),
+            };
         }
         let h = self
             .time
@@ -100,13 +127,18 @@ impl LoadHistory {
         let mags = (0..m)
             .map(|j| norm([comps[0][j], comps[1][j], comps[2][j]]))
             .collect();
-        (grid, mags)
+        Filtered {
+            cfc,
+            time: grid,
+            force: mags,
+        }
     }
 
-    /// Peaks, impulse and duration, the filtered peak with class `cfc`.
-    pub fn summary(&self, cfc: f64) -> RodLoad {
+    /// Peaks, impulse and duration; the filtered peak from `filtered`, this
+    /// history's [`LoadHistory::filtered`].
+    pub fn summary(&self, filtered: &Filtered) -> RodLoad {
         let mut load = RodLoad {
-            cfc,
+            cfc: filtered.cfc,
             ..Default::default()
         };
         let mut prev = None;
@@ -127,8 +159,7 @@ impl LoadHistory {
             }
             prev = Some(*t);
         }
-        let (grid, mags) = self.filtered(cfc);
-        for (t, m) in grid.iter().zip(&mags) {
+        for (t, m) in filtered.time.iter().zip(&filtered.force) {
             if *m > load.filtered_peak_force {
                 load.filtered_peak_force = *m;
                 load.filtered_peak_time = *t;
@@ -156,7 +187,7 @@ mod tests {
             };
             h.push(t, [0.0, 0.0, -f]);
         }
-        let s = h.summary(600.0);
+        let s = h.summary(&h.filtered(600.0));
         let exact = 2e3 * 3e-3 * 2.0 / std::f64::consts::PI;
         assert!(
             (s.impulse - exact).abs() < 2e-3 * exact,

@@ -45,8 +45,13 @@ pub enum SimulationError {
         what: &'static str,
         error: StepError,
     },
-    /// A time step failed (after every allowed cut).
-    Step(StepError),
+    /// Step `step` (1-based), which was to end at `time` (s), failed after
+    /// every allowed cut.
+    Step {
+        step: usize,
+        time: f64,
+        error: StepError,
+    },
 }
 
 impl std::fmt::Display for SimulationError {
@@ -54,7 +59,9 @@ impl std::fmt::Display for SimulationError {
         match self {
             SimulationError::Static(e) => write!(f, "initial static equilibrium: {e}"),
             SimulationError::Setup { what, error } => write!(f, "{what}: {error}"),
-            SimulationError::Step(e) => write!(f, "{e}"),
+            SimulationError::Step { step, time, error } => {
+                write!(f, "step {step} at t = {time:.6} s: {error}")
+            }
         }
     }
 }
@@ -239,10 +246,14 @@ impl Simulation {
         } else {
             h
         };
-        let (next, info) = self
-            .integrator
-            .step(&p.state, hk)
-            .map_err(SimulationError::Step)?;
+        let (next, info) =
+            self.integrator
+                .step(&p.state, hk)
+                .map_err(|error| SimulationError::Step {
+                    step: k,
+                    time: p.state.time + hk,
+                    error,
+                })?;
         p.state = next;
         p.step = k;
         p.newton_iterations += info.iterations;

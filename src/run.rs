@@ -357,7 +357,7 @@ fn run_dynamic(
         }
         series.row(&row)?;
         if let Some(v) = vtk.as_mut() {
-            v.frame(model, s.time, &s.q, &s.v)?;
+            v.frame(s.time, &s.q, &s.v)?;
         }
         history.time.push(s.time);
         history.energies.push(*e);
@@ -546,6 +546,10 @@ fn run_dynamic(
         let every = scene.output.checkpoint_every;
         if every > 0 && k % every == 0 && k < n_steps {
             p.sim = sim.snapshot();
+            // The checkpoint names the frames: they must be on disk first.
+            if let Some(v) = vtk.as_mut() {
+                v.sync().map_err(|e| io_err(out, e))?;
+            }
             p.vtk_frames = vtk
                 .as_ref()
                 .map(|v| v.frames().to_vec())
@@ -558,6 +562,9 @@ fn run_dynamic(
         bar.set_message(format!("{time:.4} s"));
     }
     bar.finish_and_clear();
+    if let Some(v) = vtk.as_mut() {
+        v.finish().map_err(|e| io_err(out, e))?;
+    }
     let progress = sim.progress();
     if progress.released > 0 && summary.status == "completed" {
         summary

@@ -2,6 +2,7 @@
 
 use ancf::run::{RunOptions, run_scene};
 use ancf_core::math::quadrature::ring_rule;
+use ancf_core::math::simd::SimdPath;
 use ancf_core::scene::Scene;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -14,8 +15,20 @@ use std::process::ExitCode;
     about = "ANCF beam simulator for electrical wires and cables"
 )]
 struct Cli {
+    /// Instruction set of the hot loops: auto (the fastest this CPU has),
+    /// baseline, avx2 or avx512. Results agree to round-off across paths.
+    #[arg(long, global = true, value_enum, default_value = "auto")]
+    simd: SimdChoice,
     #[command(subcommand)]
     command: Command,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SimdChoice {
+    Auto,
+    Baseline,
+    Avx2,
+    Avx512,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -99,6 +112,18 @@ fn load(path: &std::path::Path) -> Result<Scene, ExitCode> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let forced = match cli.simd {
+        SimdChoice::Auto => None,
+        SimdChoice::Baseline => Some(SimdPath::Baseline),
+        SimdChoice::Avx2 => Some(SimdPath::Avx2),
+        SimdChoice::Avx512 => Some(SimdPath::Avx512),
+    };
+    if let Some(path) = forced {
+        if let Err(e) = ancf_core::math::simd::force(path) {
+            eprintln!("error: --simd {}: {e}", path.name());
+            return ExitCode::from(2);
+        }
+    }
     match cli.command {
         Command::Check { scene } => match load(&scene) {
             Ok(s) => {

@@ -76,6 +76,8 @@ pub struct Summary {
     pub wall_time_s: f64,
     /// Which element kernel ran.
     pub kernel: String,
+    /// The instruction-set path of the hot loops (`baseline`, `avx2`, `avx512`).
+    pub simd: String,
     pub tip: TipSummary,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub energy: Option<EnergySummary>,

@@ -289,6 +289,7 @@ fn new_summary(scene: &Scene) -> Summary {
         elements: model.n_elements,
         unknowns: model.n_unknowns,
         kernel: model.element.kernel_path().to_string(),
+        simd: ancf_core::math::simd::path().name().into(),
         effects: effect_names(model),
         ..Default::default()
     }

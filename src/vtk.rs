@@ -30,7 +30,12 @@ const QUEUE: usize = 4;
 
 /// What the solver sends to the writer thread.
 enum Job {
-    Frame { name: String, q: Vec<f64>, v: Vec<f64>, pvd: String },
+    Frame {
+        name: String,
+        q: Vec<f64>,
+        v: Vec<f64>,
+        pvd: String,
+    },
     /// Answer on the channel once everything before is written.
     Sync(std::sync::mpsc::SyncSender<()>),
 }

@@ -77,15 +77,8 @@ fn rods_bring_contact_and_friction_only_when_named() {
     assert_eq!(sample.friction_power, 0.0);
     assert!(kv.iter().all(|x| *x == 0.0));
     // And a model built without rods has no contact, even with settings.
-    let m = frictionless.model.clone();
-    let without = ancf_core::model::Model {
-        effects: m
-            .effects
-            .into_iter()
-            .filter(|e| !matches!(e, Effect::Contact(_)))
-            .collect(),
-        ..frictionless.model.clone()
-    };
+    let mut without = frictionless.model.clone();
+    without.effects.retain(|e| !matches!(e, Effect::Contact(_)));
     assert!(without.contact().is_none());
     assert!(
         without

@@ -664,7 +664,8 @@ impl Simulation {
     /// The run so far with summary.json's keys, as far as a simulation in
     /// progress knows them: status ("running" or "completed"), analysis,
     /// elements, unknowns, time, steps, newton_iterations, factorizations,
-    /// kernel, tip {position, displacement}, energy {…, total, dissipated}
+    /// kernel, simd (the instruction-set path), tip {position,
+    /// displacement}, energy {…, total, dissipated}
     /// and, with rods, contact {rods: [law, contact_stiffness,
     /// stiffness_unit, peak_force, peak_time, filtered_peak_force,
     /// filtered_peak_time, impulse, contact_duration, cfc]}.
@@ -688,6 +689,7 @@ impl Simulation {
         d.set_item("newton_iterations", p.newton_iterations)?;
         d.set_item("factorizations", p.factorizations)?;
         d.set_item("kernel", model.element.kernel_path().to_string())?;
+        d.set_item("simd", ancf_core::math::simd::path().name())?;
         let tip = PyDict::new(py);
         let position = model.node_position(&p.state.q, model.n_elements);
         let start = model.node_position(&model.reference, model.n_elements);

@@ -359,6 +359,29 @@ impl ElementIntegration {
         }
     }
 
+    /// Elastic forces (added to `q`) and strain energies of four elements
+    /// at once, `e[i][k]` being coordinate i of the k-th: the SIMD-friendly
+    /// form of [`ElementIntegration::evaluate`] without a Jacobian, with the
+    /// same bits per element. `None` when this element is not integrated by
+    /// pre-integration alone with a generated axial rule (then evaluate one
+    /// by one).
+    pub fn forces_x4(&self, e: &[[f64; 4]; 24], q: &mut [[f64; 4]; 24]) -> Option<[f64; 4]> {
+        let pre = self.plan.preintegrated.as_ref()?;
+        if self.kernel.is_none() || self.plan.points() > 0 {
+            return None;
+        }
+        let (nodes, weights) = generated::axial_rule_for(self.axial.nodes.len())?;
+        Some(preintegration::forces_4(
+            crate::math::simd::path(),
+            pre,
+            nodes,
+            weights,
+            self.length,
+            e,
+            q,
+        ))
+    }
+
     /// Strain energy only (J).
     pub fn energy(&self, e: &ElementVector) -> f64 {
         self.evaluate(e, &mut [0.0; 24], None)

@@ -3,6 +3,7 @@
 //! ([`Pattern::new`]); each Newton iteration only refills values in place
 //! ([`assemble`]).
 
+use crate::element::ElementVector;
 use crate::model::{Model, NODE_DOFS};
 use faer::sparse::SymbolicSparseColMat;
 use std::ops::Range;
@@ -164,7 +165,30 @@ pub fn assemble(
             v.fill(0.0);
             (v, 0)
         });
-        for el in 0..n {
+        let mut first = 0;
+        if values.is_none() {
+            // Forces only: four elements at a time where the kernel allows
+            // (the same bits per element as one by one; faster with SIMD).
+            let mut q4;
+            while first + 4 <= n {
+                let e: [ElementVector; 4] =
+                    std::array::from_fn(|k| model.element_coordinates(q, first + k));
+                let e4 = std::array::from_fn(|i| std::array::from_fn(|k| e[k][i]));
+                q4 = [[0.0; 4]; 24];
+                let Some(u) = model.element.forces_x4(&e4, &mut q4) else {
+                    break;
+                };
+                for k in 0..4 {
+                    energy[first + k] = u[k];
+                    let base = NODE_DOFS * (first + k);
+                    for i in 0..24 {
+                        force[base + i] += q4[i][k];
+                    }
+                }
+                first += 4;
+            }
+        }
+        for el in first..n {
             let part = Part::Whole;
             energy[el] = add_element(model, pattern, q, el, part, &mut force, values.as_mut());
         }

@@ -14,6 +14,8 @@
 //! updates the next p columns with contiguous multiply-adds that do not
 //! wait on each other (a row-by-row, dot-product form was latency-bound).
 
+use crate::math::simd::{Arith, dot, path};
+
 /// L of A = L Lᵀ for a band matrix, with the map from the sparse pattern's
 /// value slots to the band, computed once per pattern.
 #[derive(Clone, Debug)]
@@ -109,35 +111,7 @@ impl BandCholesky {
         values: &[f64],
         m: usize,
     ) -> Result<(), NotPositiveDefinite> {
-        let w = self.p + 1;
-        self.l.fill(0.0);
-        for &(v, b) in &self.slots {
-            self.l[b] = values[v];
-        }
-        let l = &mut self.l;
-        for j in 0..m {
-            let d = l[j * w];
-            if d <= 0.0 || !d.is_finite() {
-                return Err(NotPositiveDefinite { row: j });
-            }
-            let d = d.sqrt();
-            l[j * w] = d;
-            let inv = 1.0 / d;
-            self.inv_diag[j] = inv;
-            let (done, rest) = l.split_at_mut((j + 1) * w);
-            let len = self.below[j];
-            let col = &mut done[j * w + 1..j * w + 1 + len];
-            col.iter_mut().for_each(|x| *x *= inv);
-            // Columns k = j + 1 … j + len: A[i][k] −= L[i][j] L[k][j] for i ≥ k.
-            for (m, &lkj) in col.iter().enumerate() {
-                let k = j + 1 + m;
-                let target = &mut rest[(k - j - 1) * w..(k - j - 1) * w + (len - m)];
-                for (t, &lij) in target.iter_mut().zip(&col[m..]) {
-                    *t -= lij * lkj;
-                }
-            }
-        }
-        Ok(())
+        factorize_columns(path(), self, values, m)
     }
 
     /// Entry (i, j), i ≥ j ≥ m, of the trailing block after
@@ -159,38 +133,100 @@ impl BandCholesky {
     /// L y = b over the first `m` columns: y_0 … y_{m−1}, removed from the
     /// rows below (rows m … n − 1 keep b minus those contributions).
     pub(crate) fn forward(&self, b: &mut [f64], m: usize) {
-        let w = self.p + 1;
-        let l = &self.l;
-        for j in 0..m {
-            let yj = b[j] * self.inv_diag[j];
-            b[j] = yj;
-            let below = self.below[j];
-            for (y, a) in b[j + 1..j + 1 + below].iter_mut().zip(&l[j * w + 1..]) {
-                *y -= a * yj;
-            }
-        }
+        forward(path(), self, b, m)
     }
 
     /// Lᵀ x = y for rows m − 1 … 0, with x_m … x_{n−1} already in `b`.
     pub(crate) fn backward(&self, b: &mut [f64], m: usize) {
-        let w = self.p + 1;
-        let l = &self.l;
-        for j in (0..m).rev() {
-            let below = self.below[j];
-            if below == 0 {
-                b[j] *= self.inv_diag[j];
-                continue;
-            }
-            // x_{j+1}, just computed, enters last (as in band_lu's solves):
-            // the products with the older x's do not wait for it, so the
-            // chain from row to row is one multiply-add and one multiply.
-            // With x_{j+1} inside the four-way dot the backward solve was
-            // latency-bound: 16.7 % of a 4096-element modified-Newton run
-            // against the forward solve's 9.5 %; now 11.0 % (perf).
-            let col = &l[j * w + 1..j * w + 1 + below];
-            let older = dot(&col[1..], &b[j + 2..j + 1 + below]);
-            b[j] = (b[j] - older - col[0] * b[j + 1]) * self.inv_diag[j];
+        backward(path(), self, b, m)
+    }
+}
+
+crate::simd_dispatch! {
+    fn factorize_columns(c: &mut BandCholesky, values: &[f64], m: usize) -> Result<(), NotPositiveDefinite> = factorize_columns_with;
+}
+
+crate::simd_dispatch! {
+    fn forward(c: &BandCholesky, b: &mut [f64], m: usize) = forward_with;
+}
+
+crate::simd_dispatch! {
+    fn backward(c: &BandCholesky, b: &mut [f64], m: usize) = backward_with;
+}
+
+/// `BandCholesky::factorize_columns` with the multiply-adds of `F`.
+#[inline(always)]
+fn factorize_columns_with<F: Arith>(
+    c: &mut BandCholesky,
+    values: &[f64],
+    m: usize,
+) -> Result<(), NotPositiveDefinite> {
+    let w = c.p + 1;
+    c.l.fill(0.0);
+    for &(v, b) in &c.slots {
+        c.l[b] = values[v];
+    }
+    let l = &mut c.l;
+    for j in 0..m {
+        let d = l[j * w];
+        if d <= 0.0 || !d.is_finite() {
+            return Err(NotPositiveDefinite { row: j });
         }
+        let d = d.sqrt();
+        l[j * w] = d;
+        let inv = 1.0 / d;
+        c.inv_diag[j] = inv;
+        let (done, rest) = l.split_at_mut((j + 1) * w);
+        let len = c.below[j];
+        let col = &mut done[j * w + 1..j * w + 1 + len];
+        col.iter_mut().for_each(|x| *x *= inv);
+        // Columns k = j + 1 … j + len: A[i][k] −= L[i][j] L[k][j] for i ≥ k.
+        for (m, &lkj) in col.iter().enumerate() {
+            let k = j + 1 + m;
+            let target = &mut rest[(k - j - 1) * w..(k - j - 1) * w + (len - m)];
+            for (t, &lij) in target.iter_mut().zip(&col[m..]) {
+                *t = F::mul_add(-lij, lkj, *t);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `BandCholesky::forward` with the multiply-adds of `F`.
+#[inline(always)]
+fn forward_with<F: Arith>(c: &BandCholesky, b: &mut [f64], m: usize) {
+    let w = c.p + 1;
+    let l = &c.l;
+    for j in 0..m {
+        let yj = b[j] * c.inv_diag[j];
+        b[j] = yj;
+        let below = c.below[j];
+        for (y, a) in b[j + 1..j + 1 + below].iter_mut().zip(&l[j * w + 1..]) {
+            *y = F::mul_add(-a, yj, *y);
+        }
+    }
+}
+
+/// `BandCholesky::backward` with the multiply-adds of `F`.
+#[inline(always)]
+fn backward_with<F: Arith>(c: &BandCholesky, b: &mut [f64], m: usize) {
+    let w = c.p + 1;
+    let l = &c.l;
+    for j in (0..m).rev() {
+        let below = c.below[j];
+        if below == 0 {
+            b[j] *= c.inv_diag[j];
+            continue;
+        }
+        // x_{j+1}, just computed, enters last (as in band_lu's solves):
+        // the products with the older x's do not wait for it, so the
+        // chain from row to row is one multiply-add and one multiply.
+        // With x_{j+1} inside the four-way dot the backward solve was
+        // latency-bound: 16.7 % of a 4096-element modified-Newton run
+        // against the forward solve's 9.5 %; now 11.0 % (perf).
+        let col = &l[j * w + 1..j * w + 1 + below];
+        let older = dot::<F>(&col[1..], &b[j + 2..j + 1 + below]);
+        b[j] = F::mul_add(-col[0], b[j + 1], b[j] - older) * c.inv_diag[j];
     }
 }
 
@@ -224,26 +260,6 @@ pub(crate) fn envelope(n: usize, entries: impl Iterator<Item = (usize, usize)>) 
             reach - j
         })
         .collect()
-}
-
-/// Σ a_k b_k with four partial sums: a single running sum waits on each
-/// addition's latency (the factorization was 4× slower that way, perf).
-#[inline]
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let (a4, b4) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = a4
-        .remainder()
-        .iter()
-        .zip(b4.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    for (x, y) in a4.zip(b4) {
-        for k in 0..4 {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 #[cfg(test)]
@@ -336,6 +352,34 @@ pub(crate) mod tests {
             let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
             let err = a.solve_error(&x, |b| chol.solve_in_place(b));
             assert!(err < 1e-12, "n {n}, p {p}: error {err:e}");
+        }
+    }
+
+    /// Every instruction-set path this CPU runs agrees with the baseline
+    /// to round-off, through the split solves' pieces as well.
+    #[test]
+    fn every_simd_path_agrees_with_the_baseline() {
+        use crate::math::simd::SimdPath;
+        let a = block_tridiagonal(20, 12, true);
+        let mut chol = BandCholesky::new(a.n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+        let x: Vec<f64> = (0..a.n).map(|i| (i as f64 * 0.7).sin()).collect();
+        let mut reference: Option<Vec<f64>> = None;
+        for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
+            factorize_columns(path, &mut chol, &a.values, a.n).expect("positive definite");
+            let mut got = Vec::new();
+            let err = a.solve_error(&x, |b| {
+                forward(path, &chol, b, a.n);
+                backward(path, &chol, b, a.n);
+                got = b.to_vec();
+            });
+            assert!(err < 1e-12, "{}: error {err:e}", path.name());
+            let base = reference.get_or_insert(got.clone());
+            let diff = got
+                .iter()
+                .zip(base.iter())
+                .map(|(g, b)| (g - b).abs())
+                .fold(0.0, f64::max);
+            assert!(diff < 1e-13, "{} against baseline: {diff:e}", path.name());
         }
     }
 

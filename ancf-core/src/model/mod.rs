@@ -658,7 +658,10 @@ mod tests {
     fn mass_product_equals_the_dense_element_product() {
         let steel = Material::st_venant_kirchhoff(7850.0, 2e11, 0.3, 1.0);
         let alu = Material::st_venant_kirchhoff(2700.0, 7e10, 0.33, 0.2);
-        for layers in [vec![(steel.clone(), 0.01)], vec![(steel, 0.005), (alu, 0.014)]] {
+        for layers in [
+            vec![(steel.clone(), 0.01)],
+            vec![(steel, 0.005), (alu, 0.014)],
+        ] {
             let mut b = WireBuilder::new(2.0, 5);
             for (m, r) in layers {
                 b = b.layer(m, r);

@@ -31,6 +31,8 @@ pub struct Setting {
     pub spectral_radius: Option<f64>,
     /// Dynamic scenes: full or modified Newton.
     pub full_newton: Option<bool>,
+    /// Dynamic scenes: Newton's relative residual tolerance.
+    pub tolerance: Option<f64>,
     /// Contact scenes with surface-law rods: test stations per element.
     pub stations: Option<usize>,
     /// Contact scenes with line-law (line, hertz) rods: Gauss points per active zone.
@@ -46,13 +48,14 @@ impl Setting {
     /// The scene's own setting.
     pub fn of_scene(scene: &Scene) -> Setting {
         let m = &scene.model;
-        let (time_step, spectral_radius, full_newton) = match &scene.analysis {
+        let (time_step, spectral_radius, full_newton, tolerance) = match &scene.analysis {
             ancf_core::scene::Analysis::Dynamic { settings, .. } => (
                 Some(settings.time_step),
                 Some(settings.spectral_radius),
                 Some(settings.newton == ancf_core::solve::dynamics::NewtonKind::Full),
+                Some(settings.tolerance),
             ),
-            ancf_core::scene::Analysis::Static { .. } => (None, None, None),
+            ancf_core::scene::Analysis::Static { .. } => (None, None, None, None),
         };
         Setting {
             elements: m.n_elements,
@@ -61,6 +64,7 @@ impl Setting {
             time_step,
             spectral_radius,
             full_newton,
+            tolerance,
             stations: m
                 .contact()
                 .filter(|c| c.rods.iter().any(|r| r.law == ContactLaw::Surface))
@@ -92,6 +96,9 @@ impl Setting {
             } else {
                 ", modified Newton"
             };
+        }
+        if let Some(t) = self.tolerance {
+            s += &format!(", tolerance {t:.0e}");
         }
         if let Some(n) = self.stations {
             s += &format!(", {n} stations");
@@ -129,6 +136,9 @@ impl Setting {
             } else {
                 NewtonSpec::Modified
             });
+        }
+        if let Some(t) = self.tolerance {
+            f.analysis.tolerance = Some(t);
         }
         if self.stations.is_some() || self.zone_points.is_some() {
             let c = f.contact.get_or_insert(ContactSpec {
@@ -171,6 +181,10 @@ impl Setting {
         f
     }
 }
+
+/// The tightest Newton tolerance the study uses (the default's): the
+/// reference runs with it whatever the scene's.
+pub const NEWTON_TOLERANCE_FLOOR: f64 = 1e-10;
 
 /// The penetration, as a fraction of the wire radius, at which the surface
 /// law is matched to a line-law rod's crossing force.
@@ -359,6 +373,20 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
                 },
             );
         }
+        // Newton's tolerance, tightened (a scene may stop Newton early
+        // where that moves nothing it reports: shown here, not assumed).
+        let t0 = base.tolerance.unwrap_or(NEWTON_TOLERANCE_FLOOR);
+        for t in [1e-6, 1e-8, NEWTON_TOLERANCE_FLOOR] {
+            if t < t0 {
+                push_unique(
+                    &mut stepping,
+                    Setting {
+                        tolerance: Some(t),
+                        ..at(h0, base.elements)
+                    },
+                );
+            }
+        }
         for axial in 2..=5 {
             if axial != base.axial {
                 for &hf in variant_factors {
@@ -451,6 +479,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         time_step: Some(if contact { h_min / 2.0 } else { h_min / 4.0 }),
         spectral_radius: Some(1.0),
         full_newton: Some(true),
+        tolerance: Some(NEWTON_TOLERANCE_FLOOR),
         stations: stations_for(&base, length, 2 * n_max).map(|s| (2 * s).min(64)),
         zone_points: base.zone_points.map(|z| (2 * z).min(32)),
         stiffness_factor: base.stiffness_factor,

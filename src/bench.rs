@@ -154,6 +154,109 @@ pub fn deformed_element(l: f64) -> [f64; 24] {
     e
 }
 
+/// Floating-point operations of one pre-integrated SVK element force with a
+/// 3-point axial rule, counted in `station_lanes` (preintegration.rs): per
+/// station u = T e 48, Gram entries 75, strain moments 30, M s 151, energy
+/// and stresses 50, ∂U/∂u 150, Tᵀ(·) into q 78 — 582 (a multiply-add
+/// counts 2), times 3 stations.
+pub const FORCE_FLOPS: f64 = 3.0 * 582.0;
+
+/// Force time (µs per element) of 32 elements evaluated four at a time, as
+/// the force-only assembly does (`ElementIntegration::forces_x4`); `NaN`
+/// when the element has no batched kernel.
+pub fn batched_force_us(el: &ElementIntegration) -> f64 {
+    let e = deformed_element(el.length);
+    let lanes: [[f64; 4]; 24] = std::array::from_fn(|i| [e[i], e[i] * 1.0001, e[i] * 0.9999, e[i]]);
+    if el.forces_x4(&lanes, &mut [[0.0; 4]; 24]).is_none() {
+        return f64::NAN;
+    }
+    time_us(|| {
+        for _ in 0..8 {
+            let mut q = [[0.0; 4]; 24];
+            std::hint::black_box(el.forces_x4(std::hint::black_box(&lanes), &mut q));
+        }
+    }) / 32.0
+}
+
+/// The core's multiply-add peak on the chosen path (GFLOP/s): 12
+/// independent chains of 4-lane (256-bit: the kernels' width) fused
+/// multiply-adds on the AVX paths, of 2-lane multiplies and adds on the
+/// baseline; written with intrinsics so that the compiler cannot serialize
+/// them (an auto-vectorized loop came out scalar).
+pub fn fma_peak_gflops() -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use ancf_core::math::simd::{SimdPath, path};
+        use std::arch::x86_64::*;
+        const CHAINS: usize = 12;
+        #[target_feature(enable = "avx2,fma")]
+        fn fused(n: usize) -> f64 {
+            let a = _mm256_set1_pd(std::hint::black_box(0.999_999_9));
+            let b = _mm256_set1_pd(std::hint::black_box(1e-7));
+            let mut acc = [_mm256_set1_pd(1.0); CHAINS];
+            for _ in 0..n {
+                for x in acc.iter_mut() {
+                    *x = _mm256_fmadd_pd(*x, a, b);
+                }
+            }
+            let mut out = [0.0; 4];
+            let sum = acc
+                .iter()
+                .fold(_mm256_setzero_pd(), |s, x| _mm256_add_pd(s, *x));
+            // SAFETY: `out` holds four f64.
+            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), sum) };
+            out.iter().sum()
+        }
+        #[target_feature(enable = "sse2")]
+        fn plain(n: usize) -> f64 {
+            let a = _mm_set1_pd(std::hint::black_box(0.999_999_9));
+            let b = _mm_set1_pd(std::hint::black_box(1e-7));
+            let mut acc = [_mm_set1_pd(1.0); CHAINS];
+            for _ in 0..n {
+                for x in acc.iter_mut() {
+                    *x = _mm_add_pd(_mm_mul_pd(*x, a), b);
+                }
+            }
+            let mut out = [0.0; 2];
+            let sum = acc.iter().fold(_mm_setzero_pd(), |s, x| _mm_add_pd(s, *x));
+            // SAFETY: `out` holds two f64.
+            unsafe { _mm_storeu_pd(out.as_mut_ptr(), sum) };
+            out.iter().sum()
+        }
+        let n = 20_000;
+        let p = path();
+        let us = time_us(|| {
+            let n = std::hint::black_box(n);
+            // SAFETY: `path` is a path the CPU supports (AVX2 + FMA for both AVX paths).
+            let r = unsafe {
+                if p == SimdPath::Baseline {
+                    plain(n)
+                } else {
+                    fused(n)
+                }
+            };
+            std::hint::black_box(r);
+        });
+        let lanes = if p == SimdPath::Baseline { 2.0 } else { 4.0 };
+        n as f64 * CHAINS as f64 * lanes * 2.0 / us / 1e3
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    f64::NAN
+}
+
+/// The CPU's model name (Linux: /proc/cpuinfo), or "unknown".
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
 /// Force and Jacobian time (µs) of one element.
 pub fn element_times(el: &ElementIntegration) -> (f64, f64) {
     let e = deformed_element(el.length);
@@ -172,11 +275,28 @@ pub fn element_times(el: &ElementIntegration) -> (f64, f64) {
 
 #[derive(Debug, Serialize)]
 pub struct BenchReport {
-    /// Circular two-layer SVK section, 3 axial points, ring rule n = 3.
+    /// CPU model name.
+    pub cpu: String,
+    /// The instruction-set path the kernels ran (`ancf --simd` forces one).
+    pub simd: String,
+    /// Circular two-layer SVK section, 3 axial points, ring rule n = 3: one
+    /// element at a time.
     pub force_us: f64,
+    /// The same force, four elements at a time as the assembly evaluates
+    /// them (µs per element).
+    pub force_batch_us: f64,
+    /// Floating-point operations of that force ([`FORCE_FLOPS`]), the rate
+    /// achieved in the batched form (GFLOP/s), the measured multiply-add
+    /// peak of one core on this path (GFLOP/s) and the fraction reached.
+    pub force_flops: f64,
+    pub force_gflops: f64,
+    pub fma_peak_gflops: f64,
+    pub force_peak_fraction: f64,
     pub jacobian_us: f64,
     /// Rectangle 3 axial × 2×2 SVK (Chrono's ChElementBeamANCF_3243 case).
     pub rect_force_us: f64,
+    /// The rectangle's force four elements at a time (µs per element).
+    pub rect_force_batch_us: f64,
     pub rect_jacobian_us: f64,
     /// Mooney–Rivlin Jacobian per section point (plain formulation).
     pub mooney_rivlin_jacobian_us_per_point: f64,
@@ -210,20 +330,26 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         .num_threads(1)
         .build()
         .map_err(|e| e.to_string())?;
-    let (force_us, jacobian_us, rect_force_us, rect_jacobian_us, mr) = single.install(|| {
-        let circle = ElementIntegration::new(
-            0.25,
-            3,
-            Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, svk(0.3))], 3),
-        );
-        let rect = ElementIntegration::new(0.25, 3, Section::rectangular(0.02, 0.02, svk(0.3), 2));
-        let mr = ElementIntegration::new(0.25, 3, Section::circular(&[(0.0, 0.02, rubber())], 3));
-        let points = 3 * mr.section.layers[0].points.len();
-        let (f, j) = element_times(&circle);
-        let (rf, rj) = element_times(&rect);
-        let (_, mj) = element_times(&mr);
-        (f, j, rf, rj, mj / points as f64)
-    });
+    let (force_us, jacobian_us, rect_force_us, rect_jacobian_us, mr, batch) =
+        single.install(|| {
+            let circle = ElementIntegration::new(
+                0.25,
+                3,
+                Section::circular(&[(0.0, 0.01, svk(0.3)), (0.01, 0.02, svk(0.3))], 3),
+            );
+            let rect =
+                ElementIntegration::new(0.25, 3, Section::rectangular(0.02, 0.02, svk(0.3), 2));
+            let mr =
+                ElementIntegration::new(0.25, 3, Section::circular(&[(0.0, 0.02, rubber())], 3));
+            let points = 3 * mr.section.layers[0].points.len();
+            let (f, j) = element_times(&circle);
+            let (rf, rj) = element_times(&rect);
+            let (_, mj) = element_times(&mr);
+            let batch = (batched_force_us(&circle), batched_force_us(&rect));
+            (f, j, rf, rj, mj / points as f64, batch)
+        });
+    let peak = fma_peak_gflops();
+    let force_gflops = FORCE_FLOPS / batch.0 / 1e3;
     let sizes: &[usize] = if quick {
         &[4, 16, 32]
     } else {
@@ -305,9 +431,17 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         Ok(s.time / wall)
     })?;
     Ok(BenchReport {
+        cpu: cpu_model(),
+        simd: ancf_core::math::simd::path().name().into(),
         force_us,
+        force_batch_us: batch.0,
+        force_flops: FORCE_FLOPS,
+        force_gflops,
+        fma_peak_gflops: peak,
+        force_peak_fraction: force_gflops / peak,
         jacobian_us,
         rect_force_us,
+        rect_force_batch_us: batch.1,
         rect_jacobian_us,
         mooney_rivlin_jacobian_us_per_point: mr,
         step_ms_32_full_newton: step_full.get("32").copied().unwrap_or(f64::NAN),
@@ -338,7 +472,7 @@ fn by_element_count<V>(map: &BTreeMap<String, V>) -> Vec<&String> {
 
 /// The report as a table.
 pub fn table(r: &BenchReport) -> String {
-    let mut s = String::new();
+    let mut s = format!("CPU: {}; SIMD path: {}\n", r.cpu, r.simd);
     s += "Element kernels (single thread, µs per element)\n";
     s += &format!(
         "  SVK circle, 2 layers, 3 axial × ring n=3   force {:8.3}   Jacobian {:8.3}\n",
@@ -347,6 +481,17 @@ pub fn table(r: &BenchReport) -> String {
     s += &format!(
         "  SVK rectangle 3 × 2×2                      force {:8.3}   Jacobian {:8.3}\n",
         r.rect_force_us, r.rect_jacobian_us
+    );
+    s += &format!(
+        "  four at a time (assembly): circle force {:.3}, rectangle force {:.3}\n",
+        r.force_batch_us, r.rect_force_batch_us
+    );
+    s += &format!(
+        "  circle force: {:.0} flops, {:.1} GFLOP/s of a {:.1} GFLOP/s multiply-add peak ({:.0} %)\n",
+        r.force_flops,
+        r.force_gflops,
+        r.fma_peak_gflops,
+        100.0 * r.force_peak_fraction
     );
     s += &format!(
         "  Mooney–Rivlin Jacobian per section point   {:8.3} µs\n",

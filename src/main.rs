@@ -118,11 +118,11 @@ fn main() -> ExitCode {
         SimdChoice::Avx2 => Some(SimdPath::Avx2),
         SimdChoice::Avx512 => Some(SimdPath::Avx512),
     };
-    if let Some(path) = forced {
-        if let Err(e) = ancf_core::math::simd::force(path) {
-            eprintln!("error: --simd {}: {e}", path.name());
-            return ExitCode::from(2);
-        }
+    if let Some(path) = forced
+        && let Err(e) = ancf_core::math::simd::force(path)
+    {
+        eprintln!("error: --simd {}: {e}", path.name());
+        return ExitCode::from(2);
     }
     match cli.command {
         Command::Check { scene } => match load(&scene) {

@@ -621,7 +621,7 @@ macro_rules! lane_op {
             #[inline(always)]
             fn $f(mut self, b: Self) -> Self {
                 for k in 0..W {
-                    self.0[k] = self.0[k] $op b.0[k];
+                    self.0[k] $op b.0[k];
                 }
                 self
             }
@@ -631,16 +631,16 @@ macro_rules! lane_op {
             #[inline(always)]
             fn $f(mut self, b: f64) -> Self {
                 for k in 0..W {
-                    self.0[k] = self.0[k] $op b;
+                    self.0[k] $op b;
                 }
                 self
             }
         }
     };
 }
-lane_op!(Add, add, +);
-lane_op!(Sub, sub, -);
-lane_op!(Mul, mul, *);
+lane_op!(Add, add, +=);
+lane_op!(Sub, sub, -=);
+lane_op!(Mul, mul, *=);
 
 impl<const W: usize> std::ops::Neg for Lanes<W> {
     type Output = Self;

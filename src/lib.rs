@@ -6,4 +6,5 @@ pub mod output;
 pub mod plot;
 pub mod run;
 pub mod study;
+pub mod sweep;
 pub mod vtk;

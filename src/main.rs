@@ -24,6 +24,12 @@ struct Cli {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ExecutorChoice {
+    Local,
+    Slurm,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum SimdChoice {
     Auto,
     Baseline,
@@ -84,6 +90,34 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
         /// No progress lines.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Run many variants of a scene (docs/sweep.md): the parameters of
+    /// SWEEP (dotted scene paths with lists of values) as a grid or zipped,
+    /// every variant checked first, run here or as a Slurm job array, and
+    /// gathered into DIR/results.csv and DIR/report.md. Rerunning skips
+    /// finished variants and resumes interrupted ones.
+    Sweep {
+        /// The sweep file (not needed with --collect).
+        #[arg(required_unless_present = "collect")]
+        sweep: Option<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "sweep")]
+        out: PathBuf,
+        /// Where the variants run.
+        #[arg(long, value_enum, default_value = "local")]
+        executor: ExecutorChoice,
+        /// Local: variants at a time (default: the cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Slurm: submit the job array and return.
+        #[arg(long)]
+        submit_only: bool,
+        /// Gather the results of the sweep in DIR (after --submit-only).
+        #[arg(long, value_name = "DIR", conflicts_with = "sweep")]
+        collect: Option<PathBuf>,
+        /// No progress bar.
         #[arg(long)]
         quiet: bool,
     },
@@ -241,6 +275,15 @@ fn main() -> ExitCode {
             jobs,
             quiet,
         } => study(&scenes, &out, level, jobs, quiet),
+        Command::Sweep {
+            sweep,
+            out,
+            executor,
+            jobs,
+            submit_only,
+            collect,
+            quiet,
+        } => sweep_command(sweep, out, executor, jobs, submit_only, collect, quiet),
         Command::Quadrature {
             inner,
             outer,
@@ -347,4 +390,91 @@ fn study(
         }
     }
     ExitCode::SUCCESS
+}
+
+fn sweep_command(
+    sweep: Option<PathBuf>,
+    out: PathBuf,
+    executor: ExecutorChoice,
+    jobs: Option<usize>,
+    submit_only: bool,
+    collect: Option<PathBuf>,
+    quiet: bool,
+) -> ExitCode {
+    use ancf::sweep::{Executor, SweepEnd, SweepOptions};
+    if jobs == Some(0) {
+        eprintln!("error: --jobs: must be at least 1");
+        return ExitCode::from(2);
+    }
+    if submit_only && executor != ExecutorChoice::Slurm {
+        eprintln!("error: --submit-only: only with --executor slurm");
+        return ExitCode::from(2);
+    }
+    if let Some(dir) = collect {
+        ancf::sweep::slurm::refresh_states(&dir);
+        return match ancf::sweep::results::collect(&dir) {
+            Ok(end) => sweep_exit(&dir, end),
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        };
+    }
+    // Ctrl-C: finished variants are kept, running ones stop with a checkpoint.
+    if let Err(e) = ctrlc::set_handler(|| {
+        ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
+    }) {
+        eprintln!("warning: no Ctrl-C handler ({e})");
+    }
+    let opts = SweepOptions {
+        out: out.clone(),
+        executor: match executor {
+            ExecutorChoice::Local => Executor::Local,
+            ExecutorChoice::Slurm => Executor::Slurm,
+        },
+        jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        submit_only,
+        quiet,
+    };
+    let sweep = sweep.expect("clap requires a sweep file without --collect");
+    match ancf::sweep::run(&sweep, &opts) {
+        Ok(SweepEnd::Submitted { job, tasks }) => {
+            println!(
+                "submitted job array {job} ({tasks} tasks); gather the results with `ancf sweep --collect {}`",
+                out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Ok(end) => sweep_exit(&out, end),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn sweep_exit(out: &std::path::Path, end: ancf::sweep::SweepEnd) -> ExitCode {
+    use ancf::sweep::SweepEnd;
+    let table = out.join("results.csv");
+    match end {
+        SweepEnd::Completed => {
+            println!("completed: every variant; results in {}", table.display());
+            ExitCode::SUCCESS
+        }
+        SweepEnd::Incomplete { failed, missing } => {
+            eprintln!(
+                "error: {failed} variant(s) failed, {missing} not run; their status is in {} (rerun the same command to retry only those)",
+                table.display()
+            );
+            ExitCode::from(1)
+        }
+        SweepEnd::Interrupted => {
+            eprintln!(
+                "interrupted: finished variants kept, running ones checkpointed; rerun the same command to go on ({})",
+                table.display()
+            );
+            ExitCode::from(130)
+        }
+        SweepEnd::Submitted { .. } => ExitCode::SUCCESS,
+    }
 }

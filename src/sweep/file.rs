@@ -1,0 +1,520 @@
+//! The sweep file (docs/sweep.md): a base scene, the parameters to vary as
+//! dotted scene paths with a list of values each, combined as a full grid
+//! or zipped; and the variants it expands to, each a complete scene checked
+//! by the same validation as `ancf check` before anything runs.
+
+use ancf_core::scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// How the parameters' value lists combine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Every combination (the last parameter varies fastest).
+    Grid,
+    /// The k-th values of every list together (equal lengths).
+    Zip,
+}
+
+/// `[slurm]`: what each array task asks the scheduler for.
+#[derive(Clone, Debug, Default, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlurmSpec {
+    /// Wall-time limit per task, Slurm's format (e.g. "00:30:00").
+    pub time: Option<String>,
+    /// Memory per task (e.g. "2G").
+    pub mem: Option<String>,
+    /// Tasks running at once (`%limit` of `--array`).
+    pub limit: Option<usize>,
+    /// Partition (`--partition`).
+    pub partition: Option<String>,
+    /// Further `#SBATCH` lines, verbatim (e.g. "--account=myproject").
+    pub options: Option<Vec<String>>,
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SweepSpec {
+    scene: PathBuf,
+    mode: Option<Mode>,
+    parameters: toml::Table,
+    slurm: Option<SlurmSpec>,
+}
+
+/// A checked sweep: the base scene, the parameters (in the file's order) and
+/// every variant's scene text.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The base scene file, resolved against the sweep file's folder.
+    pub scene: PathBuf,
+    pub mode: Mode,
+    /// Parameter paths, in the order of the columns of results.csv.
+    pub parameters: Vec<String>,
+    pub variants: Vec<Variant>,
+    pub slurm: SlurmSpec,
+}
+
+/// One combination of parameter values.
+#[derive(Clone, Debug)]
+pub struct Variant {
+    /// `v000`, `v001`, … in expansion order.
+    pub id: String,
+    /// One value per parameter, in [`Sweep::parameters`] order.
+    pub values: Vec<toml::Value>,
+    /// The complete scene file of this variant.
+    pub scene_text: String,
+}
+
+/// A sweep-file error, naming where it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepError(pub String);
+
+impl std::fmt::Display for SweepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for SweepError {}
+
+fn err<T>(msg: impl Into<String>) -> Result<T, SweepError> {
+    Err(SweepError(msg.into()))
+}
+
+/// A value as the sweep file writes it (results.csv, report.md).
+pub fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Array(a) => {
+            let items: Vec<String> = a.iter().map(value_text).collect();
+            format!("[{}]", items.join(", "))
+        }
+        other => other.to_string(),
+    }
+}
+
+/// The scene paths of a parameter name: one, or several joined by `&`
+/// that change together (`"wire.length & support[1].position"`, each value
+/// a list with one entry per path).
+fn linked_paths(name: &str) -> Vec<&str> {
+    name.split('&').map(str::trim).collect()
+}
+
+/// One step of a dotted scene path: a key or an index into an array of tables.
+#[derive(Clone, Debug, PartialEq)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+/// `rod[1].center` → Key(rod), Index(1), Key(center).
+fn parse_path(path: &str) -> Result<Vec<Step>, String> {
+    let mut steps = Vec::new();
+    for part in path.split('.') {
+        let (key, mut rest) = match part.find('[') {
+            Some(i) => (&part[..i], &part[i..]),
+            None => (part, ""),
+        };
+        if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(format!("'{part}' is not a scene key (letters, digits, _)"));
+        }
+        steps.push(Step::Key(key.to_string()));
+        while !rest.is_empty() {
+            let close = rest
+                .find(']')
+                .ok_or_else(|| format!("'{part}': missing ']'"))?;
+            let index = rest[1..close]
+                .parse::<usize>()
+                .map_err(|_| format!("'{part}': the index must be a whole number ≥ 0"))?;
+            steps.push(Step::Index(index));
+            rest = &rest[close + 1..];
+            if !rest.is_empty() && !rest.starts_with('[') {
+                return Err(format!("'{part}': unexpected '{rest}'"));
+            }
+        }
+    }
+    Ok(steps)
+}
+
+/// Sets `path` in the scene `table` to `value`; missing tables and the
+/// last key are created (validation then decides whether the key exists in
+/// the schema), array indices must exist.
+fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), String> {
+    let steps = parse_path(path)?;
+    let mut here = toml::Value::Table(std::mem::take(table));
+    let result = set_in(&mut here, &steps, value, path);
+    if let toml::Value::Table(t) = here {
+        *table = t;
+    }
+    result
+}
+
+fn set_in(
+    at: &mut toml::Value,
+    steps: &[Step],
+    value: toml::Value,
+    path: &str,
+) -> Result<(), String> {
+    let Some((step, rest)) = steps.split_first() else {
+        *at = value;
+        return Ok(());
+    };
+    match step {
+        Step::Key(k) => {
+            let toml::Value::Table(t) = at else {
+                return Err(format!(
+                    "{path}: '{k}' is inside a value that is not a table"
+                ));
+            };
+            let next = t.entry(k.clone()).or_insert_with(|| {
+                if rest.is_empty() {
+                    toml::Value::Boolean(false)
+                } else {
+                    toml::Value::Table(toml::Table::new())
+                }
+            });
+            set_in(next, rest, value, path)
+        }
+        Step::Index(i) => {
+            let toml::Value::Array(a) = at else {
+                return Err(format!("{path}: [{i}] indexes a value that is not a list"));
+            };
+            let n = a.len();
+            let Some(next) = a.get_mut(*i) else {
+                return Err(format!("{path}: index {i} is past the scene's {n} entries"));
+            };
+            set_in(next, rest, value, path)
+        }
+    }
+}
+
+/// Reads and checks a sweep file: every variant is a valid scene, or the
+/// sweep is refused naming the variant, its values and the field.
+pub fn load(path: &Path) -> Result<Sweep, SweepError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SweepError(format!("{}: {e}", path.display())))?;
+    let spec: SweepSpec = toml::from_str(&text)
+        .map_err(|e| SweepError(format!("{}: {}", path.display(), e.message())))?;
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let scene = folder.join(&spec.scene);
+    let scene = std::fs::canonicalize(&scene).unwrap_or(scene);
+    let base_text = std::fs::read_to_string(&scene).map_err(|e| {
+        SweepError(format!(
+            "scene = \"{}\": {}: {e}",
+            spec.scene.display(),
+            scene.display()
+        ))
+    })?;
+    let base: toml::Table = toml::from_str(&base_text)
+        .map_err(|e| SweepError(format!("{}: {}", scene.display(), e.message())))?;
+    expand(
+        scene,
+        base,
+        spec.mode.unwrap_or(Mode::Grid),
+        &spec.parameters,
+        spec.slurm.unwrap_or_default(),
+    )
+}
+
+/// The variants of `parameters` (name → list of values) over `base`.
+pub fn expand(
+    scene: PathBuf,
+    base: toml::Table,
+    mode: Mode,
+    parameters: &toml::Table,
+    slurm: SlurmSpec,
+) -> Result<Sweep, SweepError> {
+    if parameters.is_empty() {
+        return err(
+            "[parameters]: name at least one scene path to vary, e.g. \"wire.length\" = [40.0, 50.0]",
+        );
+    }
+    let mut names = Vec::new();
+    let mut lists = Vec::new();
+    for (name, values) in parameters {
+        for path in linked_paths(name) {
+            parse_path(path).map_err(|e| SweepError(format!("parameters.\"{name}\": {e}")))?;
+        }
+        let toml::Value::Array(values) = values else {
+            return err(format!(
+                "parameters.\"{name}\": a list of values, e.g. [1.0, 2.0]"
+            ));
+        };
+        if values.is_empty() {
+            return err(format!(
+                "parameters.\"{name}\": the list of values is empty"
+            ));
+        }
+        let k = linked_paths(name).len();
+        if k > 1
+            && let Some(bad) = values
+                .iter()
+                .find(|v| v.as_array().is_none_or(|a| a.len() != k))
+        {
+            return err(format!(
+                "parameters.\"{name}\": {k} linked paths take lists of {k} values each, got {}",
+                value_text(bad)
+            ));
+        }
+        names.push(name.clone());
+        lists.push(values.clone());
+    }
+    let combos: Vec<Vec<usize>> = match mode {
+        Mode::Zip => {
+            let n = lists[0].len();
+            if let Some(k) = lists.iter().position(|l| l.len() != n) {
+                return err(format!(
+                    "mode = \"zip\" needs lists of equal length: \"{}\" has {n} values, \"{}\" {}",
+                    names[0],
+                    names[k],
+                    lists[k].len()
+                ));
+            }
+            (0..n).map(|i| vec![i; lists.len()]).collect()
+        }
+        Mode::Grid => {
+            let mut combos = vec![Vec::new()];
+            for l in &lists {
+                combos = combos
+                    .into_iter()
+                    .flat_map(|c| {
+                        (0..l.len()).map(move |i| {
+                            let mut c = c.clone();
+                            c.push(i);
+                            c
+                        })
+                    })
+                    .collect();
+            }
+            combos
+        }
+    };
+    let width = combos.len().saturating_sub(1).to_string().len().max(3);
+    let mut variants = Vec::new();
+    for (k, combo) in combos.iter().enumerate() {
+        let id = format!("v{k:0width$}");
+        let values: Vec<toml::Value> = combo
+            .iter()
+            .zip(&lists)
+            .map(|(&i, l)| l[i].clone())
+            .collect();
+        let describe = || {
+            let parts: Vec<String> = names
+                .iter()
+                .zip(&values)
+                .map(|(n, v)| format!("{n} = {}", value_text(v)))
+                .collect();
+            format!("variant {id} ({})", parts.join(", "))
+        };
+        let mut table = base.clone();
+        for (name, value) in names.iter().zip(&values) {
+            let paths = linked_paths(name);
+            let parts = match value {
+                toml::Value::Array(a) if paths.len() > 1 => a.clone(),
+                v => vec![v.clone()],
+            };
+            for (path, part) in paths.iter().zip(parts) {
+                set_path(&mut table, path, part)
+                    .map_err(|e| SweepError(format!("{}: {e}", describe())))?;
+            }
+        }
+        let scene_text =
+            toml::to_string(&table).map_err(|e| SweepError(format!("{}: {e}", describe())))?;
+        Scene::from_toml(&scene_text).map_err(|e| SweepError(format!("{}: {e}", describe())))?;
+        variants.push(Variant {
+            id,
+            values,
+            scene_text,
+        });
+    }
+    Ok(Sweep {
+        scene,
+        mode,
+        parameters: names,
+        variants,
+        slurm,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn base() -> toml::Table {
+        toml::from_str(
+            r#"
+            [analysis]
+            kind = "dynamic"
+            end_time = 0.01
+            time_step = 1e-3
+            [[material]]
+            name = "m"
+            model = "st-venant-kirchhoff"
+            density = 7000.0
+            youngs_modulus = 2e9
+            [wire]
+            length = 1.0
+            elements = 2
+            layers = [ { material = "m", outer_radius = 0.01 } ]
+            [[support]]
+            node = 0
+            kind = "pin"
+            [[rod]]
+            center = [0.5, 0.0, -0.3]
+            axis = [0.0, 1.0, 0.0]
+            radius = 0.02
+            contact_law = "line"
+            contact_stiffness = 1e7
+            "#,
+        )
+        .unwrap()
+    }
+
+    fn params(text: &str) -> toml::Table {
+        toml::from_str(text).unwrap()
+    }
+
+    #[test]
+    fn paths_parse_keys_and_indices() {
+        assert_eq!(
+            parse_path("rod[1].center").unwrap(),
+            vec![
+                Step::Key("rod".into()),
+                Step::Index(1),
+                Step::Key("center".into())
+            ]
+        );
+        assert!(parse_path("rod[x].center").is_err());
+        assert!(parse_path("wire..length").is_err());
+        assert!(parse_path("rod[1").is_err());
+    }
+
+    #[test]
+    fn grid_and_zip_expand_in_order() {
+        let p = params(
+            "\"wire.length\" = [1.0, 2.0]\n\"rod[0].center\" = [[0.5, 0.0, -0.3], [0.6, 0.0, -0.3], [0.7, 0.0, -0.3]]",
+        );
+        let grid = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &p,
+            SlurmSpec::default(),
+        )
+        .unwrap();
+        assert_eq!(grid.variants.len(), 6);
+        // The file's order; the last parameter varies fastest.
+        assert_eq!(grid.parameters, vec!["wire.length", "rod[0].center"]);
+        assert_eq!(value_text(&grid.variants[1].values[1]), "[0.6, 0.0, -0.3]");
+        assert_eq!(value_text(&grid.variants[3].values[0]), "2.0");
+        let scene = Scene::from_toml(&grid.variants[5].scene_text).unwrap();
+        assert_eq!(scene.model.n_elements, 2);
+        assert!(
+            (scene.model.element.length - 1.0).abs() < 1e-12,
+            "wire.length = 2 over 2 elements"
+        );
+        let zip = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Zip,
+            &params("\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2, 4]"),
+            SlurmSpec::default(),
+        )
+        .unwrap();
+        assert_eq!(zip.variants.len(), 2);
+        assert_eq!(zip.variants[1].id, "v001");
+        let mismatched = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Zip,
+            &params("\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2]"),
+            SlurmSpec::default(),
+        );
+        assert!(mismatched.unwrap_err().0.contains("equal length"));
+    }
+
+    #[test]
+    fn linked_paths_change_together() {
+        let p = params(
+            "\"wire.length & wire.elements\" = [[1.0, 2], [2.0, 4]]\n\"rod[0].radius\" = [0.02, 0.03]",
+        );
+        let sweep = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &p,
+            SlurmSpec::default(),
+        )
+        .unwrap();
+        assert_eq!(sweep.variants.len(), 4);
+        let last = Scene::from_toml(&sweep.variants[3].scene_text).unwrap();
+        assert_eq!(last.model.n_elements, 4);
+        assert!((last.model.element.length - 0.5).abs() < 1e-12);
+        let bad = params("\"wire.length & wire.elements\" = [[1.0, 2], [2.0]]");
+        let e = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &bad,
+            SlurmSpec::default(),
+        )
+        .unwrap_err();
+        assert!(e.0.contains("2 linked paths take lists of 2 values"), "{e}");
+    }
+
+    /// One bad variant refuses the whole sweep, naming it, its values and the field.
+    #[test]
+    fn a_bad_variant_is_named_with_its_field() {
+        let e = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &params("\"wire.length\" = [1.0, -2.0]"),
+            SlurmSpec::default(),
+        )
+        .unwrap_err();
+        assert!(
+            e.0.contains("variant v001 (wire.length = -2.0)") && e.0.contains("wire.length"),
+            "{e}"
+        );
+        let e = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &params("\"wire.lenght\" = [1.0]"),
+            SlurmSpec::default(),
+        )
+        .unwrap_err();
+        assert!(e.0.contains("lenght"), "{e}");
+        let e = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &params("\"rod[3].radius\" = [0.1]"),
+            SlurmSpec::default(),
+        )
+        .unwrap_err();
+        assert!(e.0.contains("index 3 is past the scene's 1 entries"), "{e}");
+        let e = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &params("\"wire.length\" = 1.0"),
+            SlurmSpec::default(),
+        )
+        .unwrap_err();
+        assert!(e.0.contains("a list of values"), "{e}");
+        let e = expand(
+            "s.toml".into(),
+            base(),
+            Mode::Grid,
+            &params("\"rod[0].contact_stiffness\" = [\"stiff\"]"),
+            SlurmSpec::default(),
+        )
+        .unwrap_err();
+        assert!(
+            e.0.contains("rod[0].contact_stiffness") || e.0.contains("contact_stiffness"),
+            "{e}"
+        );
+    }
+}

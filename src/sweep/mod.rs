@@ -1,0 +1,216 @@
+//! `ancf sweep`: many variants of one scene ([`file`]), run on this
+//! machine's cores ([`local`]) or as a Slurm job array ([`slurm`]), gathered
+//! into one table of design numbers ([`results`]).
+//!
+//! Every variant is an ordinary run in `DIR/runs/<id>/` (its scene as
+//! `scene.toml`, then the run's own outputs and checkpoints), so that the
+//! executors share nothing but the folder. A variant whose summary says
+//! `completed` is done; one with a `checkpoint.json` is resumed from it;
+//! any other starts over. Rerunning the same command therefore does only
+//! what is missing.
+
+pub mod file;
+pub mod local;
+pub mod results;
+pub mod slurm;
+
+use file::{Mode, Sweep};
+use std::path::{Path, PathBuf};
+
+/// Where the variants run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Executor {
+    /// Child processes on this machine, `jobs` at a time.
+    Local,
+    /// One Slurm job array, one task per variant.
+    Slurm,
+}
+
+/// Options of `ancf sweep`.
+#[derive(Clone, Debug)]
+pub struct SweepOptions {
+    pub out: PathBuf,
+    pub executor: Executor,
+    /// Local: variants at a time (default: the cores).
+    pub jobs: usize,
+    /// Slurm: submit and return without following the tasks.
+    pub submit_only: bool,
+    pub quiet: bool,
+}
+
+/// `DIR/sweep.json`: what the folder holds, for reruns and `--collect`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Manifest {
+    pub scene: PathBuf,
+    pub mode: Mode,
+    pub parameters: Vec<String>,
+    /// (id, the values as the sweep file writes them).
+    pub variants: Vec<(String, Vec<String>)>,
+}
+
+impl Manifest {
+    fn of(sweep: &Sweep) -> Manifest {
+        Manifest {
+            scene: sweep.scene.clone(),
+            mode: sweep.mode,
+            parameters: sweep.parameters.clone(),
+            variants: sweep
+                .variants
+                .iter()
+                .map(|v| {
+                    (
+                        v.id.clone(),
+                        v.values.iter().map(file::value_text).collect(),
+                    )
+                })
+                .collect(),
+        }
+    }
+
+    pub fn read(dir: &Path) -> Result<Manifest, String> {
+        let path = dir.join("sweep.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            format!(
+                "{}: {e} (is {} a sweep's output folder?)",
+                path.display(),
+                dir.display()
+            )
+        })?;
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+}
+
+/// What the folder knows about one variant's run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RunState {
+    /// summary.json says completed.
+    Completed,
+    /// Not completed, but a checkpoint to resume from.
+    Resumable,
+    /// Nothing usable: run from the start.
+    Fresh,
+}
+
+/// The folder of variant `id`.
+pub fn run_dir(out: &Path, id: &str) -> PathBuf {
+    out.join("runs").join(id)
+}
+
+/// The state of variant `id`'s run in `out`.
+pub fn run_state(out: &Path, id: &str) -> RunState {
+    let dir = run_dir(out, id);
+    let completed = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|s| s["status"] == "completed");
+    if completed {
+        RunState::Completed
+    } else if dir.join("checkpoint.json").exists() {
+        RunState::Resumable
+    } else {
+        RunState::Fresh
+    }
+}
+
+/// Prepares `out` for `sweep`: writes sweep.json and each variant's
+/// scene.toml, or, when `out` already holds this sweep, keeps everything.
+/// A folder holding another sweep is refused (nothing is overwritten).
+pub fn prepare(sweep: &Sweep, out: &Path) -> Result<(), String> {
+    let manifest = Manifest::of(sweep);
+    if out.join("sweep.json").exists() {
+        let old = Manifest::read(out)?;
+        if old != manifest {
+            return Err(format!(
+                "{} holds another sweep (its base scene, parameters or values differ); \
+                 choose another --out or remove it",
+                out.display()
+            ));
+        }
+    }
+    let io = |e: std::io::Error| format!("{}: {e}", out.display());
+    std::fs::create_dir_all(out.join("runs")).map_err(io)?;
+    for v in &sweep.variants {
+        let dir = run_dir(out, &v.id);
+        std::fs::create_dir_all(&dir).map_err(io)?;
+        let path = dir.join("scene.toml");
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(v.scene_text.as_str()) {
+            std::fs::write(&path, &v.scene_text).map_err(io)?;
+        }
+    }
+    let text = serde_json::to_string_pretty(&manifest).expect("manifest serializes");
+    std::fs::write(out.join("sweep.json"), text + "\n").map_err(io)
+}
+
+/// The command line that runs (or resumes) variant `id` with this `ancf`.
+pub fn run_command(out: &Path, id: &str) -> Vec<String> {
+    let dir = run_dir(out, id);
+    let dir_s = dir.display().to_string();
+    match run_state(out, id) {
+        RunState::Resumable => vec!["run".into(), "--resume".into(), dir_s, "--quiet".into()],
+        _ => vec![
+            "run".into(),
+            dir.join("scene.toml").display().to_string(),
+            "--out".into(),
+            dir_s,
+            "--quiet".into(),
+        ],
+    }
+}
+
+/// How a sweep ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SweepEnd {
+    /// Every variant completed.
+    Completed,
+    /// Some variants failed or are missing (their status is in results.csv).
+    Incomplete { failed: usize, missing: usize },
+    /// Ctrl-C: finished runs kept, interrupted ones checkpointed.
+    Interrupted,
+    /// Slurm, `--submit-only`: submitted, not followed.
+    Submitted { job: String, tasks: usize },
+}
+
+/// `ancf sweep SWEEP.toml`: checks every variant, runs what is missing and
+/// writes results.csv and report.md.
+pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
+    let sweep = file::load(sweep_path).map_err(|e| format!("{}: {e}", sweep_path.display()))?;
+    prepare(&sweep, &opts.out)?;
+    let out = std::path::absolute(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    let todo: Vec<String> = sweep
+        .variants
+        .iter()
+        .filter(|v| run_state(&out, &v.id) != RunState::Completed)
+        .map(|v| v.id.clone())
+        .collect();
+    if !opts.quiet {
+        eprintln!(
+            "ancf sweep: {} variants ({} done already), {} executor",
+            sweep.variants.len(),
+            sweep.variants.len() - todo.len(),
+            match opts.executor {
+                Executor::Local => "local",
+                Executor::Slurm => "slurm",
+            }
+        );
+    }
+    let interrupted = match opts.executor {
+        Executor::Local => local::run(&out, &todo, opts.jobs, opts.quiet)?,
+        Executor::Slurm => {
+            match slurm::run(&out, &todo, &sweep.slurm, opts.submit_only, opts.quiet)? {
+                slurm::Outcome::Submitted { job } => {
+                    return Ok(SweepEnd::Submitted {
+                        job,
+                        tasks: todo.len(),
+                    });
+                }
+                slurm::Outcome::Finished => false,
+            }
+        }
+    };
+    let end = results::collect(&out)?;
+    Ok(if interrupted {
+        SweepEnd::Interrupted
+    } else {
+        end
+    })
+}

@@ -1,0 +1,391 @@
+//! Gathering a sweep: `results.csv` with one row per variant (its values,
+//! status, wall time and the summary's design numbers) and `report.md` with
+//! plots of each design number against each varied parameter. Works on any
+//! sweep folder, also while runs are missing (`ancf sweep --collect DIR`).
+
+use super::{Manifest, SweepEnd, run_dir};
+use crate::plot::{Panel, Series, panels_plot};
+use serde_json::Value;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Design numbers of one rod, in results.csv's column order.
+const ROD_COLUMNS: [&str; 5] = [
+    "peak_force",
+    "peak_time",
+    "filtered_peak_force",
+    "filtered_peak_time",
+    "impulse",
+];
+
+/// One variant as results.csv has it.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub id: String,
+    pub values: Vec<String>,
+    /// completed, failed, interrupted, missing, or the Slurm state of a task
+    /// that left no summary (`slurm: TIMEOUT`).
+    pub status: String,
+    pub message: String,
+    pub wall_time_s: Option<f64>,
+    /// Per rod: [`ROD_COLUMNS`].
+    pub rods: Vec<[Option<f64>; 5]>,
+    /// Tip displacement components and length, m.
+    pub tip: Option<[f64; 4]>,
+    pub max_drift: Option<f64>,
+}
+
+fn number(v: &Value) -> Option<f64> {
+    v.as_f64()
+}
+
+/// The row of variant `id` from its folder.
+fn row(out: &Path, id: &str, values: &[String]) -> Row {
+    let dir = run_dir(out, id);
+    let summary: Option<Value> = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let slurm_state = std::fs::read_to_string(dir.join("slurm_state.txt"))
+        .ok()
+        .map(|s| s.trim().to_string());
+    let Some(s) = summary else {
+        let (status, message) = match slurm_state {
+            Some(state) => (
+                format!("slurm: {state}"),
+                "the task left no summary.json (see slurm/task_*.out)".to_string(),
+            ),
+            None if dir.join("log.txt").exists() => (
+                "crashed".to_string(),
+                format!("no summary.json; see {}", dir.join("log.txt").display()),
+            ),
+            None => ("missing".to_string(), "not run yet".to_string()),
+        };
+        return Row {
+            id: id.into(),
+            values: values.to_vec(),
+            status,
+            message,
+            wall_time_s: None,
+            rods: Vec::new(),
+            tip: None,
+            max_drift: None,
+        };
+    };
+    let mut status = s["status"].as_str().unwrap_or("unknown").to_string();
+    if status != "completed"
+        && let Some(state) = slurm_state.filter(|st| st != "COMPLETED")
+    {
+        status = format!("{status} (slurm: {state})");
+    }
+    let rods = s["contact"]["rods"]
+        .as_array()
+        .map(|rods| {
+            rods.iter()
+                .map(|r| ROD_COLUMNS.map(|k| number(&r[k])))
+                .collect()
+        })
+        .unwrap_or_default();
+    let d = &s["tip"]["displacement"];
+    let tip = match (number(&d[0]), number(&d[1]), number(&d[2])) {
+        (Some(x), Some(y), Some(z)) => Some([x, y, z, (x * x + y * y + z * z).sqrt()]),
+        _ => None,
+    };
+    Row {
+        id: id.into(),
+        values: values.to_vec(),
+        status,
+        message: s["message"].as_str().unwrap_or("").to_string(),
+        wall_time_s: number(&s["wall_time_s"]),
+        rods,
+        tip,
+        max_drift: number(&s["energy"]["max_drift"]),
+    }
+}
+
+/// The first entry of a linked value's text (`[48.0, [48.0, 0.0, 0.0]]` →
+/// `48.0`), as the sweep file writes it.
+fn first_item(text: &str) -> Option<String> {
+    let v: toml::Table = toml::from_str(&format!("v = {text}")).ok()?;
+    match v.get("v")? {
+        toml::Value::Array(a) => a.first().map(super::file::value_text),
+        _ => None,
+    }
+}
+
+/// A CSV field, quoted when it holds a comma, a quote or a line break.
+fn field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |x| format!("{x:.9e}"))
+}
+
+/// results.csv's text.
+pub fn csv(parameters: &[String], rows: &[Row]) -> String {
+    let n_rods = rows.iter().map(|r| r.rods.len()).max().unwrap_or(0);
+    let mut header: Vec<String> = vec!["id".into()];
+    header.extend(parameters.iter().cloned());
+    header.extend(["status", "message", "wall_time_s"].map(String::from));
+    for k in 0..n_rods {
+        header.extend(ROD_COLUMNS.iter().map(|c| format!("rod{k}_{c}")));
+    }
+    header.extend(
+        [
+            "tip_dx",
+            "tip_dy",
+            "tip_dz",
+            "tip_displacement",
+            "energy_max_drift",
+        ]
+        .map(String::from),
+    );
+    let mut s = header
+        .iter()
+        .map(|h| field(h))
+        .collect::<Vec<_>>()
+        .join(",")
+        + "\n";
+    for r in rows {
+        let mut cells: Vec<String> = vec![field(&r.id)];
+        cells.extend(r.values.iter().map(|v| field(v)));
+        cells.extend([field(&r.status), field(&r.message), opt(r.wall_time_s)]);
+        for k in 0..n_rods {
+            match r.rods.get(k) {
+                Some(v) => cells.extend(v.iter().map(|x| opt(*x))),
+                None => cells.extend(ROD_COLUMNS.iter().map(|_| String::new())),
+            }
+        }
+        match r.tip {
+            Some(t) => cells.extend(t.iter().map(|x| opt(Some(*x)))),
+            None => cells.extend((0..4).map(|_| String::new())),
+        }
+        cells.push(opt(r.max_drift));
+        s += &(cells.join(",") + "\n");
+    }
+    s
+}
+
+/// Writes results.csv and report.md for the sweep in `out`.
+pub fn collect(out: &Path) -> Result<SweepEnd, String> {
+    let m = Manifest::read(out)?;
+    let rows: Vec<Row> = m
+        .variants
+        .iter()
+        .map(|(id, values)| row(out, id, values))
+        .collect();
+    let io = |e: std::io::Error| format!("{}: {e}", out.display());
+    std::fs::write(out.join("results.csv"), csv(&m.parameters, &rows)).map_err(io)?;
+    report(out, &m, &rows)?;
+    let failed = rows
+        .iter()
+        .filter(|r| r.status != "completed" && r.status != "missing")
+        .count();
+    let missing = rows.iter().filter(|r| r.status == "missing").count();
+    Ok(if failed == 0 && missing == 0 {
+        SweepEnd::Completed
+    } else {
+        SweepEnd::Incomplete { failed, missing }
+    })
+}
+
+/// A design number of a row, by name (see [`design_numbers`]).
+type Pick = Box<dyn Fn(&Row) -> Option<f64>>;
+
+/// The design numbers worth a plot: each rod's filtered peak and impulse,
+/// the tip displacement and the energy drift.
+fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
+    let mut out: Vec<(String, String, Pick)> = Vec::new();
+    for k in 0..n_rods {
+        out.push((
+            format!("rod {k}: filtered peak force"),
+            "N".into(),
+            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[2])),
+        ));
+        out.push((
+            format!("rod {k}: impulse"),
+            "N s".into(),
+            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[4])),
+        ));
+    }
+    out.push((
+        "tip displacement".into(),
+        "m".into(),
+        Box::new(|r: &Row| r.tip.map(|t| t[3])),
+    ));
+    out.push((
+        "energy drift".into(),
+        "J".into(),
+        Box::new(|r: &Row| r.max_drift),
+    ));
+    out
+}
+
+/// report.md with a plot per varied parameter.
+fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
+    let n_rods = rows.iter().map(|r| r.rods.len()).max().unwrap_or(0);
+    let numbers = design_numbers(n_rods);
+    let mut md = String::new();
+    let _ = writeln!(md, "# Sweep of {}\n", m.scene.display());
+    let done = rows.iter().filter(|r| r.status == "completed").count();
+    let _ = writeln!(
+        md,
+        "{} variants ({} mode over {}), {done} completed. Every number comes from the \
+         variant's own `runs/<id>/summary.json`; all of them are in `results.csv`.\n",
+        rows.len(),
+        match m.mode {
+            super::file::Mode::Grid => "grid",
+            super::file::Mode::Zip => "zip",
+        },
+        m.parameters.join(", ")
+    );
+    let mut head = vec!["id".to_string()];
+    head.extend(m.parameters.iter().cloned());
+    head.push("status".into());
+    head.extend(numbers.iter().map(|(n, u, _)| format!("{n} ({u})")));
+    let _ = writeln!(md, "| {} |", head.join(" | "));
+    let _ = writeln!(md, "|{}", "---|".repeat(head.len()));
+    for r in rows {
+        let mut cells = vec![r.id.clone()];
+        cells.extend(r.values.iter().cloned());
+        cells.push(r.status.clone());
+        cells.extend(
+            numbers
+                .iter()
+                .map(|(_, _, f)| f(r).map_or("–".into(), |v| format!("{v:.4}"))),
+        );
+        let _ = writeln!(md, "| {} |", cells.join(" | "));
+    }
+    let plots = out.join("plots");
+    std::fs::create_dir_all(&plots).map_err(|e| format!("{}: {e}", plots.display()))?;
+    for (p, name) in m.parameters.iter().enumerate() {
+        // x: the value where all of this parameter's values are numbers,
+        // else its position in the list (the legend below says which).
+        let distinct: Vec<&String> = {
+            let mut d: Vec<&String> = Vec::new();
+            for (_, v) in &m.variants {
+                if !d.contains(&&v[p]) {
+                    d.push(&v[p]);
+                }
+            }
+            d
+        };
+        // Linked paths (`a & b`) are plotted against the first path's value.
+        let linked = name.contains('&');
+        let first_path = name.split('&').next().unwrap_or(name).trim().to_string();
+        let lead = |v: &str| {
+            if linked {
+                first_item(v)
+            } else {
+                Some(v.to_string())
+            }
+        };
+        let xs: Vec<Option<f64>> = distinct
+            .iter()
+            .map(|v| lead(v).and_then(|t| t.parse::<f64>().ok()))
+            .collect();
+        let numeric = xs.iter().all(Option::is_some) && {
+            let mut sorted: Vec<f64> = xs.iter().flatten().copied().collect();
+            sorted.sort_by(f64::total_cmp);
+            sorted.windows(2).all(|w| w[0] < w[1])
+        };
+        let x_of = |v: &String| {
+            let i = distinct.iter().position(|d| *d == v).unwrap_or(0);
+            if numeric {
+                xs[i].unwrap_or(f64::NAN)
+            } else {
+                i as f64
+            }
+        };
+        // One line per combination of the other parameters' values.
+        let mut groups: Vec<(String, Vec<&Row>)> = Vec::new();
+        for r in rows {
+            let key: Vec<String> = m
+                .parameters
+                .iter()
+                .zip(&r.values)
+                .enumerate()
+                .filter(|(q, _)| *q != p)
+                .map(|(_, (n, v))| {
+                    // A linked parameter by its first path only (legends stay short).
+                    match n.split_once('&') {
+                        Some((first, _)) => {
+                            format!(
+                                "{} = {}",
+                                first.trim(),
+                                first_item(v).unwrap_or_else(|| v.clone())
+                            )
+                        }
+                        None => format!("{n} = {v}"),
+                    }
+                })
+                .collect();
+            let key = if key.is_empty() {
+                name.clone()
+            } else {
+                key.join(", ")
+            };
+            match groups.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, g)) => g.push(r),
+                None => groups.push((key, vec![r])),
+            }
+        }
+        let x_label = if numeric {
+            first_path.clone()
+        } else {
+            format!("{first_path} (position in its list)")
+        };
+        let titles: Vec<String> = numbers
+            .iter()
+            .map(|(n, u, _)| format!("{n}, {u}"))
+            .collect();
+        let panels: Vec<Panel> = numbers
+            .iter()
+            .zip(&titles)
+            .map(|((_, _, f), title)| Panel {
+                title,
+                x_label: &x_label,
+                y_label: "",
+                series: groups
+                    .iter()
+                    .map(|(label, g)| {
+                        let mut points: Vec<(f64, f64)> = g
+                            .iter()
+                            .filter_map(|r| f(r).map(|y| (x_of(&r.values[p]), y)))
+                            .collect();
+                        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                        Series { label, points }
+                    })
+                    .collect(),
+                marks: Vec::new(),
+            })
+            .collect();
+        let file = format!(
+            "{}.png",
+            name.chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                .collect::<String>()
+        );
+        let cols = 2;
+        let rows_n = panels.len().div_ceil(cols);
+        panels_plot(&plots.join(&file), rows_n, cols, (560, 360), &panels)?;
+        let _ = writeln!(md, "\n## Against {name}\n\n![{name}](plots/{file})\n");
+        if !numeric {
+            for (i, v) in distinct.iter().enumerate() {
+                let _ = writeln!(md, "- position {i}: {name} = {v}");
+            }
+        }
+    }
+    let failed: Vec<&Row> = rows.iter().filter(|r| r.status != "completed").collect();
+    if !failed.is_empty() {
+        let _ = writeln!(md, "\n## Not completed\n");
+        for r in failed {
+            let _ = writeln!(md, "- {}: {} — {}", r.id, r.status, r.message);
+        }
+    }
+    std::fs::write(out.join("report.md"), md).map_err(|e| format!("{}: {e}", out.display()))
+}

@@ -1,0 +1,321 @@
+//! `ancf sweep` as a user runs it (issue 17): variants checked before any
+//! work, run on the local executor, one failing without stopping the
+//! others, Ctrl-C keeping what is done, reruns doing only what is missing,
+//! and results.csv holding each variant's own summary numbers.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn ancf() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_ancf"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ancf-sweep-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A pendulum scene of `elements` over `end_time` s, checkpointing every 100 steps.
+fn write_scene(dir: &Path, elements: usize, end_time: f64) -> PathBuf {
+    let path = dir.join("pendulum.toml");
+    std::fs::write(
+        &path,
+        format!(
+            r#"
+[analysis]
+kind = "dynamic"
+end_time = {end_time}
+time_step = 1e-3
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[[material]]
+name = "core"
+model = "st-venant-kirchhoff"
+density = 7200.0
+youngs_modulus = 2e9
+[wire]
+length = 1.0
+elements = {elements}
+layers = [ {{ material = "core", outer_radius = 0.02 }} ]
+[[support]]
+node = 0
+kind = "pin"
+[output]
+every = 10
+vtk = false
+plots = false
+checkpoint_every = 100
+"#
+        ),
+    )
+    .unwrap();
+    path
+}
+
+fn write_sweep(dir: &Path, body: &str) -> PathBuf {
+    let path = dir.join("sweep.toml");
+    std::fs::write(&path, format!("scene = \"pendulum.toml\"\n{body}")).unwrap();
+    path
+}
+
+/// results.csv as (header, rows).
+fn results(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let mut lines = text.lines();
+    let header = split_csv(lines.next().unwrap());
+    (header, lines.map(split_csv).collect())
+}
+
+/// Splits a CSV line (quoted fields may hold commas).
+fn split_csv(line: &str) -> Vec<String> {
+    let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut cur)),
+            c => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
+
+fn column(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name}"))
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+/// A grid of 2 × 2 variants: every variant completes, results.csv has one
+/// row per variant in order with its values, and each row's tip equals an
+/// ordinary `ancf run` of that variant's scene.
+#[test]
+fn a_grid_runs_every_variant_and_tabulates_its_summary() {
+    let dir = tmp("grid");
+    write_scene(&dir, 4, 0.05);
+    let sweep = write_sweep(
+        &dir,
+        "mode = \"grid\"\n[parameters]\n\"wire.length\" = [1.0, 1.5]\n\"analysis.time_step\" = [1e-3, 5e-4]\n",
+    );
+    let out = dir.join("out");
+    let status = ancf()
+        .args(["sweep"])
+        .arg(&sweep)
+        .arg("--out")
+        .arg(&out)
+        .args(["--jobs", "2", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (header, rows) = results(&out);
+    assert_eq!(rows.len(), 4);
+    let (id, len, h, st) = (
+        column(&header, "id"),
+        column(&header, "wire.length"),
+        column(&header, "analysis.time_step"),
+        column(&header, "status"),
+    );
+    let tip = column(&header, "tip_dz");
+    let expected = [
+        ("1.0", "0.001"),
+        ("1.0", "0.0005"),
+        ("1.5", "0.001"),
+        ("1.5", "0.0005"),
+    ];
+    for (k, row) in rows.iter().enumerate() {
+        assert_eq!(row[id], format!("v{k:03}"));
+        assert_eq!(row[st], "completed");
+        assert_eq!(
+            row[len].parse::<f64>().unwrap(),
+            expected[k].0.parse::<f64>().unwrap()
+        );
+        assert_eq!(
+            row[h].parse::<f64>().unwrap(),
+            expected[k].1.parse::<f64>().unwrap()
+        );
+    }
+    // The last variant run by hand gives the tip in its row.
+    let own = dir.join("own");
+    let run = ancf()
+        .arg("run")
+        .arg(out.join("runs/v003/scene.toml"))
+        .arg("--out")
+        .arg(&own)
+        .arg("--quiet")
+        .status()
+        .unwrap();
+    assert!(run.success());
+    let dz = summary(&own)["tip"]["displacement"][2].as_f64().unwrap();
+    let row_dz: f64 = rows[3][tip].parse().unwrap();
+    assert!(
+        (row_dz - dz).abs() <= 1e-9 * dz.abs().max(1.0),
+        "{row_dz} vs {dz}"
+    );
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("plots/wire_length.png") && out.join("plots/wire_length.png").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// One bad variant refuses the sweep before anything runs, naming the
+/// variant, its values and the field.
+#[test]
+fn a_bad_variant_refuses_the_sweep_before_any_work() {
+    let dir = tmp("bad");
+    write_scene(&dir, 4, 0.05);
+    let sweep = write_sweep(&dir, "[parameters]\n\"wire.length\" = [1.0, -1.0]\n");
+    let out = dir.join("out");
+    let result = ancf()
+        .args(["sweep"])
+        .arg(&sweep)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        stderr.contains("variant v001 (wire.length = -1.0)") && stderr.contains("wire.length:"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing may be written for a refused sweep");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A variant that fails is recorded with its cause and the others finish;
+/// rerunning the same command reruns only that one and leaves completed
+/// runs untouched.
+#[test]
+fn a_failing_variant_is_recorded_and_only_it_is_retried() {
+    let dir = tmp("failing");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(
+        root.join("scenes/cantilever_large_deflection.toml"),
+        dir.join("cantilever.toml"),
+    )
+    .unwrap();
+    // The large-deflection cantilever in one load step with two Newton
+    // iterations does not converge: that variant fails.
+    let sweep = dir.join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        "scene = \"cantilever.toml\"\nmode = \"zip\"\n[parameters]\n\"analysis.load_steps\" = [4, 1]\n\"analysis.max_iterations\" = [50, 2]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = || {
+        ancf()
+            .args(["sweep"])
+            .arg(&sweep)
+            .arg("--out")
+            .arg(&out)
+            .arg("--quiet")
+            .output()
+            .unwrap()
+    };
+    let first = run();
+    assert_eq!(
+        first.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let (header, rows) = results(&out);
+    let (st, msg) = (column(&header, "status"), column(&header, "message"));
+    assert_eq!(rows[0][st], "completed");
+    assert_eq!(rows[1][st], "failed");
+    assert!(
+        rows[1][msg].contains("Newton did not converge"),
+        "{}",
+        rows[1][msg]
+    );
+    let done = out.join("runs/v000/summary.json");
+    let stamp = std::fs::metadata(&done).unwrap().modified().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let again = run();
+    assert_eq!(again.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("1 variant(s) failed"));
+    assert_eq!(
+        std::fs::metadata(&done).unwrap().modified().unwrap(),
+        stamp,
+        "completed run redone"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Ctrl-C (SIGINT to the sweep) stops the running variants with their
+/// checkpoints and starts no others; rerunning resumes them, and the
+/// results equal an uninterrupted sweep's.
+#[test]
+fn an_interrupted_sweep_resumes_where_it_stopped() {
+    let dir = tmp("interrupt");
+    write_scene(&dir, 48, 8.0);
+    let sweep = write_sweep(&dir, "[parameters]\n\"wire.length\" = [1.0, 1.1, 1.2]\n");
+    let out = dir.join("out");
+    let mut child = ancf()
+        .args(["sweep"])
+        .arg(&sweep)
+        .arg("--out")
+        .arg(&out)
+        .args(["--jobs", "2", "--quiet"])
+        .spawn()
+        .unwrap();
+    // Interrupt once the first checkpoints exist.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while !out.join("runs/v000/checkpoint.json").exists() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no checkpoint appeared"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    let (header, rows) = results(&out);
+    let st = column(&header, "status");
+    assert!(rows.iter().any(|r| r[st] == "interrupted"), "{rows:?}");
+    assert_eq!(rows[2][st], "missing", "no variant starts after Ctrl-C");
+    assert!(out.join("runs/v000/checkpoint.json").exists());
+    let resumed = ancf()
+        .args(["sweep"])
+        .arg(&sweep)
+        .arg("--out")
+        .arg(&out)
+        .args(["--jobs", "2", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(resumed.success());
+    let (_, rows) = results(&out);
+    assert!(rows.iter().all(|r| r[st] == "completed"));
+    // The same sweep without interruption.
+    let plain = dir.join("plain");
+    let status = ancf()
+        .args(["sweep"])
+        .arg(&sweep)
+        .arg("--out")
+        .arg(&plain)
+        .args(["--jobs", "2", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (header, clean) = results(&plain);
+    let tip = column(&header, "tip_dz");
+    for (a, b) in rows.iter().zip(&clean) {
+        assert_eq!(a[tip], b[tip], "resumed variant {} differs", a[0]);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

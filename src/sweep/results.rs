@@ -50,6 +50,12 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         .map(|s| s.trim().to_string());
     let Some(s) = summary else {
         let (status, message) = match slurm_state {
+            Some(state) if state == "UNKNOWN" => (
+                "slurm: UNKNOWN".to_string(),
+                "Slurm no longer lists the task and it left no summary.json (cancelled before \
+                 it started?); rerun the sweep to resubmit it"
+                    .to_string(),
+            ),
             Some(state) => (
                 format!("slurm: {state}"),
                 "the task left no summary.json (see slurm/task_*.out)".to_string(),

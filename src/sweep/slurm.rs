@@ -213,14 +213,28 @@ fn task_states(job: &str) -> Vec<(usize, String)> {
     states
 }
 
-/// Writes each task's final Slurm state into its run folder.
+/// Whether `squeue` still lists tasks of `job`.
+fn queued(job: &str) -> bool {
+    call("squeue", &["-h", "-r", "-j", job, "-o", "%i"]).is_ok_and(|t| !t.trim().is_empty())
+}
+
+/// Writes each task's final Slurm state into its run folder. Once the job
+/// has left the queue, a task Slurm no longer lists (cancelled before it
+/// started, or forgotten after MinJobAge without accounting) is recorded
+/// as UNKNOWN, so that results.csv does not call it "not run yet".
 fn record_states(out: &Path, job: &str, ids: &[String]) {
-    for (task, state) in task_states(job) {
-        if let Some(id) = ids.get(task) {
-            let _ = std::fs::write(
-                run_dir(out, id).join("slurm_state.txt"),
-                format!("{state}\n"),
-            );
+    let states = task_states(job);
+    let over = !queued(job);
+    for (task, id) in ids.iter().enumerate() {
+        let path = run_dir(out, id).join("slurm_state.txt");
+        match states.iter().find(|(t, _)| *t == task) {
+            Some((_, state)) => {
+                let _ = std::fs::write(&path, format!("{state}\n"));
+            }
+            None if over && !path.exists() => {
+                let _ = std::fs::write(&path, "UNKNOWN\n");
+            }
+            None => {}
         }
     }
 }

@@ -3,11 +3,26 @@
 //! others, Ctrl-C keeping what is done, reruns doing only what is missing,
 //! and results.csv holding each variant's own summary numbers.
 
+mod common;
+
+use common::split_csv;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn ancf() -> Command {
     Command::new(env!("CARGO_BIN_EXE_ancf"))
+}
+
+/// `ancf sweep SWEEP --out OUT --quiet ARGS…`.
+fn sweep_cmd(sweep: &Path, out: &Path, args: &[&str]) -> Command {
+    let mut c = ancf();
+    c.arg("sweep")
+        .arg(sweep)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(args);
+    c
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -68,25 +83,6 @@ fn results(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     (header, lines.map(split_csv).collect())
 }
 
-/// Splits a CSV line (quoted fields may hold commas).
-fn split_csv(line: &str) -> Vec<String> {
-    let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' if quoted && chars.peek() == Some(&'"') => {
-                cur.push('"');
-                chars.next();
-            }
-            '"' => quoted = !quoted,
-            ',' if !quoted => out.push(std::mem::take(&mut cur)),
-            c => cur.push(c),
-        }
-    }
-    out.push(cur);
-    out
-}
-
 fn column(header: &[String], name: &str) -> usize {
     header
         .iter()
@@ -110,14 +106,7 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
         "mode = \"grid\"\n[parameters]\n\"wire.length\" = [1.0, 1.5]\n\"analysis.time_step\" = [1e-3, 5e-4]\n",
     );
     let out = dir.join("out");
-    let status = ancf()
-        .args(["sweep"])
-        .arg(&sweep)
-        .arg("--out")
-        .arg(&out)
-        .args(["--jobs", "2", "--quiet"])
-        .status()
-        .unwrap();
+    let status = sweep_cmd(&sweep, &out, &["--jobs", "2"]).status().unwrap();
     assert!(status.success());
     let (header, rows) = results(&out);
     assert_eq!(rows.len(), 4);
@@ -214,16 +203,7 @@ fn a_failing_variant_is_recorded_and_only_it_is_retried() {
     )
     .unwrap();
     let out = dir.join("out");
-    let run = || {
-        ancf()
-            .args(["sweep"])
-            .arg(&sweep)
-            .arg("--out")
-            .arg(&out)
-            .arg("--quiet")
-            .output()
-            .unwrap()
-    };
+    let run = || sweep_cmd(&sweep, &out, &[]).output().unwrap();
     let first = run();
     assert_eq!(
         first.status.code(),
@@ -263,14 +243,7 @@ fn an_interrupted_sweep_resumes_where_it_stopped() {
     write_scene(&dir, 48, 8.0);
     let sweep = write_sweep(&dir, "[parameters]\n\"wire.length\" = [1.0, 1.1, 1.2]\n");
     let out = dir.join("out");
-    let mut child = ancf()
-        .args(["sweep"])
-        .arg(&sweep)
-        .arg("--out")
-        .arg(&out)
-        .args(["--jobs", "2", "--quiet"])
-        .spawn()
-        .unwrap();
+    let mut child = sweep_cmd(&sweep, &out, &["--jobs", "2"]).spawn().unwrap();
     // Interrupt once the first checkpoints exist.
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
     while !out.join("runs/v000/checkpoint.json").exists() {
@@ -290,25 +263,13 @@ fn an_interrupted_sweep_resumes_where_it_stopped() {
     assert!(rows.iter().any(|r| r[st] == "interrupted"), "{rows:?}");
     assert_eq!(rows[2][st], "missing", "no variant starts after Ctrl-C");
     assert!(out.join("runs/v000/checkpoint.json").exists());
-    let resumed = ancf()
-        .args(["sweep"])
-        .arg(&sweep)
-        .arg("--out")
-        .arg(&out)
-        .args(["--jobs", "2", "--quiet"])
-        .status()
-        .unwrap();
+    let resumed = sweep_cmd(&sweep, &out, &["--jobs", "2"]).status().unwrap();
     assert!(resumed.success());
     let (_, rows) = results(&out);
     assert!(rows.iter().all(|r| r[st] == "completed"));
     // The same sweep without interruption.
     let plain = dir.join("plain");
-    let status = ancf()
-        .args(["sweep"])
-        .arg(&sweep)
-        .arg("--out")
-        .arg(&plain)
-        .args(["--jobs", "2", "--quiet"])
+    let status = sweep_cmd(&sweep, &plain, &["--jobs", "2"])
         .status()
         .unwrap();
     assert!(status.success());

@@ -9,6 +9,9 @@
 //! munge if missing); otherwise it says why and passes without checking.
 //! `.ci/run` runs as root, so CI checks it.
 
+mod common;
+
+use common::split_csv;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -32,7 +35,9 @@ fn ensure_slurm() -> Option<()> {
     }
     let uid = Command::new("id").arg("-u").output().ok()?;
     if String::from_utf8_lossy(&uid.stdout).trim() != "0" {
-        eprintln!("skipped: no Slurm answers and not root (start one with sudo bash scripts/slurm-local.sh start)");
+        eprintln!(
+            "skipped: no Slurm answers and not root (start one with sudo bash scripts/slurm-local.sh start)"
+        );
         return None;
     }
     let started = Command::new("bash")
@@ -84,25 +89,6 @@ fn sweep(args: &[&str], file: &Path, out: &Path) -> std::process::Output {
         .unwrap()
 }
 
-/// Splits a CSV line (quoted fields may hold commas).
-fn split_csv(line: &str) -> Vec<String> {
-    let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' if quoted && chars.peek() == Some(&'"') => {
-                cur.push('"');
-                chars.next();
-            }
-            '"' => quoted = !quoted,
-            ',' if !quoted => out.push(std::mem::take(&mut cur)),
-            c => cur.push(c),
-        }
-    }
-    out.push(cur);
-    out
-}
-
 /// results.csv's rows without the columns that differ between executors
 /// (the message names resumed runs, wall times vary).
 fn numbers(out: &Path) -> Vec<Vec<String>> {
@@ -123,11 +109,17 @@ fn numbers(out: &Path) -> Vec<Vec<String>> {
 fn wait_for_queue(job: &str) {
     let deadline = Instant::now() + Duration::from_secs(600);
     loop {
-        let out = Command::new("squeue").args(["-h", "-r", "-j", job]).output().unwrap();
+        let out = Command::new("squeue")
+            .args(["-h", "-r", "-j", job])
+            .output()
+            .unwrap();
         if !out.status.success() || String::from_utf8_lossy(&out.stdout).trim().is_empty() {
             return;
         }
-        assert!(Instant::now() < deadline, "job {job} still queued after 10 minutes");
+        assert!(
+            Instant::now() < deadline,
+            "job {job} still queued after 10 minutes"
+        );
         std::thread::sleep(Duration::from_millis(300));
     }
 }
@@ -142,12 +134,19 @@ fn a_slurm_sweep_with_a_cancelled_task_ends_as_the_local_one() {
     let (slurm_out, local_out) = (dir.join("slurm"), dir.join("local"));
     // Submit, then cancel task 1 before it can finish.
     let submitted = sweep(&["--executor", "slurm", "--submit-only"], &file, &slurm_out);
-    assert!(submitted.status.success(), "{}", String::from_utf8_lossy(&submitted.stderr));
+    assert!(
+        submitted.status.success(),
+        "{}",
+        String::from_utf8_lossy(&submitted.stderr)
+    );
     let jobs = std::fs::read_to_string(slurm_out.join("slurm/jobs.txt")).unwrap();
     let job = jobs.split_whitespace().next().unwrap().to_string();
     let script = std::fs::read_to_string(slurm_out.join("slurm/array_0.sbatch")).unwrap();
     assert!(script.contains("#SBATCH --array=0-5") && script.contains("#SBATCH --time=00:15:00"));
-    let cancel = Command::new("scancel").arg(format!("{job}_1")).status().unwrap();
+    let cancel = Command::new("scancel")
+        .arg(format!("{job}_1"))
+        .status()
+        .unwrap();
     assert!(cancel.success());
     wait_for_queue(&job);
     let collected = Command::new(env!("CARGO_BIN_EXE_ancf"))
@@ -155,21 +154,49 @@ fn a_slurm_sweep_with_a_cancelled_task_ends_as_the_local_one() {
         .arg(&slurm_out)
         .output()
         .unwrap();
-    assert_eq!(collected.status.code(), Some(1), "{}", String::from_utf8_lossy(&collected.stderr));
+    assert_eq!(
+        collected.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&collected.stderr)
+    );
     let text = std::fs::read_to_string(slurm_out.join("results.csv")).unwrap();
     // Cancelled while pending (Slurm then forgets the task) or while
     // running: either way the row says what Slurm did, not "not run yet".
     let v001 = text.lines().find(|l| l.starts_with("v001")).unwrap();
-    assert!(v001.contains("slurm: ") && !v001.contains(",completed,"), "{v001}");
-    assert_eq!(text.lines().filter(|l| l.contains(",completed,")).count(), 5, "{text}");
+    assert!(
+        v001.contains("slurm: ") && !v001.contains(",completed,"),
+        "{v001}"
+    );
+    assert_eq!(
+        text.lines().filter(|l| l.contains(",completed,")).count(),
+        5,
+        "{text}"
+    );
     // Rerunning the command resubmits only the cancelled variant.
     let rerun = sweep(&["--executor", "slurm"], &file, &slurm_out);
-    assert!(rerun.status.success(), "{}", String::from_utf8_lossy(&rerun.stderr));
+    assert!(
+        rerun.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rerun.stderr)
+    );
     let jobs = std::fs::read_to_string(slurm_out.join("slurm/jobs.txt")).unwrap();
-    assert_eq!(jobs.lines().nth(1).unwrap().split_whitespace().skip(1).collect::<Vec<_>>(), ["v001"]);
+    assert_eq!(
+        jobs.lines()
+            .nth(1)
+            .unwrap()
+            .split_whitespace()
+            .skip(1)
+            .collect::<Vec<_>>(),
+        ["v001"]
+    );
     // The same sweep on the local executor: the same numbers.
     let local = sweep(&["--jobs", "2"], &file, &local_out);
-    assert!(local.status.success(), "{}", String::from_utf8_lossy(&local.stderr));
+    assert!(
+        local.status.success(),
+        "{}",
+        String::from_utf8_lossy(&local.stderr)
+    );
     assert_eq!(numbers(&slurm_out), numbers(&local_out));
     let _ = std::fs::remove_dir_all(dir);
 }

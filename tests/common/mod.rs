@@ -117,3 +117,22 @@ pub fn rel(a: &[f64], b: &[f64]) -> f64 {
         .sqrt();
     d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
 }
+
+/// Splits a CSV line (quoted fields may hold commas).
+pub fn split_csv(line: &str) -> Vec<String> {
+    let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut cur)),
+            c => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}

@@ -220,7 +220,7 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 /// and starts ≈ 40 µs late, and the Jacobian columns it wrote must travel
 /// back to the core that forms the Newton matrix. Full-Newton steps of the
 /// SVK pendulum on 2 threads against 1 (median of 5 pairs, with
-/// [`crate::linalg::parallel::run_tasks`]): 1.02× at 64 elements (77 µs of element
+/// `linalg::parallel::run_tasks`): 1.02× at 64 elements (77 µs of element
 /// work), 1.10× at 128, 1.19× at 256; modified-Newton steps (force only)
 /// 1.02× at 512 elements, 1.06× at 1024. With rayon's own join and a
 /// 250 µs threshold they had been 0.87–1.0× up to 128 elements

@@ -42,11 +42,10 @@ pub struct BandLu {
     upper_columns: Vec<f64>,
 }
 
-/// Elimination met a pivot that is zero, tiny or not finite at `row`.
+/// Elimination met a pivot that is zero, tiny or not finite (the caller
+/// falls back to a pivoting LU).
 #[derive(Clone, Copy, Debug)]
-pub struct SmallPivot {
-    pub row: usize,
-}
+pub struct SmallPivot;
 
 impl BandLu {
     /// The band structure of an n × n pattern with both triangles stored
@@ -112,7 +111,7 @@ fn factorize_with<F: Arith>(lu: &mut BandLu, values: &[f64]) -> Result<(), Small
     for j in 0..n {
         let pivot = a[j * w + p];
         if !pivot.is_finite() || pivot.abs() <= 1e-10 * scale {
-            return Err(SmallPivot { row: j });
+            return Err(SmallPivot);
         }
         let inv = 1.0 / pivot;
         lu.inv_pivot[j] = inv;

@@ -3,7 +3,7 @@
 //! The binary is built for baseline x86-64 (SSE2), so that one build runs on
 //! every CPU a user has. Loops that pay for it are written once, generic
 //! over [`Arith`] (`a · b + c` as two roundings, [`Plain`], or one fused
-//! multiply-add, [`Fused`]), and [`simd_dispatch!`] compiles each of them
+//! multiply-add, [`Fused`]), and [`crate::simd_dispatch!`] compiles each of them
 //! three times: baseline, AVX2 + FMA, and AVX-512. Which one runs is decided
 //! at the first call ([`path`]) from the CPU, unless the `ANCF_SIMD`
 //! environment variable (`baseline`, `avx2`, `avx512`) or [`force`] picks one

@@ -5,5 +5,6 @@
 pub mod band_cholesky;
 pub mod band_lu;
 pub mod band_split;
+pub mod block_tridiagonal;
 pub mod linear_solver;
 pub mod parallel;

@@ -1,0 +1,380 @@
+//! LU of a block-tridiagonal matrix with node blocks, for the wire's
+//! non-symmetric Newton matrices (friction, Kelvin–Voigt damping).
+//!
+//! Unknowns are numbered node by node and every element couples two
+//! neighbouring nodes, so the Newton matrix is block tridiagonal with blocks
+//! of at most 12 × 12 (a node's free coordinates). Block elimination
+//! without pivoting between blocks (the same assumption as `band_lu`: the
+//! mass-dominated symmetric part keeps the Schur complements regular),
+//! with partial pivoting inside each diagonal block, whose inverse is kept:
+//!
+//!   S₀ = D₀,  Gₖ = Lₖ Sₖ⁻¹,  Sₖ₊₁ = Dₖ₊₁ − Gₖ Uₖ
+//!   forward  yₖ₊₁ = bₖ₊₁ − Gₖ yₖ
+//!   backward xₖ = Sₖ⁻¹ (yₖ − Uₖ xₖ₊₁)
+//!
+//! (Dₖ, Uₖ = A₍ₖ,ₖ₊₁₎, Lₖ = A₍ₖ₊₁,ₖ₎). Every operation is a dense 12 × 12
+//! product: the solves are chains of matrix–vector products whose rows are
+//! independent, where the band solve was a chain of single unknowns.
+//! Blocks are stored padded to 12 × 12 (a pinned node has 9 unknowns; its
+//! padding is the identity), so the kernels have fixed sizes.
+
+use crate::linalg::band_cholesky::pattern_entries;
+use crate::math::simd::{Arith, path};
+
+/// Block size: a node's coordinates.
+const B: usize = 12;
+
+type Block = [[f64; B]; B];
+
+const ZERO: Block = [[0.0; B]; B];
+
+/// The factorization, with the map from the sparse pattern's value slots to
+/// the blocks, computed once per pattern.
+#[derive(Clone, Debug)]
+pub struct BlockTridiagonalLu {
+    /// Node k's unknowns are starts[k] … starts[k + 1] − 1.
+    starts: Vec<usize>,
+    /// (pattern value index, index into `input` flattened): 8 bytes a value,
+    /// no branches (the scatter of 36 000 values was most of a
+    /// factorization with a (value, place, block, row, column) list).
+    slots: Vec<(u32, u32)>,
+    /// The matrix by blocks: Dₖ at k, Uₖ at m + k, Lₖ at 2m − 1 + k.
+    input: Vec<Block>,
+    /// Sₖ⁻¹ and Gₖ after `factorize`.
+    inverse: Vec<Block>,
+    gain: Vec<Block>,
+    /// Sₖ⁻¹, Gₖ and Uₖ transposed, for the solves' column-oriented products.
+    inverse_t: Vec<Block>,
+    gain_t: Vec<Block>,
+    upper_t: Vec<Block>,
+    /// The right-hand side by blocks (padded), for the solves.
+    work: Vec<[f64; B]>,
+}
+
+/// A diagonal block's Schur complement is singular (to round-off).
+#[derive(Clone, Copy, Debug)]
+pub struct SingularBlock;
+
+impl BlockTridiagonalLu {
+    /// The node blocks of an n × n pattern (compressed sparse columns, both
+    /// triangles), or `None` when it is not block tridiagonal with blocks
+    /// of at most 12: columns with the same first and last row form a block.
+    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Option<Self> {
+        if n == 0 {
+            return None;
+        }
+        let range = |c: usize| {
+            let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            (rows.iter().copied().min(), rows.iter().copied().max())
+        };
+        let mut starts = vec![0];
+        for c in 1..n {
+            if range(c) != range(c - 1) {
+                starts.push(c);
+            }
+        }
+        starts.push(n);
+        let m = starts.len() - 1;
+        if starts.windows(2).any(|w| w[1] - w[0] > B) {
+            return None;
+        }
+        let mut node_of = vec![0; n];
+        for k in 0..m {
+            node_of[starts[k]..starts[k + 1]].fill(k);
+        }
+        let mut slots = Vec::new();
+        for (v, r, c) in pattern_entries(col_ptr, row_idx) {
+            let (kr, kc) = (node_of[r], node_of[c]);
+            let (lr, lc) = (r - starts[kr], c - starts[kc]);
+            let block = if kr == kc {
+                kr
+            } else if kc == kr + 1 {
+                m + kr
+            } else if kr == kc + 1 {
+                2 * m - 1 + kc
+            } else {
+                return None;
+            };
+            let flat = block * B * B + lr * B + lc;
+            slots.push((u32::try_from(v).ok()?, u32::try_from(flat).ok()?));
+        }
+        Some(BlockTridiagonalLu {
+            starts,
+            slots,
+            input: vec![ZERO; 3 * m - 2],
+            inverse: vec![ZERO; m],
+            gain: vec![ZERO; m.saturating_sub(1)],
+            inverse_t: vec![ZERO; m],
+            gain_t: vec![ZERO; m.saturating_sub(1)],
+            upper_t: vec![ZERO; m.saturating_sub(1)],
+            work: vec![[0.0; B]; m],
+        })
+    }
+
+    /// Factor the matrix whose pattern values are `values`.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), SingularBlock> {
+        factorize(path(), self, values)
+    }
+
+    /// Solve A x = b in place with the last factorization.
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        solve(path(), self, b)
+    }
+}
+
+crate::simd_dispatch! {
+    fn factorize(lu: &mut BlockTridiagonalLu, values: &[f64]) -> Result<(), SingularBlock> = factorize_with;
+}
+
+crate::simd_dispatch! {
+    fn solve(lu: &mut BlockTridiagonalLu, b: &mut [f64]) = solve_with;
+}
+
+/// c −= a b (12 × 12 blocks).
+#[inline(always)]
+fn sub_product<F: Arith>(c: &mut Block, a: &Block, b: &Block) {
+    for i in 0..B {
+        let mut row = c[i];
+        for k in 0..B {
+            let aik = a[i][k];
+            for j in 0..B {
+                row[j] = F::mul_add(-aik, b[k][j], row[j]);
+            }
+        }
+        c[i] = row;
+    }
+}
+
+/// a b (12 × 12 blocks).
+#[inline(always)]
+fn product<F: Arith>(a: &Block, b: &Block) -> Block {
+    let mut c = ZERO;
+    for i in 0..B {
+        let mut row = [0.0; B];
+        for k in 0..B {
+            let aik = a[i][k];
+            for j in 0..B {
+                row[j] = F::mul_add(aik, b[k][j], row[j]);
+            }
+        }
+        c[i] = row;
+    }
+    c
+}
+
+/// a x from aᵀ (`at`), column by column: twelve lanes of multiply-adds in
+/// two independent halves (a row-by-row dot product waits on each sum).
+#[inline(always)]
+fn matvec_t<F: Arith>(at: &Block, x: &[f64; B]) -> [f64; B] {
+    let (mut lo, mut hi) = ([0.0; B], [0.0; B]);
+    for k in 0..B / 2 {
+        let (xa, xb) = (x[k], x[k + B / 2]);
+        for i in 0..B {
+            lo[i] = F::mul_add(at[k][i], xa, lo[i]);
+            hi[i] = F::mul_add(at[k + B / 2][i], xb, hi[i]);
+        }
+    }
+    for i in 0..B {
+        lo[i] += hi[i];
+    }
+    lo
+}
+
+/// The transpose of a block.
+#[inline(always)]
+fn transpose(a: &Block) -> Block {
+    let mut t = ZERO;
+    for i in 0..B {
+        for j in 0..B {
+            t[j][i] = a[i][j];
+        }
+    }
+    t
+}
+
+/// The inverse of `s` by Gauss–Jordan elimination with partial pivoting.
+#[inline(always)]
+fn invert<F: Arith>(s: &Block) -> Result<Block, SingularBlock> {
+    let mut a = *s;
+    let mut inv = ZERO;
+    for (i, row) in inv.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    for col in 0..B {
+        let pivot_row = (col..B)
+            .max_by(|&p, &q| a[p][col].abs().total_cmp(&a[q][col].abs()))
+            .unwrap_or(col);
+        let pivot = a[pivot_row][col];
+        if !pivot.is_finite() || pivot.abs() <= 1e-14 * scale {
+            return Err(SingularBlock);
+        }
+        a.swap(col, pivot_row);
+        inv.swap(col, pivot_row);
+        let p = 1.0 / pivot;
+        for j in 0..B {
+            a[col][j] *= p;
+            inv[col][j] *= p;
+        }
+        let (pa, pi) = (a[col], inv[col]);
+        for r in 0..B {
+            if r != col {
+                let f = a[r][col];
+                for j in 0..B {
+                    a[r][j] = F::mul_add(-f, pa[j], a[r][j]);
+                    inv[r][j] = F::mul_add(-f, pi[j], inv[r][j]);
+                }
+            }
+        }
+    }
+    Ok(inv)
+}
+
+#[inline(always)]
+fn factorize_with<F: Arith>(
+    lu: &mut BlockTridiagonalLu,
+    values: &[f64],
+) -> Result<(), SingularBlock> {
+    let m = lu.inverse.len();
+    lu.input.fill(ZERO);
+    for k in 0..m {
+        // The padding of a node with fewer than 12 unknowns: the identity.
+        for r in lu.starts[k + 1] - lu.starts[k]..B {
+            lu.input[k][r][r] = 1.0;
+        }
+    }
+    let flat = lu.input.as_flattened_mut().as_flattened_mut();
+    for &(v, dest) in &lu.slots {
+        flat[dest as usize] = values[v as usize];
+    }
+    let (diag, rest) = lu.input.split_at(m);
+    let (upper, lower) = rest.split_at(m - 1);
+    for k in 0..m {
+        let mut s = diag[k];
+        if k > 0 {
+            sub_product::<F>(&mut s, &lu.gain[k - 1], &upper[k - 1]);
+        }
+        lu.inverse[k] = invert::<F>(&s)?;
+        lu.inverse_t[k] = transpose(&lu.inverse[k]);
+        if k + 1 < m {
+            lu.gain[k] = product::<F>(&lower[k], &lu.inverse[k]);
+            lu.gain_t[k] = transpose(&lu.gain[k]);
+            lu.upper_t[k] = transpose(&upper[k]);
+        }
+    }
+    Ok(())
+}
+
+#[inline(always)]
+fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
+    let m = lu.inverse.len();
+    let starts = &lu.starts;
+    let y = &mut lu.work;
+    for k in 0..m {
+        let part = &b[starts[k]..starts[k + 1]];
+        y[k] = [0.0; B];
+        y[k][..part.len()].copy_from_slice(part);
+    }
+    for k in 1..m {
+        let g = matvec_t::<F>(&lu.gain_t[k - 1], &y[k - 1]);
+        for i in 0..B {
+            y[k][i] -= g[i];
+        }
+    }
+    y[m - 1] = matvec_t::<F>(&lu.inverse_t[m - 1], &y[m - 1]);
+    for k in (0..m - 1).rev() {
+        let mut rest = y[k];
+        let u = matvec_t::<F>(&lu.upper_t[k], &y[k + 1]);
+        for i in 0..B {
+            rest[i] -= u[i];
+        }
+        y[k] = matvec_t::<F>(&lu.inverse_t[k], &rest);
+    }
+    for k in 0..m {
+        let len = starts[k + 1] - starts[k];
+        b[starts[k]..starts[k + 1]].copy_from_slice(&y[k][..len]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::band_cholesky::tests::block_tridiagonal;
+    use crate::math::simd::SimdPath;
+
+    #[test]
+    fn finds_the_node_blocks_and_solves_to_round_off() {
+        for (blocks, size) in [(1, 5), (3, 12), (6, 4), (20, 12)] {
+            let a = block_tridiagonal(blocks, size, false);
+            let mut lu =
+                BlockTridiagonalLu::new(a.n, &a.col_ptr, &a.row_idx).expect("block tridiagonal");
+            assert_eq!(lu.starts.len() - 1, blocks, "{blocks} blocks of {size}");
+            let x: Vec<f64> = (0..a.n).map(|i| (i as f64 * 0.37).cos()).collect();
+            for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
+                factorize(path, &mut lu, &a.values).expect("regular");
+                let err = a.solve_error(&x, |b| solve(path, &mut lu, b));
+                assert!(
+                    err < 1e-12,
+                    "{blocks} × {size}, {}: error {err:e}",
+                    path.name()
+                );
+            }
+        }
+    }
+
+    /// Blocks of different sizes (a pinned node has 9 unknowns), against
+    /// the band LU on the same matrix.
+    #[test]
+    fn uneven_blocks_agree_with_the_band_lu() {
+        let sizes = [9usize, 12, 12, 12, 12];
+        let n: usize = sizes.iter().sum();
+        let mut node = Vec::new();
+        for (k, s) in sizes.iter().enumerate() {
+            node.extend(std::iter::repeat_n(k, *s));
+        }
+        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
+        let mut dense = vec![0.0; n * n];
+        for r in 0..n {
+            for c in (0..n).filter(|&c| coupled(r, c)) {
+                dense[r * n + c] = if r == c {
+                    40.0
+                } else {
+                    ((r * 13 + c * 7) % 17) as f64 / 17.0 - 0.5
+                };
+            }
+        }
+        let a = crate::linalg::band_cholesky::tests::TestMatrix::new(n, dense, coupled);
+        let mut lu = BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).expect("block tridiagonal");
+        assert_eq!(lu.starts, vec![0, 9, 21, 33, 45, 57]);
+        lu.factorize(&a.values).unwrap();
+        let mut band =
+            crate::linalg::band_lu::BandLu::new(n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+        band.factorize(&a.values).unwrap();
+        let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let (mut x1, mut x2) = (b.clone(), b.clone());
+        lu.solve_in_place(&mut x1);
+        band.solve_in_place(&mut x2);
+        let diff = x1
+            .iter()
+            .zip(&x2)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+        assert!(diff < 1e-13, "{diff:e}");
+    }
+
+    #[test]
+    fn refuses_what_is_not_block_tridiagonal_or_singular() {
+        // Two coupled blocks of 12 look like one of 24 (every column spans
+        // every row): refused, and the band LU takes such a one-element wire.
+        let a = block_tridiagonal(2, 12, false);
+        assert!(BlockTridiagonalLu::new(a.n, &a.col_ptr, &a.row_idx).is_none());
+        // Column 0 couples rows 0 and 2 only: blocks {0}, {1}, {2} with a
+        // (2, 0) entry two blocks away.
+        let col_ptr = [0, 2, 3, 5];
+        let row_idx = [0, 2, 1, 0, 2];
+        assert!(BlockTridiagonalLu::new(3, &col_ptr, &row_idx).is_none());
+        // A zero 2 × 2 block.
+        let mut lu = BlockTridiagonalLu::new(2, &[0, 2, 4], &[0, 1, 0, 1]).unwrap();
+        assert!(lu.factorize(&[0.0; 4]).is_err());
+    }
+}

@@ -114,6 +114,15 @@ enum Command {
         /// Slurm: submit the job array and return.
         #[arg(long)]
         submit_only: bool,
+        /// Slurm: wall-time limit per task (e.g. 00:30:00), over the sweep file's [slurm] time.
+        #[arg(long)]
+        time: Option<String>,
+        /// Slurm: memory per task (e.g. 2G), over the sweep file's [slurm] mem.
+        #[arg(long)]
+        mem: Option<String>,
+        /// Slurm: tasks running at once, over the sweep file's [slurm] max_parallel.
+        #[arg(long)]
+        max_parallel: Option<usize>,
         /// Gather the results of the sweep in DIR (after --submit-only).
         #[arg(long, value_name = "DIR", conflicts_with = "sweep")]
         collect: Option<PathBuf>,
@@ -281,9 +290,26 @@ fn main() -> ExitCode {
             executor,
             jobs,
             submit_only,
+            time,
+            mem,
+            max_parallel,
             collect,
             quiet,
-        } => sweep_command(sweep, out, executor, jobs, submit_only, collect, quiet),
+        } => sweep_command(
+            sweep,
+            out,
+            executor,
+            jobs,
+            submit_only,
+            ancf::sweep::file::SlurmSpec {
+                time,
+                mem,
+                max_parallel,
+                ..Default::default()
+            },
+            collect,
+            quiet,
+        ),
         Command::Quadrature {
             inner,
             outer,
@@ -392,12 +418,14 @@ fn study(
     ExitCode::SUCCESS
 }
 
+#[allow(clippy::too_many_arguments)]
 fn sweep_command(
     sweep: Option<PathBuf>,
     out: PathBuf,
     executor: ExecutorChoice,
     jobs: Option<usize>,
     submit_only: bool,
+    slurm: ancf::sweep::file::SlurmSpec,
     collect: Option<PathBuf>,
     quiet: bool,
 ) -> ExitCode {
@@ -406,8 +434,21 @@ fn sweep_command(
         eprintln!("error: --jobs: must be at least 1");
         return ExitCode::from(2);
     }
-    if submit_only && executor != ExecutorChoice::Slurm {
-        eprintln!("error: --submit-only: only with --executor slurm");
+    if executor != ExecutorChoice::Slurm {
+        for (given, flag) in [
+            (submit_only, "--submit-only"),
+            (slurm.time.is_some(), "--time"),
+            (slurm.mem.is_some(), "--mem"),
+            (slurm.max_parallel.is_some(), "--max-parallel"),
+        ] {
+            if given {
+                eprintln!("error: {flag}: only with --executor slurm");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if slurm.max_parallel == Some(0) {
+        eprintln!("error: --max-parallel: must be at least 1");
         return ExitCode::from(2);
     }
     if let Some(dir) = collect {
@@ -434,6 +475,7 @@ fn sweep_command(
         },
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         submit_only,
+        slurm,
         quiet,
     };
     let sweep = sweep.expect("clap requires a sweep file without --collect");

@@ -24,8 +24,9 @@ pub struct SlurmSpec {
     pub time: Option<String>,
     /// Memory per task (e.g. "2G").
     pub mem: Option<String>,
-    /// Tasks running at once (`%limit` of `--array`).
-    pub limit: Option<usize>,
+    /// Tasks running at once (`%N` of `--array`: Slurm's array throttle).
+    #[serde(alias = "limit")]
+    pub max_parallel: Option<usize>,
     /// Partition (`--partition`).
     pub partition: Option<String>,
     /// Further `#SBATCH` lines, verbatim (e.g. "--account=myproject").
@@ -195,6 +196,16 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
         .map_err(|e| SweepError(format!("{}: {e}", path.display())))?;
     let spec: SweepSpec = toml::from_str(&text)
         .map_err(|e| SweepError(format!("{}: {}", path.display(), e.message())))?;
+    if spec
+        .slurm
+        .as_ref()
+        .is_some_and(|s| s.max_parallel == Some(0))
+    {
+        return err(format!(
+            "{}: slurm.max_parallel: must be at least 1",
+            path.display()
+        ));
+    }
     let folder = path.parent().unwrap_or(Path::new("."));
     let scene = folder.join(&spec.scene);
     let scene = std::fs::canonicalize(&scene).unwrap_or(scene);

@@ -32,6 +32,7 @@ pub fn run(out: &Path, ids: &[String], jobs: usize, quiet: bool) -> Result<bool,
         );
         bar
     };
+    std::fs::create_dir_all(out.join("logs")).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut queue = ids.iter();
     let mut running: Vec<(String, Child)> = Vec::new();
     let mut forwarded = false;
@@ -54,8 +55,8 @@ pub fn run(out: &Path, ids: &[String], jobs: usize, quiet: bool) -> Result<bool,
             if let Ok(simd) = std::env::var("ANCF_SIMD") {
                 cmd.env("ANCF_SIMD", simd);
             }
-            // The child's messages (a panic's among them) go to its folder.
-            let log_path = super::run_dir(out, id).join("log.txt");
+            // The child's messages (a panic's among them): DIR/logs/<id>.log.
+            let log_path = out.join("logs").join(format!("{id}.log"));
             let log = std::fs::File::create(&log_path)
                 .map_err(|e| format!("{}: {e}", log_path.display()))?;
             let log2 = log

@@ -35,6 +35,9 @@ pub struct SweepOptions {
     pub jobs: usize,
     /// Slurm: submit and return without following the tasks.
     pub submit_only: bool,
+    /// Slurm: `time`, `mem` and `max_parallel` given on the command line,
+    /// over the sweep file's `[slurm]`.
+    pub slurm: file::SlurmSpec,
     pub quiet: bool,
 }
 
@@ -196,7 +199,14 @@ pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
     let interrupted = match opts.executor {
         Executor::Local => local::run(&out, &todo, opts.jobs, opts.quiet)?,
         Executor::Slurm => {
-            match slurm::run(&out, &todo, &sweep.slurm, opts.submit_only, opts.quiet)? {
+            let o = &opts.slurm;
+            let spec = file::SlurmSpec {
+                time: o.time.clone().or(sweep.slurm.time.clone()),
+                mem: o.mem.clone().or(sweep.slurm.mem.clone()),
+                max_parallel: o.max_parallel.or(sweep.slurm.max_parallel),
+                ..sweep.slurm.clone()
+            };
+            match slurm::run(&out, &todo, &spec, opts.submit_only, opts.quiet)? {
                 slurm::Outcome::Submitted { job } => {
                     return Ok(SweepEnd::Submitted {
                         job,

@@ -58,11 +58,11 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             ),
             Some(state) => (
                 format!("slurm: {state}"),
-                "the task left no summary.json (see slurm/task_*.out)".to_string(),
+                "the task left no summary.json (see logs/slurm_*.out)".to_string(),
             ),
-            None if dir.join("log.txt").exists() => (
+            None if out.join("logs").join(format!("{id}.log")).exists() => (
                 "crashed".to_string(),
-                format!("no summary.json; see {}", dir.join("log.txt").display()),
+                format!("no summary.json; see logs/{id}.log"),
             ),
             None => ("missing".to_string(), "not run yet".to_string()),
         };

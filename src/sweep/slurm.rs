@@ -46,7 +46,7 @@ fn call(program: &str, args: &[&str]) -> Result<String, String> {
 pub fn script(out: &Path, ids: &[String], spec: &SlurmSpec, exe: &Path) -> String {
     let mut s = String::from("#!/bin/bash\n");
     let _ = writeln!(s, "#SBATCH --job-name=ancf-sweep");
-    let limit = spec.limit.map_or(String::new(), |l| format!("%{l}"));
+    let limit = spec.max_parallel.map_or(String::new(), |l| format!("%{l}"));
     let _ = writeln!(
         s,
         "#SBATCH --array=0-{}{limit}",
@@ -69,7 +69,7 @@ pub fn script(out: &Path, ids: &[String], spec: &SlurmSpec, exe: &Path) -> Strin
     // A minute before the time limit the run gets SIGINT: it stops after
     // its step and keeps its outputs; a rerun resumes it from its checkpoint.
     let _ = writeln!(s, "#SBATCH --signal=INT@60");
-    let _ = writeln!(s, "#SBATCH --output={}/slurm/task_%A_%a.out", out.display());
+    let _ = writeln!(s, "#SBATCH --output={}/logs/slurm_%A_%a.out", out.display());
     let _ = writeln!(s, "set -u");
     let _ = writeln!(s, "export RAYON_NUM_THREADS=${{SLURM_CPUS_PER_TASK:-1}}");
     let _ = writeln!(s, "ids=({})", ids.join(" "));
@@ -100,6 +100,7 @@ pub fn run(
     let exe = std::env::current_exe().map_err(|e| format!("the ancf executable: {e}"))?;
     let dir = out.join("slurm");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(out.join("logs")).map_err(|e| format!("{}: {e}", out.display()))?;
     // A task that left a stale state behind gets a fresh one.
     for id in ids {
         let _ = std::fs::remove_file(run_dir(out, id).join("slurm_state.txt"));
@@ -263,7 +264,7 @@ mod tests {
         let spec = SlurmSpec {
             time: Some("00:10:00".into()),
             mem: Some("1G".into()),
-            limit: Some(4),
+            max_parallel: Some(4),
             partition: None,
             options: Some(vec!["--account=wires".into()]),
         };

@@ -1,6 +1,10 @@
 //! Factorization of the Newton matrix: the structural analysis is done once
 //! per pattern ([`SparseSolver::new`]); every refactorization is numeric
-//! only. A symmetric matrix tries LLᵀ first — as a band
+//! only. A wire's pattern (node blocks, block tridiagonal) goes to the
+//! block LU ([`BlockTridiagonalLu`]) when the matrix is non-symmetric, or a
+//! dynamic one ([`SparseSolver::for_dynamics`]) with fewer than
+//! `BLOCK_LU_MAX_SYMMETRIC` unknowns. Otherwise, or when a block
+//! is singular, a symmetric matrix tries LLᵀ first — as a band
 //! ([`BandCholesky`]: a wire's pattern is banded, and the band form was
 //! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md; from 2000 unknowns
 //! on split in two halves for two threads, [`SplitBandCholesky`]) or, for a wider
@@ -28,6 +32,14 @@ use faer::{ColMut, Conj, MatMut, Par, Side, linalg::solvers::Solve};
 /// Largest half-bandwidth factored as a band (a wire's is 23); wider
 /// patterns go to faer's sparse LLᵀ.
 const MAX_BAND: usize = 48;
+
+/// Symmetric dynamic Newton matrices up to this many unknowns go to the
+/// block LU rather than the band LLᵀ: modified-Newton pendulum steps
+/// measured 1.5–1.8× faster at 4–1024 elements. At 4096 elements (49 000
+/// unknowns) the split LLᵀ, factoring and solving on two threads, kept
+/// full-Newton steps faster (24 against 28–30 ms) for equal modified-Newton
+/// steps (BENCHMARKS.md, sixth session).
+const BLOCK_LU_MAX_SYMMETRIC: usize = 20_000;
 
 /// faer's sparse LLᵀ at its low level: the symbolic factor, the factor's
 /// values and one workspace for factorization and solves, all allocated
@@ -133,6 +145,11 @@ pub struct SparseSolver {
     band_lu: Option<BandLu>,
     symbolic_lu: Option<SymbolicLu<usize>>,
     factor: Factor,
+    /// Whether the matrices are (1 − α_m) M + c_k K (dynamics): the block
+    /// LU then also takes symmetric ones. A stiffness alone (statics) is
+    /// not mass-dominated and can be ill-conditioned (a nearly
+    /// incompressible cover): it keeps the band LLᵀ.
+    mass_dominated: bool,
     /// Number of numeric factorizations done.
     pub factorizations: usize,
 }
@@ -174,7 +191,16 @@ impl SparseSolver {
             band_lu: None,
             symbolic_lu: None,
             factor: Factor::None,
+            mass_dominated: false,
             factorizations: 0,
+        })
+    }
+
+    /// The solver of a dynamic Newton matrix (see `mass_dominated`).
+    pub fn for_dynamics(pattern: &Pattern) -> Result<Self, FactorError> {
+        Ok(SparseSolver {
+            mass_dominated: true,
+            ..SparseSolver::new(pattern)?
         })
     }
 
@@ -193,6 +219,20 @@ impl SparseSolver {
         }
         self.factorizations += 1;
         let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
+        // A wire's pattern (node blocks): the block LU, for symmetric
+        // matrices too below BLOCK_LU_MAX_SYMMETRIC unknowns, where its
+        // solves beat the band LLᵀ's (they dominate modified Newton).
+        let n = self.pattern.symbolic.nrows();
+        if (!symmetric || (self.mass_dominated && n < BLOCK_LU_MAX_SYMMETRIC))
+            && let Some(block) = self.block_lu.get_or_insert_with(|| {
+                let sym = self.pattern.symbolic.as_ref();
+                BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
+            })
+            && block.factorize(values).is_ok()
+        {
+            self.factor = Factor::BlockLu;
+            return Ok(FactorKind::Lu);
+        }
         // A symmetric matrix that is not positive definite (buckling) fails
         // LLᵀ and falls through to LU.
         if symmetric {
@@ -205,13 +245,6 @@ impl SparseSolver {
                 self.factor = Factor::Llt;
                 return Ok(FactorKind::Cholesky);
             }
-        } else if let Some(block) = self.block_lu.get_or_insert_with(|| {
-            let sym = self.pattern.symbolic.as_ref();
-            BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
-        }) && block.factorize(values).is_ok()
-        {
-            self.factor = Factor::BlockLu;
-            return Ok(FactorKind::Lu);
         } else if let Some(p) = self.llt.band()
             && self
                 .band_lu

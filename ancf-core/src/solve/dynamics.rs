@@ -274,7 +274,8 @@ fn norm_inf(v: &[f64]) -> f64 {
 impl Integrator {
     pub fn new(model: Arc<Model>, settings: DynamicSettings) -> Result<Self, StepError> {
         let pattern = Pattern::new(&model);
-        let solver = SparseSolver::new(&pattern).map_err(|e| StepError { message: e.0 })?;
+        let solver =
+            SparseSolver::for_dynamics(&pattern).map_err(|e| StepError { message: e.0 })?;
         let mass = mass_values(&model, &pattern);
         let rayleigh = match model.damping() {
             Some(Damping::Rayleigh {

@@ -457,7 +457,7 @@ fn run_dynamic(
         if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
             summary.status = "interrupted".into();
             summary.message = format!(
-                "interrupted (Ctrl-C) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
+                "interrupted (Ctrl-C or a termination signal) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
                 sim.state().time,
                 if scene.output.checkpoint_every > 0 {
                     "; continue with `ancf run --resume DIR`"

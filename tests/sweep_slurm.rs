@@ -1,6 +1,6 @@
 //! `ancf sweep --executor slurm` against a real Slurm (issue 17): the
 //! example sweep at a coarse setting is submitted as a job array, one task
-//! is cancelled on purpose, `--collect` reports it with its Slurm state,
+//! is killed while it runs, `--collect` reports it with its Slurm state,
 //! rerunning the command resubmits only that variant, and results.csv then
 //! holds the same numbers as the local executor's.
 //!
@@ -143,6 +143,21 @@ fn a_slurm_sweep_with_a_cancelled_task_ends_as_the_local_one() {
     let job = jobs.split_whitespace().next().unwrap().to_string();
     let script = std::fs::read_to_string(slurm_out.join("slurm/array_0.sbatch")).unwrap();
     assert!(script.contains("#SBATCH --array=0-5") && script.contains("#SBATCH --time=00:15:00"));
+    // Kill task 1 while it runs (two CPUs: tasks 0 and 1 start at once),
+    // as a node failure or an operator would.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let q = Command::new("squeue")
+            .args(["-h", "-r", "-j", &format!("{job}_1"), "-o", "%T"])
+            .output()
+            .unwrap();
+        let state = String::from_utf8_lossy(&q.stdout).trim().to_string();
+        if state == "RUNNING" || state.is_empty() {
+            break;
+        }
+        assert!(Instant::now() < deadline, "task 1 never ran ({state})");
+        std::thread::sleep(Duration::from_millis(50));
+    }
     let cancel = Command::new("scancel")
         .arg(format!("{job}_1"))
         .status()
@@ -161,8 +176,9 @@ fn a_slurm_sweep_with_a_cancelled_task_ends_as_the_local_one() {
         String::from_utf8_lossy(&collected.stderr)
     );
     let text = std::fs::read_to_string(slurm_out.join("results.csv")).unwrap();
-    // Cancelled while pending (Slurm then forgets the task) or while
-    // running: either way the row says what Slurm did, not "not run yet".
+    // Killed while running (CANCELLED), or, had it been quicker than the
+    // poll, gone from Slurm's list (UNKNOWN): either way the row says what
+    // Slurm did, not "not run yet".
     let v001 = text.lines().find(|l| l.starts_with("v001")).unwrap();
     assert!(
         v001.contains("slurm: ") && !v001.contains(",completed,"),

@@ -3,6 +3,7 @@
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
 mod builder;
+mod mass_product;
 pub use builder::WireBuilder;
 
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
@@ -577,27 +578,7 @@ impl Model {
 
     /// `out` = M x (full coordinates), without allocating.
     pub fn mass_times_into(&self, x: &[f64], out: &mut [f64]) {
-        out.fill(0.0);
-        for el in 0..self.n_elements {
-            let base = NODE_DOFS * el;
-            // Row by row in the order of the dense loop (same sums, same bits).
-            let mut acc = [0.0; 3];
-            let mut row = 0;
-            for &(i, j, mij) in &self.mass_nonzeros {
-                if i != row {
-                    for k in 0..3 {
-                        out[base + 3 * row + k] += acc[k];
-                    }
-                    (acc, row) = ([0.0; 3], i);
-                }
-                for k in 0..3 {
-                    acc[k] += mij * x[base + 3 * j + k];
-                }
-            }
-            for k in 0..3 {
-                out[base + 3 * row + k] += acc[k];
-            }
-        }
+        mass_product::mass_times_into(&self.mass_nonzeros, self.n_elements, x, out)
     }
 
     /// Gather the unknowns out of a full vector.

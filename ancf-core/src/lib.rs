@@ -43,7 +43,7 @@
 // model is made of.
 pub mod element;
 pub mod forces;
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod loads;
 pub mod material;
 pub mod math;

@@ -31,18 +31,18 @@ const QUEUE: usize = 4;
 /// What the solver sends to the writer thread.
 enum Job {
     Frame {
+        t: f64,
         name: String,
         q: Vec<f64>,
         v: Vec<f64>,
-        pvd: String,
     },
     /// Answer on the channel once everything before is written.
     Sync(std::sync::mpsc::SyncSender<()>),
 }
 
 pub struct VtkWriter {
+    /// Every frame queued so far (a checkpoint names them).
     frames: Vec<(f64, String)>,
-    rods: Vec<String>,
     jobs: Option<std::sync::mpsc::SyncSender<Job>>,
     worker: Option<std::thread::JoinHandle<std::io::Result<()>>>,
 }
@@ -161,6 +161,17 @@ fn rod_surface(rod: &Rod, default_length: f64) -> (Vec<[f64; 3]>, Vec<[usize; 4]
 impl VtkWriter {
     /// Creates `dir` and writes the rods.
     pub fn new(dir: &Path, model: &Model) -> std::io::Result<Self> {
+        VtkWriter::start(dir, model, Vec::new())
+    }
+
+    /// Continue a series: the rods are rewritten, `frames` (from a
+    /// checkpoint) are kept and numbering continues after them.
+    pub fn resume(dir: &Path, model: &Model, frames: Vec<(f64, String)>) -> std::io::Result<Self> {
+        VtkWriter::start(dir, model, frames)
+    }
+
+    /// Writes the rods and starts the writer thread after `frames`.
+    fn start(dir: &Path, model: &Model, frames: Vec<(f64, String)>) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir)?;
         let mut rods = Vec::new();
         if let Some(c) = model.contact() {
@@ -174,6 +185,7 @@ impl VtkWriter {
         }
         let (jobs, queue) = std::sync::mpsc::sync_channel::<Job>(QUEUE);
         let (model, out) = (model.clone(), dir.to_path_buf());
+        let (mut written, rod_files) = (frames.clone(), rods.clone());
         let worker = std::thread::Builder::new()
             .name("vtk-writer".into())
             .spawn(move || -> std::io::Result<()> {
@@ -182,10 +194,17 @@ impl VtkWriter {
                 let mut result = Ok(());
                 for job in queue {
                     match job {
-                        Job::Frame { name, q, v, pvd } => {
+                        Job::Frame { t, name, q, v } => {
+                            written.push((t, name));
+                            let name = &written[written.len() - 1].1;
                             if result.is_ok() {
-                                result = write_frame(&out.join(&name), &model, &q, &v)
-                                    .and_then(|()| std::fs::write(out.join("wire.pvd"), pvd));
+                                result =
+                                    write_frame(&out.join(name), &model, &q, &v).and_then(|()| {
+                                        std::fs::write(
+                                            out.join("wire.pvd"),
+                                            pvd(&written, &rod_files),
+                                        )
+                                    });
                             }
                         }
                         Job::Sync(done) => {
@@ -196,19 +215,10 @@ impl VtkWriter {
                 result
             })?;
         Ok(VtkWriter {
-            frames: Vec::new(),
-            rods,
+            frames,
             jobs: Some(jobs),
             worker: Some(worker),
         })
-    }
-
-    /// Continue a series: the rods are rewritten, `frames` (from a
-    /// checkpoint) are kept and numbering continues after them.
-    pub fn resume(dir: &Path, model: &Model, frames: Vec<(f64, String)>) -> std::io::Result<Self> {
-        let mut w = VtkWriter::new(dir, model)?;
-        w.frames = frames;
-        Ok(w)
     }
 
     /// The frames written so far: (time, file name).
@@ -222,10 +232,10 @@ impl VtkWriter {
         let name = format!("wire_{:06}.vtu", self.frames.len());
         self.frames.push((t, name.clone()));
         let job = Job::Frame {
+            t,
             name,
             q: q.to_vec(),
             v: v.to_vec(),
-            pvd: self.pvd(),
         };
         match self.jobs.as_ref().map(|jobs| jobs.send(job)) {
             Some(Ok(())) => Ok(()),
@@ -253,30 +263,6 @@ impl VtkWriter {
             Some(Err(_)) => Err(std::io::Error::other("the VTK writer thread panicked")),
         }
     }
-
-    /// The `.pvd` collection of the frames so far.
-    fn pvd(&self) -> String {
-        let mut s = String::new();
-        let _ = writeln!(s, "<?xml version=\"1.0\"?>");
-        let _ = writeln!(s, "<VTKFile type=\"Collection\" version=\"0.1\">");
-        let _ = writeln!(s, "  <Collection>");
-        for (t, f) in &self.frames {
-            let _ = writeln!(
-                s,
-                "    <DataSet timestep=\"{t:.9e}\" part=\"0\" file=\"{f}\"/>"
-            );
-            for (i, r) in self.rods.iter().enumerate() {
-                let _ = writeln!(
-                    s,
-                    "    <DataSet timestep=\"{t:.9e}\" part=\"{}\" file=\"{r}\"/>",
-                    i + 1
-                );
-            }
-        }
-        let _ = writeln!(s, "  </Collection>");
-        let _ = writeln!(s, "</VTKFile>");
-        s
-    }
 }
 
 impl Drop for VtkWriter {
@@ -284,6 +270,30 @@ impl Drop for VtkWriter {
     fn drop(&mut self) {
         let _ = self.finish();
     }
+}
+
+/// The `.pvd` collection of `frames` (time, file), each with the rods.
+fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(s, "<VTKFile type=\"Collection\" version=\"0.1\">");
+    let _ = writeln!(s, "  <Collection>");
+    for (t, f) in frames {
+        let _ = writeln!(
+            s,
+            "    <DataSet timestep=\"{t:.9e}\" part=\"0\" file=\"{f}\"/>"
+        );
+        for (i, r) in rods.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "    <DataSet timestep=\"{t:.9e}\" part=\"{}\" file=\"{r}\"/>",
+                i + 1
+            );
+        }
+    }
+    let _ = writeln!(s, "  </Collection>");
+    let _ = writeln!(s, "</VTKFile>");
+    s
 }
 
 /// One frame of the wire: the tube surface with displacement, velocity and

@@ -24,12 +24,6 @@ struct Cli {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum ExecutorChoice {
-    Local,
-    Slurm,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum SimdChoice {
     Auto,
     Baseline,
@@ -107,7 +101,7 @@ enum Command {
         out: PathBuf,
         /// Where the variants run.
         #[arg(long, value_enum, default_value = "local")]
-        executor: ExecutorChoice,
+        executor: ancf::sweep::Executor,
         /// Local: variants at a time (default: the cores).
         #[arg(long)]
         jobs: Option<usize>,
@@ -188,13 +182,7 @@ fn main() -> ExitCode {
             resume,
         } => {
             // Ctrl-C ends the run after the current step, keeping everything written so far.
-            if let Err(e) = ctrlc::set_handler(|| {
-                ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
-            }) {
-                eprintln!(
-                    "warning: no Ctrl-C handler ({e}); an interrupt will stop the run without a summary"
-                );
-            }
+            stop_on_interrupt("an interrupt will stop the run without a summary");
             let (result, out) = match (resume, scene) {
                 (Some(dir), _) => {
                     if !quiet {
@@ -422,7 +410,7 @@ fn study(
 fn sweep_command(
     sweep: Option<PathBuf>,
     out: PathBuf,
-    executor: ExecutorChoice,
+    executor: ancf::sweep::Executor,
     jobs: Option<usize>,
     submit_only: bool,
     slurm: ancf::sweep::file::SlurmSpec,
@@ -434,7 +422,7 @@ fn sweep_command(
         eprintln!("error: --jobs: must be at least 1");
         return ExitCode::from(2);
     }
-    if executor != ExecutorChoice::Slurm {
+    if executor != Executor::Slurm {
         for (given, flag) in [
             (submit_only, "--submit-only"),
             (slurm.time.is_some(), "--time"),
@@ -462,17 +450,10 @@ fn sweep_command(
         };
     }
     // Ctrl-C: finished variants are kept, running ones stop with a checkpoint.
-    if let Err(e) = ctrlc::set_handler(|| {
-        ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
-    }) {
-        eprintln!("warning: no Ctrl-C handler ({e})");
-    }
+    stop_on_interrupt("an interrupt will stop the sweep without results.csv");
     let opts = SweepOptions {
         out: out.clone(),
-        executor: match executor {
-            ExecutorChoice::Local => Executor::Local,
-            ExecutorChoice::Slurm => Executor::Slurm,
-        },
+        executor,
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         submit_only,
         slurm,
@@ -518,5 +499,15 @@ fn sweep_exit(out: &std::path::Path, end: ancf::sweep::SweepEnd) -> ExitCode {
             ExitCode::from(130)
         }
         SweepEnd::Submitted { .. } => ExitCode::SUCCESS,
+    }
+}
+
+/// Ctrl-C or SIGTERM sets `run::INTERRUPTED`, which runs and sweeps check
+/// between steps; `without` says what is lost when no handler can be set.
+fn stop_on_interrupt(without: &str) {
+    if let Err(e) = ctrlc::set_handler(|| {
+        ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
+    }) {
+        eprintln!("warning: no Ctrl-C handler ({e}); {without}");
     }
 }

@@ -18,7 +18,7 @@ use file::{Mode, Sweep};
 use std::path::{Path, PathBuf};
 
 /// Where the variants run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Executor {
     /// Child processes on this machine, `jobs` at a time.
     Local,

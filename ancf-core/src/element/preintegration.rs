@@ -760,6 +760,28 @@ fn station_lanes<F: Arith, const W: usize>(
     energy * (wx * 0.5)
 }
 
+/// The lane kernel on plain arrays (`e[i][k]`: coordinate i of element k).
+#[inline(always)]
+fn forces_arrays<F: Arith, const W: usize>(
+    pre: &PreIntegrated,
+    nodes: &[f64],
+    weights: &[f64],
+    l: f64,
+    e: &[[f64; W]; 24],
+    q: &mut [[f64; W]; 24],
+) -> [f64; W] {
+    let mut el = [Lanes([0.0; W]); 24];
+    let mut ql = [Lanes([0.0; W]); 24];
+    for i in 0..24 {
+        (el[i], ql[i]) = (Lanes(e[i]), Lanes(q[i]));
+    }
+    let energy = forces_lanes::<F, W>(pre, nodes, weights, l, &el, &mut ql);
+    for (qi, v) in q.iter_mut().zip(&ql) {
+        *qi = v.0;
+    }
+    energy.0
+}
+
 /// One element's force through the lane kernel (so that a lone element and
 /// a batch of four give the same bits on every path).
 #[inline(always)]
@@ -771,16 +793,16 @@ fn forces_1_with<F: Arith>(
     e: &ElementVector,
     q: &mut ElementVector,
 ) -> f64 {
-    let mut e1 = [Lanes([0.0]); 24];
-    let mut q1 = [Lanes([0.0]); 24];
+    let mut e1 = [[0.0]; 24];
+    let mut q1 = [[0.0]; 24];
     for i in 0..24 {
-        (e1[i], q1[i]) = (Lanes([e[i]]), Lanes([q[i]]));
+        (e1[i], q1[i]) = ([e[i]], [q[i]]);
     }
-    let energy = forces_lanes::<F, 1>(pre, nodes, weights, l, &e1, &mut q1);
+    let energy = forces_arrays::<F, 1>(pre, nodes, weights, l, &e1, &mut q1);
     for (qi, v) in q.iter_mut().zip(&q1) {
-        *qi = v.0[0];
+        *qi = v[0];
     }
-    energy.0[0]
+    energy[0]
 }
 
 /// Four elements' forces at once (see [`Lanes`]).
@@ -793,16 +815,7 @@ fn forces_4_with<F: Arith>(
     e: &[[f64; 4]; 24],
     q: &mut [[f64; 4]; 24],
 ) -> [f64; 4] {
-    let mut e4 = [Lanes([0.0; 4]); 24];
-    let mut q4 = [Lanes([0.0; 4]); 24];
-    for i in 0..24 {
-        (e4[i], q4[i]) = (Lanes(e[i]), Lanes(q[i]));
-    }
-    let energy = forces_lanes::<F, 4>(pre, nodes, weights, l, &e4, &mut q4);
-    for (qi, v) in q.iter_mut().zip(&q4) {
-        *qi = v.0;
-    }
-    energy.0
+    forces_arrays::<F, 4>(pre, nodes, weights, l, e, q)
 }
 
 crate::simd_dispatch! {

@@ -385,6 +385,17 @@ mod tests {
         toml::from_str(text).unwrap()
     }
 
+    /// `expand` over the test scene with the parameters of `text`.
+    fn sweep(mode: Mode, text: &str) -> Result<Sweep, SweepError> {
+        expand(
+            "s.toml".into(),
+            base(),
+            mode,
+            &params(text),
+            SlurmSpec::default(),
+        )
+    }
+
     #[test]
     fn paths_parse_keys_and_indices() {
         assert_eq!(
@@ -402,15 +413,9 @@ mod tests {
 
     #[test]
     fn grid_and_zip_expand_in_order() {
-        let p = params(
-            "\"wire.length\" = [1.0, 2.0]\n\"rod[0].center\" = [[0.5, 0.0, -0.3], [0.6, 0.0, -0.3], [0.7, 0.0, -0.3]]",
-        );
-        let grid = expand(
-            "s.toml".into(),
-            base(),
+        let grid = sweep(
             Mode::Grid,
-            &p,
-            SlurmSpec::default(),
+            "\"wire.length\" = [1.0, 2.0]\n\"rod[0].center\" = [[0.5, 0.0, -0.3], [0.6, 0.0, -0.3], [0.7, 0.0, -0.3]]",
         )
         .unwrap();
         assert_eq!(grid.variants.len(), 6);
@@ -424,50 +429,34 @@ mod tests {
             (scene.model.element.length - 1.0).abs() < 1e-12,
             "wire.length = 2 over 2 elements"
         );
-        let zip = expand(
-            "s.toml".into(),
-            base(),
+        let zip = sweep(
             Mode::Zip,
-            &params("\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2, 4]"),
-            SlurmSpec::default(),
+            "\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2, 4]",
         )
         .unwrap();
         assert_eq!(zip.variants.len(), 2);
         assert_eq!(zip.variants[1].id, "v001");
-        let mismatched = expand(
-            "s.toml".into(),
-            base(),
+        let mismatched = sweep(
             Mode::Zip,
-            &params("\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2]"),
-            SlurmSpec::default(),
+            "\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2]",
         );
         assert!(mismatched.unwrap_err().0.contains("equal length"));
     }
 
     #[test]
     fn linked_paths_change_together() {
-        let p = params(
-            "\"wire.length & wire.elements\" = [[1.0, 2], [2.0, 4]]\n\"rod[0].radius\" = [0.02, 0.03]",
-        );
-        let sweep = expand(
-            "s.toml".into(),
-            base(),
+        let linked = sweep(
             Mode::Grid,
-            &p,
-            SlurmSpec::default(),
+            "\"wire.length & wire.elements\" = [[1.0, 2], [2.0, 4]]\n\"rod[0].radius\" = [0.02, 0.03]",
         )
         .unwrap();
-        assert_eq!(sweep.variants.len(), 4);
-        let last = Scene::from_toml(&sweep.variants[3].scene_text).unwrap();
+        assert_eq!(linked.variants.len(), 4);
+        let last = Scene::from_toml(&linked.variants[3].scene_text).unwrap();
         assert_eq!(last.model.n_elements, 4);
         assert!((last.model.element.length - 0.5).abs() < 1e-12);
-        let bad = params("\"wire.length & wire.elements\" = [[1.0, 2], [2.0]]");
-        let e = expand(
-            "s.toml".into(),
-            base(),
+        let e = sweep(
             Mode::Grid,
-            &bad,
-            SlurmSpec::default(),
+            "\"wire.length & wire.elements\" = [[1.0, 2], [2.0]]",
         )
         .unwrap_err();
         assert!(e.0.contains("2 linked paths take lists of 2 values"), "{e}");
@@ -476,53 +465,18 @@ mod tests {
     /// One bad variant refuses the whole sweep, naming it, its values and the field.
     #[test]
     fn a_bad_variant_is_named_with_its_field() {
-        let e = expand(
-            "s.toml".into(),
-            base(),
-            Mode::Grid,
-            &params("\"wire.length\" = [1.0, -2.0]"),
-            SlurmSpec::default(),
-        )
-        .unwrap_err();
+        let e = sweep(Mode::Grid, "\"wire.length\" = [1.0, -2.0]").unwrap_err();
         assert!(
             e.0.contains("variant v001 (wire.length = -2.0)") && e.0.contains("wire.length"),
             "{e}"
         );
-        let e = expand(
-            "s.toml".into(),
-            base(),
-            Mode::Grid,
-            &params("\"wire.lenght\" = [1.0]"),
-            SlurmSpec::default(),
-        )
-        .unwrap_err();
+        let e = sweep(Mode::Grid, "\"wire.lenght\" = [1.0]").unwrap_err();
         assert!(e.0.contains("lenght"), "{e}");
-        let e = expand(
-            "s.toml".into(),
-            base(),
-            Mode::Grid,
-            &params("\"rod[3].radius\" = [0.1]"),
-            SlurmSpec::default(),
-        )
-        .unwrap_err();
+        let e = sweep(Mode::Grid, "\"rod[3].radius\" = [0.1]").unwrap_err();
         assert!(e.0.contains("index 3 is past the scene's 1 entries"), "{e}");
-        let e = expand(
-            "s.toml".into(),
-            base(),
-            Mode::Grid,
-            &params("\"wire.length\" = 1.0"),
-            SlurmSpec::default(),
-        )
-        .unwrap_err();
+        let e = sweep(Mode::Grid, "\"wire.length\" = 1.0").unwrap_err();
         assert!(e.0.contains("a list of values"), "{e}");
-        let e = expand(
-            "s.toml".into(),
-            base(),
-            Mode::Grid,
-            &params("\"rod[0].contact_stiffness\" = [\"stiff\"]"),
-            SlurmSpec::default(),
-        )
-        .unwrap_err();
+        let e = sweep(Mode::Grid, "\"rod[0].contact_stiffness\" = [\"stiff\"]").unwrap_err();
         assert!(
             e.0.contains("rod[0].contact_stiffness") || e.0.contains("contact_stiffness"),
             "{e}"

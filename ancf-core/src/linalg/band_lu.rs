@@ -181,7 +181,9 @@ fn solve_with<F: Arith>(lu: &BandLu, b: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linalg::band_cholesky::tests::{TestMatrix, block_tridiagonal, uniform};
+    use crate::linalg::band_cholesky::tests::{
+        TestMatrix, assert_paths_agree, block_tridiagonal, uniform,
+    };
 
     #[test]
     fn solves_nonsymmetric_band_systems_to_round_off() {
@@ -207,28 +209,13 @@ mod tests {
     /// fused multiply-adds).
     #[test]
     fn every_simd_path_agrees_with_the_baseline() {
-        use crate::math::simd::SimdPath;
         let a = block_tridiagonal(20, 12, false);
-        let p = a.bandwidth();
-        let mut lu = BandLu::new(a.n, p, &a.col_ptr, &a.row_idx);
+        let mut lu = BandLu::new(a.n, a.bandwidth(), &a.col_ptr, &a.row_idx);
         let x: Vec<f64> = (0..a.n).map(|i| (i as f64 * 0.3).cos()).collect();
-        let mut reference = None;
-        for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
+        assert_paths_agree(&a, &x, |path, b| {
             factorize(path, &mut lu, &a.values).expect("non-singular");
-            let mut got = Vec::new();
-            let err = a.solve_error(&x, |b| {
-                solve(path, &lu, b);
-                got = b.to_vec();
-            });
-            assert!(err < 1e-12, "{}: error {err:e}", path.name());
-            let base = reference.get_or_insert(got.clone());
-            let diff = got
-                .iter()
-                .zip(base.iter())
-                .map(|(g, b)| (g - b).abs())
-                .fold(0.0, f64::max);
-            assert!(diff < 1e-13, "{} against baseline: {diff:e}", path.name());
-        }
+            solve(path, &lu, b);
+        });
     }
 
     #[test]

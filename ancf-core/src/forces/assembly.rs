@@ -169,12 +169,11 @@ pub fn assemble(
         if values.is_none() {
             // Forces only: four elements at a time where the kernel allows
             // (the same bits per element as one by one; faster with SIMD).
-            let mut q4;
             while first + 4 <= n {
                 let e: [ElementVector; 4] =
                     std::array::from_fn(|k| model.element_coordinates(q, first + k));
                 let e4 = std::array::from_fn(|i| std::array::from_fn(|k| e[k][i]));
-                q4 = [[0.0; 4]; 24];
+                let mut q4 = [[0.0; 4]; 24];
                 let Some(u) = model.element.forces_x4(&e4, &mut q4) else {
                     break;
                 };

@@ -169,7 +169,7 @@ fn main() -> ExitCode {
                     scene.display(),
                     s.model.n_elements,
                     s.model.n_unknowns,
-                    s.model.element.kernel_path()
+                    s.model.element(0).kernel_path()
                 );
                 ExitCode::SUCCESS
             }
@@ -199,7 +199,7 @@ fn main() -> ExitCode {
                         eprintln!(
                             "ancf: {} — {}",
                             scene.display(),
-                            s.model.element.kernel_path()
+                            s.model.element(0).kernel_path()
                         );
                     }
                     (

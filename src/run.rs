@@ -175,9 +175,9 @@ struct History {
 
 /// Centerline in the x–z plane, 8 points per element.
 fn centerline(model: &Model, q: &[f64]) -> Vec<(f64, f64)> {
-    let l = model.element.length;
     let mut pts = Vec::new();
     for el in 0..model.n_elements {
+        let l = model.element(el).length;
         let e = model.element_coordinates(q, el);
         for k in usize::from(el > 0)..=8 {
             let p = position(&e, k as f64 / 8.0, 0.0, 0.0, l);
@@ -189,7 +189,7 @@ fn centerline(model: &Model, q: &[f64]) -> Vec<(f64, f64)> {
 
 /// Position and E_xx, E_yy, E_zz of a material point.
 fn point_state(model: &Model, q: &[f64], cp: &ContactPoint) -> ([f64; 3], [f64; 3]) {
-    let l = model.element.length;
+    let l = model.element(cp.element).length;
     let e = model.element_coordinates(q, cp.element);
     let p = position(&e, cp.xi, cp.y, cp.z, l);
     let eps = green_lagrange(&deformation_gradient(
@@ -288,7 +288,7 @@ fn new_summary(scene: &Scene) -> Summary {
     Summary {
         elements: model.n_elements,
         unknowns: model.n_unknowns,
-        kernel: model.element.kernel_path().to_string(),
+        kernel: model.element(0).kernel_path().to_string(),
         simd: ancf_core::math::simd::path().name().into(),
         effects: effect_names(model),
         ..Default::default()

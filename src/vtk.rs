@@ -175,7 +175,7 @@ impl VtkWriter {
         std::fs::create_dir_all(dir)?;
         let mut rods = Vec::new();
         if let Some(c) = model.contact() {
-            let wire_length = model.element.length * model.n_elements as f64;
+            let wire_length = model.length();
             for (i, rod) in c.rods.iter().enumerate() {
                 let name = format!("rod_{i}.vtu");
                 let (points, quads) = rod_surface(rod, 2.0 * wire_length);
@@ -299,11 +299,11 @@ fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
 /// One frame of the wire: the tube surface with displacement, velocity and
 /// Green–Lagrange strain at its points.
 fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Result<()> {
-    let l = model.element.length;
-    let radius = model.element.section.outer_radius();
+    let radius = model.section().outer_radius();
     let mut points = Vec::new();
     let (mut disp, mut vel, mut strain) = (Vec::new(), Vec::new(), Vec::new());
     for el in 0..model.n_elements {
+        let l = model.element(el).length;
         let e = model.element_coordinates(q, el);
         let e0 = model.element_coordinates(&model.reference, el);
         let ev = model.element_coordinates(v, el);

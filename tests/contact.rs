@@ -44,7 +44,7 @@ fn setup(law: ContactLaw, friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
             ..Default::default()
         },
         RW,
-        L,
+        &[L],
     );
     let mut rng = Rng::new(21);
     let mut e = reference(L);
@@ -57,14 +57,14 @@ fn setup(law: ContactLaw, friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
 
 fn eval(c: &Contact, e: &[f64; 24], v: &[f64; 24]) -> ([f64; 24], [f64; 576], [f64; 576], f64) {
     let (mut q, mut kq, mut kv) = ([0.0; 24], [0.0; 576], [0.0; 576]);
-    let (s, _) = c.element(e, v, &mut q, Some(&mut kq), Some(&mut kv));
+    let (s, _) = c.element(0, e, v, &mut q, Some(&mut kq), Some(&mut kv));
     (q, kq, kv, s.energy)
 }
 
 /// No test point within `margin` of the rod surface, so FD does not cross the kink at g = 0.
 fn away_from_boundary(c: &Contact, e: &[f64; 24], margin: f64) -> bool {
     let r = &c.rods[0];
-    c.points.iter().all(|tp| {
+    c.geometry[0].points.iter().all(|tp| {
         let p: [f64; 3] = std::array::from_fn(|k| (0..8).map(|i| tp.s[i] * e[3 * i + k]).sum());
         let rel = [p[0] - r.center[0], p[2] - r.center[2]];
         ((rel[0] * rel[0] + rel[1] * rel[1]).sqrt() - r.radius).abs() > margin
@@ -135,7 +135,7 @@ fn far_elements_are_skipped_by_the_broad_phase() {
     for blk in [0, 4] {
         e[3 * blk + 2] += 1.0; // lift the element 1 m
     }
-    assert!(!c.may_touch(&c.rods[0], &e));
+    assert!(!c.may_touch(0, &c.rods[0], &e));
     let (q, kq, _, energy) = eval(&c, &e, &v);
     assert_eq!(energy, 0.0);
     assert!(q.iter().chain(kq.iter()).all(|x| *x == 0.0));

@@ -26,7 +26,7 @@ fn pendulum_has_elasticity_and_gravity_only() {
     assert!(matches!(m.effects[1], Effect::Gravity { .. }));
     assert!(m.contact().is_none());
     assert!(m.point_loads().is_empty());
-    for layer in &m.element.section.layers {
+    for layer in &m.section().layers {
         assert!(!layer.laws.section.is_mooney_rivlin());
         assert!(
             layer.laws.centerline.is_none(),
@@ -69,7 +69,7 @@ fn rods_bring_contact_and_friction_only_when_named() {
     }
     let v = [0.5; 24];
     let (mut q, mut kq, mut kv) = ([0.0; 24], [0.0; 576], [0.0; 576]);
-    let (sample, _) = c.element(&e, &v, &mut q, Some(&mut kq), Some(&mut kv));
+    let (sample, _) = c.element(0, &e, &v, &mut q, Some(&mut kq), Some(&mut kv));
     assert!(
         sample.active > 0,
         "the test configuration must touch the rod"
@@ -97,7 +97,7 @@ fn centerline_and_mooney_rivlin_only_where_the_layer_needs_them() {
             "[[material]]\nname = \"aluminium-strands\"\nmodel = \"mooney-rivlin\"\ndensity = 1100.0\nmu10 = 5e5\nmu01 = 1e5\npenalty = 1e3",
         )
     });
-    let layers = &s.model.element.section.layers;
+    let layers = &s.model.section().layers;
     // The SVK core with ω = 1 and ν = 0: no centerline term, no Mooney–Rivlin.
     assert!(layers[0].laws.centerline.is_none() && !layers[0].laws.section.is_mooney_rivlin());
     // The cover with the default locking remedy: a ν = 0 SVK law over the
@@ -124,7 +124,7 @@ fn centerline_and_mooney_rivlin_only_where_the_layer_needs_them() {
             "[[material]]\nname = \"aluminium-strands\"\nmodel = \"mooney-rivlin\"\nlocking = \"none\"\ndensity = 1100.0\nmu10 = 5e5\nmu01 = 1e5\npenalty = 1e3",
         )
     });
-    let cover = &plain.model.element.section.layers[1];
+    let cover = &plain.model.section().layers[1];
     assert!(cover.laws.section.is_mooney_rivlin() && cover.laws.centerline.is_none());
     assert!(matches!(
         plain.model.effects[0],
@@ -137,8 +137,7 @@ fn centerline_and_mooney_rivlin_only_where_the_layer_needs_them() {
     assert!(
         weakened
             .model
-            .element
-            .section
+            .section()
             .layers
             .iter()
             .all(|l| l.laws.centerline.is_some())

@@ -142,7 +142,7 @@ fn stiff_wire_first_touches_when_a_rigid_pendulum_would() {
             hi = mid
         }
     }
-    let length = s.model.element.length * s.model.n_elements as f64;
+    let length = s.model.length();
     let t_rigid = rigid_pendulum_time(lo, length, 9.81);
     let r = run(&s, t_rigid * 1.1);
     let t = r.first_contact.expect("contact");

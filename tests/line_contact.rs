@@ -32,7 +32,7 @@ fn rod(law: ContactLaw, x: f64, depth: f64) -> Rod {
 /// The force (N) a straight wire of `n` elements along x from the origin
 /// receives from `rod`, summed over elements.
 fn force_on_straight_wire(rod: Rod, n: usize, settings: ContactSettings) -> [f64; 3] {
-    let c = Contact::new(vec![rod], settings, RW, L);
+    let c = Contact::new(vec![rod], settings, RW, &[L]);
     let v = [0.0; 24];
     let mut total = [0.0; 3];
     for el in 0..n {
@@ -44,7 +44,7 @@ fn force_on_straight_wire(rod: Rod, n: usize, settings: ContactSettings) -> [f64
             L,
         );
         let mut q = [0.0; 24];
-        let (s, _) = c.element(&e, &v, &mut q, None, None);
+        let (s, _) = c.element(0, &e, &v, &mut q, None, None);
         // The generalized force's translation part is the resultant.
         let scale = s.normal_force.max(1e-300);
         for k in 0..3 {
@@ -131,7 +131,7 @@ fn a_wrap_at_constant_gap_carries_a_uniform_line_load() {
         }],
         ContactSettings::default(),
         RW,
-        l,
+        &[l],
     );
     let node = |k: usize| {
         let th = std::f64::consts::PI - k as f64 * dtheta; // from −x over the top toward +z … +x side
@@ -153,7 +153,7 @@ fn a_wrap_at_constant_gap_carries_a_uniform_line_load() {
             }
         }
         let mut q = [0.0; 24];
-        let (s, _) = c.element(&e, &v, &mut q, None, None);
+        let (s, _) = c.element(0, &e, &v, &mut q, None, None);
         // ∫ p ds over the element: ε_L δ l, and the resultant 2ρ sin(Δθ/2) ε_L δ.
         let load = EPS_L * delta;
         assert!(

@@ -78,7 +78,7 @@ fn hanging_span_matches_the_elastic_catenary() {
     for (l0, span) in [(50.06, 50.0), (50.5, 50.0)] {
         let scene = Scene::from_toml(&span_scene(l0, span, 50, "")).unwrap();
         let model = &scene.model;
-        let section = &model.element.section;
+        let section = model.section();
         let w = section.mass_per_length() * 9.81;
         let ea = section.axial_stiffness();
         let (h_exact, sag_exact) = elastic_catenary(l0, span, w, ea);

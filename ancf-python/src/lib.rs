@@ -688,7 +688,7 @@ impl Simulation {
         d.set_item("steps", p.step)?;
         d.set_item("newton_iterations", p.newton_iterations)?;
         d.set_item("factorizations", p.factorizations)?;
-        d.set_item("kernel", model.element.kernel_path().to_string())?;
+        d.set_item("kernel", model.element(0).kernel_path().to_string())?;
         d.set_item("simd", ancf_core::math::simd::path().name())?;
         let tip = PyDict::new(py);
         let position = model.node_position(&p.state.q, model.n_elements);

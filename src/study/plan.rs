@@ -59,8 +59,8 @@ impl Setting {
         };
         Setting {
             elements: m.n_elements,
-            axial: m.element.axial.nodes.len(),
-            section: m.element.section.order,
+            axial: m.element(0).axial.nodes.len(),
+            section: m.section().order,
             time_step,
             spectral_radius,
             full_newton,
@@ -119,7 +119,7 @@ impl Setting {
     /// `sample_interval` (dynamic), without VTK, plots or checkpoints.
     pub fn apply(&self, base: &SceneFile, sample_interval: Option<f64>) -> SceneFile {
         let mut f = base.clone();
-        f.wire.elements = self.elements;
+        set_elements(&mut f, self.elements);
         f.wire.quadrature = Some(QuadratureSpec {
             axial: Some(self.axial),
             section: Some(self.section),
@@ -489,5 +489,21 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         families,
         reference,
         sample_interval: Some(h_max),
+    }
+}
+
+/// Sets the scene's element count to `n`: a uniform mesh gets `n` elements,
+/// a graded one keeps its proportions (each segment's count scaled by
+/// n / total, rounded, at least 1).
+fn set_elements(f: &mut SceneFile, n: usize) {
+    match &mut f.wire.segments {
+        Some(segments) => {
+            let total: usize = segments.iter().map(|s| s.elements).sum();
+            let factor = n as f64 / total as f64;
+            for s in segments {
+                s.elements = ((s.elements as f64 * factor).round() as usize).max(1);
+            }
+        }
+        None => f.wire.elements = Some(n),
     }
 }

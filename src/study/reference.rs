@@ -60,7 +60,7 @@ pub fn analytic(scene: &Scene) -> Option<Analytic> {
     {
         return None;
     }
-    let section = &m.element.section;
+    let section = m.section();
     let SectionShape::Circular { .. } = section.shape else {
         return None;
     };
@@ -84,7 +84,7 @@ pub fn analytic(scene: &Scene) -> Option<Analytic> {
         ga += e / 2.0 * layer.area;
     }
     let omega = omega?;
-    let length = m.element.length * m.n_elements as f64;
+    let length = m.length();
     let axis = m.axis;
     let f = load.force;
     let f_axial = dot(f, axis);

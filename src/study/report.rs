@@ -55,7 +55,7 @@ pub fn kernel_costs(scene: &Scene) -> Vec<KernelCost> {
         .num_threads(1)
         .build()
         .expect("a one-thread pool");
-    let el = &scene.model.element;
+    let el = scene.model.element(0);
     let mut out = Vec::new();
     pool.install(|| {
         for section in 2..=5 {
@@ -599,7 +599,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
                 threshold_table(&mut md, &base, "energy", &fam.settings, &energy);
             }
         }
-        let radius = input.scene.model.element.section.outer_radius();
+        let radius = input.scene.model.section().outer_radius();
         runs_table(&mut md, &mut csv, &slug, fam, outcomes, &errors, radius);
         md.push('\n');
     }

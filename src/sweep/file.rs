@@ -426,7 +426,7 @@ mod tests {
         let scene = Scene::from_toml(&grid.variants[5].scene_text).unwrap();
         assert_eq!(scene.model.n_elements, 2);
         assert!(
-            (scene.model.element.length - 1.0).abs() < 1e-12,
+            (scene.model.element(0).length - 1.0).abs() < 1e-12,
             "wire.length = 2 over 2 elements"
         );
         let zip = sweep(
@@ -453,7 +453,7 @@ mod tests {
         assert_eq!(linked.variants.len(), 4);
         let last = Scene::from_toml(&linked.variants[3].scene_text).unwrap();
         assert_eq!(last.model.n_elements, 4);
-        assert!((last.model.element.length - 0.5).abs() < 1e-12);
+        assert!((last.model.element(0).length - 0.5).abs() < 1e-12);
         let e = sweep(
             Mode::Grid,
             "\"wire.length & wire.elements\" = [[1.0, 2], [2.0]]",

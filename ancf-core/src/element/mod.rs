@@ -331,6 +331,15 @@ impl ElementIntegration {
         }
     }
 
+    /// The same integration for elements of length `length` (m): the
+    /// pre-integrated section tensors do not depend on it.
+    pub fn with_length(&self, length: f64) -> Self {
+        ElementIntegration {
+            length,
+            ..self.clone()
+        }
+    }
+
     /// Force the generic path (for comparisons and benchmarks).
     pub fn with_generic_kernel(mut self) -> Self {
         self.kernel = None;

@@ -862,12 +862,12 @@ mod tests {
             .build()
             .unwrap();
         let pre = model
-            .element
+            .element(0)
             .plan
             .preintegrated
             .as_ref()
             .expect("SVK is pre-integrated");
-        let l = model.element.length;
+        let l = model.element(0).length;
         let (nodes, weights) = (
             &[0.1127016653792583, 0.5, 0.8872983346207417],
             &[5.0 / 18.0, 4.0 / 9.0, 5.0 / 18.0],

@@ -159,37 +159,38 @@ pub fn assemble(
     let mut force = vec![0.0; q.len()];
     // Per-element energies, summed in element order at the end.
     let mut energy = vec![0.0; model.n_elements];
-    let n = model.n_elements;
     if !runs_in_parallel(model, jacobian.is_some()) || rayon::current_num_threads() == 1 {
         let mut values = jacobian.map(|v| {
             v.fill(0.0);
             (v, 0)
         });
-        let mut first = 0;
-        if values.is_none() {
-            // Forces only: four elements at a time where the kernel allows
-            // (the same bits per element as one by one; faster with SIMD).
-            while first + 4 <= n {
-                let e: [ElementVector; 4] =
-                    std::array::from_fn(|k| model.element_coordinates(q, first + k));
-                let e4 = std::array::from_fn(|i| std::array::from_fn(|k| e[k][i]));
-                let mut q4 = [[0.0; 4]; 24];
-                let Some(u) = model.element.forces_x4(&e4, &mut q4) else {
-                    break;
-                };
-                for k in 0..4 {
-                    energy[first + k] = u[k];
-                    let base = NODE_DOFS * (first + k);
-                    for i in 0..24 {
-                        force[base + i] += q4[i][k];
+        for group in &model.groups {
+            let mut first = group.elements.start;
+            if values.is_none() {
+                // Forces only: four elements at a time where the kernel allows
+                // (the same bits per element as one by one; faster with SIMD).
+                while first + 4 <= group.elements.end {
+                    let e: [ElementVector; 4] =
+                        std::array::from_fn(|k| model.element_coordinates(q, first + k));
+                    let e4 = std::array::from_fn(|i| std::array::from_fn(|k| e[k][i]));
+                    let mut q4 = [[0.0; 4]; 24];
+                    let Some(u) = group.integration.forces_x4(&e4, &mut q4) else {
+                        break;
+                    };
+                    for k in 0..4 {
+                        energy[first + k] = u[k];
+                        let base = NODE_DOFS * (first + k);
+                        for i in 0..24 {
+                            force[base + i] += q4[i][k];
+                        }
                     }
+                    first += 4;
                 }
-                first += 4;
             }
-        }
-        for el in first..n {
-            let part = Part::Whole;
-            energy[el] = add_element(model, pattern, q, el, part, &mut force, values.as_mut());
+            for el in first..group.elements.end {
+                let part = Part::Whole;
+                energy[el] = add_element(model, pattern, q, el, part, &mut force, values.as_mut());
+            }
         }
     } else {
         assemble_chunks(model, pattern, q, &mut force, &mut energy, jacobian);
@@ -202,7 +203,8 @@ pub fn assemble(
 /// [`PARALLEL_MIN_WORK_US`]. Results do not depend on it (the chunks equal
 /// the serial loop bit for bit); only the speed does.
 pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
-    let points = (model.element.axial.nodes.len() * model.element.plan.points()) as f64;
+    let element = model.element(0);
+    let points = (element.axial.nodes.len() * element.plan.points()) as f64;
     // µs per element on the CI machine (BENCHMARKS.md): pre-integrated
     // SVK 1.2 (force 0.15), plus ≈ 0.3 (0.1) per section point.
     let per_element = if with_jacobian {
@@ -400,11 +402,11 @@ fn add_element_window(
     let u = match values {
         Some((values, offset)) => {
             let mut ke = [0.0; 576];
-            let u = model.element.evaluate(&e, &mut qe, Some(&mut ke));
+            let u = model.element(el).evaluate(&e, &mut qe, Some(&mut ke));
             pattern.add_element_columns(values, *offset, el, &ke, local.clone());
             u
         }
-        None => model.element.evaluate(&e, &mut qe, None),
+        None => model.element(el).evaluate(&e, &mut qe, None),
     };
     let base = NODE_DOFS * (el - node0);
     for i in local {
@@ -432,7 +434,7 @@ fn windows_mut<T>(mut data: &mut [T], ranges: impl Iterator<Item = Range<usize>>
 pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
     let mut v = pattern.zeros();
     for el in 0..model.n_elements {
-        pattern.add_element(&mut v, el, &model.element_mass);
+        pattern.add_element(&mut v, el, model.element_mass(el));
     }
     v
 }
@@ -479,6 +481,7 @@ pub fn assemble_contact(
             // instructions, callgrind).
             let mut qe = [0.0; 24];
             let (sample, dp) = contact.element_rod(
+                model.group(el),
                 ri,
                 &e,
                 &ve,

@@ -5,38 +5,38 @@
 //! rows are summed in the same order as one at a time, so the baseline path
 //! has the bits of the scalar loop.
 
-use crate::math::simd::{Arith, path};
-use crate::model::NODE_DOFS;
+use std::ops::Range;
 
-/// `out` = M x over `n_elements` elements with the element mass's
-/// non-zeros `(i, j, m_ij)` (node vectors i, j ∈ 0..8, sorted by i).
-pub(crate) fn mass_times_into(
-    nonzeros: &[(usize, usize, f64)],
-    n_elements: usize,
-    x: &[f64],
-    out: &mut [f64],
-) {
-    product(path(), nonzeros, n_elements, x, out)
+use crate::math::simd::{Arith, path};
+use crate::model::{ElementGroup, NODE_DOFS};
+
+/// `out` = M x over the wire's element groups, each with its element
+/// mass's non-zeros `(i, j, m_ij)` (node vectors i, j ∈ 0..8, sorted by i).
+pub(crate) fn mass_times_into(groups: &[ElementGroup], x: &[f64], out: &mut [f64]) {
+    out.fill(0.0);
+    for g in groups {
+        product(path(), &g.mass_nonzeros, g.elements.clone(), x, out)
+    }
 }
 
 crate::simd_dispatch! {
-    fn product(nonzeros: &[(usize, usize, f64)], n_elements: usize, x: &[f64], out: &mut [f64]) = product_with;
+    fn product(nonzeros: &[(usize, usize, f64)], range: Range<usize>, x: &[f64], out: &mut [f64]) = product_with;
 }
 
+/// Adds M x of the elements in `range` to `out`.
 #[inline(always)]
 fn product_with<F: Arith>(
     nonzeros: &[(usize, usize, f64)],
-    n_elements: usize,
+    range: Range<usize>,
     x: &[f64],
     out: &mut [f64],
 ) {
-    out.fill(0.0);
-    let mut el = 0;
-    while el + 4 <= n_elements {
+    let mut el = range.start;
+    while el + 4 <= range.end {
         elements::<F, 4>(nonzeros, el, x, out);
         el += 4;
     }
-    while el < n_elements {
+    while el < range.end {
         elements::<F, 1>(nonzeros, el, x, out);
         el += 1;
     }

@@ -4,9 +4,12 @@
 
 mod builder;
 mod mass_product;
+mod mesh;
 pub use builder::WireBuilder;
+pub use mesh::{ElementGroup, Segment};
 
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
+use crate::section::Section;
 use crate::math::vec3::{cross, dot, sub, unit};
 
 /// Coordinates per node: r, r_x, r_y, r_z.
@@ -79,10 +82,14 @@ pub enum Effect {
     Damping(crate::forces::damping::Damping),
 }
 
-/// A straight wire of `n_elements` equal elements.
+/// A straight wire of `n_elements` elements, in groups of equal length
+/// (one group: a uniform mesh).
 #[derive(Clone, Debug)]
 pub struct Model {
-    pub element: ElementIntegration,
+    /// The elements by length, in wire order, covering 0..n_elements.
+    pub groups: Vec<ElementGroup>,
+    /// Each element's group.
+    group_of: Vec<u32>,
     pub n_elements: usize,
     /// Reference coordinates, 12 per node.
     pub reference: Vec<f64>,
@@ -91,13 +98,6 @@ pub struct Model {
     pub n_unknowns: usize,
     pub supports: Vec<Support>,
     pub effects: Vec<Effect>,
-    /// Element mass matrix (kg), the same for every element.
-    pub element_mass: ElementMatrix,
-    /// The element mass matrix's non-zero node-vector couplings (i, j, m_ij),
-    /// i, j ∈ 0..8 (the matrix is m ⊗ I₃). For a section symmetric about its
-    /// centre 40 of the 64 are exactly zero (∫y dA = 0 couples r_y with
-    /// nothing but r_y), and skipping them made M x 2.7× cheaper.
-    mass_nonzeros: Vec<(usize, usize, f64)>,
     /// Unit wire axis and section directions.
     pub axis: [f64; 3],
     pub section_y: [f64; 3],
@@ -191,7 +191,8 @@ pub fn section_frame(axis: [f64; 3]) -> ([f64; 3], [f64; 3]) {
 }
 
 impl Model {
-    /// A straight wire from `origin` along `direction` (normalised here).
+    /// A straight wire of `n_elements` equal elements (each `element.length`
+    /// long) from `origin` along `direction` (normalised here).
     pub fn new(
         element: ElementIntegration,
         n_elements: usize,
@@ -206,6 +207,57 @@ impl Model {
                 "wire.elements: need at least one element".into(),
             ));
         }
+        Self::from_groups(
+            vec![(element, n_elements)],
+            origin,
+            direction,
+            supports,
+            gravity,
+            loads,
+        )
+    }
+
+    /// A straight wire meshed by `segments` in order (a graded mesh: each
+    /// region has its own element length); `element` gives the section and
+    /// the quadrature, its length is ignored.
+    pub fn graded(
+        element: ElementIntegration,
+        segments: &[Segment],
+        origin: [f64; 3],
+        direction: [f64; 3],
+        supports: Vec<Support>,
+        gravity: Option<[f64; 3]>,
+        loads: Vec<PointLoad>,
+    ) -> Result<Self, ModelError> {
+        if segments.is_empty() {
+            return Err(ModelError("wire.segments: name at least one segment".into()));
+        }
+        let mut groups = Vec::new();
+        for (i, s) in segments.iter().enumerate() {
+            if s.elements == 0 {
+                return Err(ModelError(format!(
+                    "wire.segments[{i}].elements: need at least one element"
+                )));
+            }
+            if !(s.length.is_finite() && s.length > 0.0) {
+                return Err(ModelError(format!(
+                    "wire.segments[{i}].length: must be > 0 m, got {}",
+                    s.length
+                )));
+            }
+            groups.push((element.with_length(s.length / s.elements as f64), s.elements));
+        }
+        Self::from_groups(groups, origin, direction, supports, gravity, loads)
+    }
+
+    fn from_groups(
+        integrations: Vec<(ElementIntegration, usize)>,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        supports: Vec<Support>,
+        gravity: Option<[f64; 3]>,
+        loads: Vec<PointLoad>,
+    ) -> Result<Self, ModelError> {
         let dn = (direction.iter().map(|v| v * v).sum::<f64>()).sqrt();
         if !(dn > 0.0 && dn.is_finite()) {
             return Err(ModelError(
@@ -214,13 +266,32 @@ impl Model {
         }
         let axis = direction.map(|v| v / dn);
         let (ny, nz) = section_frame(axis);
-        let l = element.length;
+        let mut groups: Vec<ElementGroup> = Vec::new();
+        let mut group_of = Vec::new();
+        for (g, (integration, count)) in integrations.into_iter().enumerate() {
+            let (first, start) = match groups.last() {
+                Some(p) => (p.elements.end, p.arc(p.elements.len())),
+                None => (0, 0.0),
+            };
+            groups.push(ElementGroup::new(integration, first..first + count, start));
+            group_of.extend(std::iter::repeat_n(g as u32, count));
+        }
+        let n_elements = group_of.len();
         let n_nodes = n_elements + 1;
         let mut reference = vec![0.0; NODE_DOFS * n_nodes];
-        for el in 0..n_elements {
-            let start = std::array::from_fn(|k| origin[k] + axis[k] * l * el as f64);
-            let e = reference_coordinates(start, axis, ny, nz, l);
-            reference[NODE_DOFS * el..NODE_DOFS * el + 24].copy_from_slice(&e);
+        for g in &groups {
+            let l = g.integration.length;
+            for (j, el) in g.elements.clone().enumerate() {
+                let start = std::array::from_fn(|k| {
+                    if g.start == 0.0 {
+                        origin[k] + axis[k] * l * j as f64
+                    } else {
+                        origin[k] + axis[k] * g.arc(j)
+                    }
+                });
+                let e = reference_coordinates(start, axis, ny, nz, l);
+                reference[NODE_DOFS * el..NODE_DOFS * el + 24].copy_from_slice(&e);
+            }
         }
         let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, axis, |_| true)?;
         for (i, ld) in loads.iter().enumerate() {
@@ -231,20 +302,19 @@ impl Model {
                 )));
             }
         }
+        let section = &groups[0].integration.section;
         let mut effects = vec![Effect::Elasticity {
-            mooney_rivlin: element.section.has_mooney_rivlin(),
-            centerline: element
-                .section
-                .layers
-                .iter()
-                .any(|l| l.laws.centerline.is_some()),
+            mooney_rivlin: section.has_mooney_rivlin(),
+            centerline: section.layers.iter().any(|l| l.laws.centerline.is_some()),
         }];
         if let Some(g) = gravity {
-            let qe = element.gravity_force(g);
             let mut force = vec![0.0; reference.len()];
-            for el in 0..n_elements {
-                for (i, v) in qe.iter().enumerate() {
-                    force[NODE_DOFS * el + i] += v;
+            for group in &groups {
+                let qe = group.integration.gravity_force(g);
+                for el in group.elements.clone() {
+                    for (i, v) in qe.iter().enumerate() {
+                        force[NODE_DOFS * el + i] += v;
+                    }
                 }
             }
             effects.push(Effect::Gravity {
@@ -255,26 +325,80 @@ impl Model {
         if !loads.is_empty() {
             effects.push(Effect::PointLoads(loads));
         }
-        let element_mass = element.mass_matrix();
-        let mass_nonzeros = (0..8)
-            .flat_map(|i| (0..8).map(move |j| (i, j)))
-            .map(|(i, j)| (i, j, element_mass[(3 * i) * 24 + 3 * j]))
-            .filter(|&(_, _, m)| m != 0.0)
-            .collect();
         Ok(Model {
-            element,
+            groups,
+            group_of,
             n_elements,
             reference,
             dof_map,
             n_unknowns,
             supports,
             effects,
-            element_mass,
-            mass_nonzeros,
             axis,
             section_y: ny,
             section_z: nz,
         })
+    }
+
+    /// The integration of element `el` (its length is the element's).
+    pub fn element(&self, el: usize) -> &ElementIntegration {
+        &self.groups[self.group_of[el] as usize].integration
+    }
+
+    /// The group of element `el` (an index into [`Model::groups`]).
+    pub fn group(&self, el: usize) -> usize {
+        self.group_of[el] as usize
+    }
+
+    /// The mass matrix of element `el` (kg), row-major 24×24.
+    pub fn element_mass(&self, el: usize) -> &ElementMatrix {
+        &self.groups[self.group_of[el] as usize].mass
+    }
+
+    /// The cross section (the same for every element).
+    pub fn section(&self) -> &Section {
+        &self.groups[0].integration.section
+    }
+
+    /// The element lengths (m), one per group.
+    pub fn element_lengths(&self) -> Vec<f64> {
+        self.groups.iter().map(|g| g.integration.length).collect()
+    }
+
+    /// The longest and the shortest element (m).
+    pub fn element_length_range(&self) -> (f64, f64) {
+        let l = self.element_lengths();
+        (
+            l.iter().copied().fold(f64::MIN, f64::max),
+            l.iter().copied().fold(f64::MAX, f64::min),
+        )
+    }
+
+    /// Reference (unstretched) arc length of node `n` from node 0 (m).
+    pub fn node_arc(&self, n: usize) -> f64 {
+        match self.groups.iter().find(|g| n < g.elements.end) {
+            Some(g) => g.arc(n - g.elements.start),
+            None => {
+                let g = &self.groups[self.groups.len() - 1];
+                g.arc(g.elements.len())
+            }
+        }
+    }
+
+    /// Reference arc length between nodes `a` ≤ `b` (m); within one group
+    /// the product of the element length and the element count.
+    pub fn arc_between(&self, a: usize, b: usize) -> f64 {
+        let g = &self.groups[self.group_of[a.min(self.n_elements - 1)] as usize];
+        if b <= g.elements.end {
+            (b - a) as f64 * g.integration.length
+        } else {
+            self.node_arc(b) - self.node_arc(a)
+        }
+    }
+
+    /// The wire's reference (unstretched) length (m).
+    pub fn length(&self) -> f64 {
+        self.node_arc(self.n_elements)
     }
 
     /// The model with only the supports still holding at time `t` (those
@@ -340,7 +464,6 @@ impl Model {
             .collect();
         held.sort_by_key(|h| h.0);
         held.dedup_by_key(|h| h.0);
-        let l = self.element.length;
         let down = {
             let g = self.gravity_acceleration().unwrap_or([0.0, 0.0, -1.0]);
             let n = dot(g, g).sqrt();
@@ -380,7 +503,7 @@ impl Model {
             let ((na, pa), (nb, pb)) = (pair[0], pair[1]);
             let chord = sub(pb, pa);
             let c = dot(chord, chord).sqrt();
-            let s_len = (nb - na) as f64 * l;
+            let s_len = self.arc_between(na, nb);
             if c == 0.0 || nb == na {
                 continue;
             }
@@ -427,7 +550,7 @@ impl Model {
             }
             let f = 0.5 * (lo + hi);
             for n in na..=nb {
-                let target = (n - na) as f64 * l;
+                let target = self.arc_between(na, n);
                 let (mut a, mut b) = (0.0, 1.0);
                 for _ in 0..60 {
                     let mid = 0.5 * (a + b);
@@ -508,8 +631,8 @@ impl Model {
             let c = crate::forces::contact::Contact::new(
                 rods,
                 settings,
-                self.element.section.outer_radius(),
-                self.element.length,
+                self.section().outer_radius(),
+                &self.element_lengths(),
             );
             self.effects.push(Effect::Contact(c));
         }
@@ -578,7 +701,7 @@ impl Model {
 
     /// `out` = M x (full coordinates), without allocating.
     pub fn mass_times_into(&self, x: &[f64], out: &mut [f64]) {
-        mass_product::mass_times_into(&self.mass_nonzeros, self.n_elements, x, out)
+        mass_product::mass_times_into(&self.groups, x, out)
     }
 
     /// Gather the unknowns out of a full vector.
@@ -613,18 +736,26 @@ impl Model {
     /// can reduce it further (measured: the pendulum's residual stagnates at
     /// 3e-9 N with 16 elements, where ε · EA / l_e = 9e-9 N).
     pub fn roundoff_force(&self) -> f64 {
-        let e = self.element_coordinates(&self.reference, 0);
-        let mut q = [0.0; 24];
-        let mut k = [0.0; 576];
-        self.element.evaluate(&e, &mut q, Some(&mut k));
-        let kmax = (0..24).fold(0.0f64, |m, i| m.max(k[i * 24 + i].abs()));
+        // The shortest elements are the stiffest.
+        let mut kmax = 0.0f64;
+        for g in &self.groups {
+            let e = self.element_coordinates(&self.reference, g.elements.start);
+            let mut q = [0.0; 24];
+            let mut k = [0.0; 576];
+            g.integration.evaluate(&e, &mut q, Some(&mut k));
+            kmax = (0..24).fold(kmax, |m, i| m.max(k[i * 24 + i].abs()));
+        }
         let qmax = self.reference.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         100.0 * f64::EPSILON * kmax * qmax
     }
 
     /// Total mass (kg).
     pub fn total_mass(&self) -> f64 {
-        self.element.section.mass_per_length() * self.element.length * self.n_elements as f64
+        let m = self.section().mass_per_length();
+        self.groups
+            .iter()
+            .map(|g| m * g.integration.length * g.elements.len() as f64)
+            .sum()
     }
 }
 
@@ -655,7 +786,7 @@ mod tests {
                 let base = super::NODE_DOFS * el;
                 for a in 0..24 {
                     for b in 0..24 {
-                        dense[base + a] += model.element_mass[a * 24 + b] * x[base + b];
+                        dense[base + a] += model.element_mass(el)[a * 24 + b] * x[base + b];
                     }
                 }
             }

@@ -5,7 +5,7 @@
 
 use crate::element::ElementIntegration;
 use crate::material::{Material, MaterialModel};
-use crate::model::{Model, PointLoad, Support, SupportKind};
+use crate::model::{Model, PointLoad, Segment, Support, SupportKind};
 use crate::section::Section;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, Visitor};
@@ -138,12 +138,26 @@ pub struct QuadratureSpec {
 #[serde(deny_unknown_fields)]
 pub struct WireSpec {
     pub length: f64,
-    pub elements: usize,
+    /// Equal elements over the length (a uniform mesh); or `segments`.
+    pub elements: Option<usize>,
+    /// A graded mesh: regions from the first node on, each with its own
+    /// element count; their lengths add up to `length`.
+    pub segments: Option<Vec<SegmentSpec>>,
     pub origin: Option<[f64; 3]>,
     pub direction: Option<[f64; 3]>,
     pub layers: Option<Vec<LayerSpec>>,
     pub rectangle: Option<RectangleSpec>,
     pub quadrature: Option<QuadratureSpec>,
+}
+
+/// One region of a graded mesh (`[wire] segments`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentSpec {
+    /// Reference length of the region, m.
+    pub length: f64,
+    /// Equal elements in it.
+    pub elements: usize,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
@@ -381,16 +395,12 @@ impl Scene {
 
         let w = &f.wire;
         let length = positive("wire.length", w.length)?;
-        if w.elements == 0 {
-            return Err(err("wire.elements", "must be at least 1"));
-        }
-        if w.elements > 1_000_000 {
+        let segments = mesh_segments(w, length)?;
+        let n_elements: usize = segments.iter().map(|s| s.elements).sum();
+        if n_elements > 1_000_000 {
             return Err(err(
-                "wire.elements",
-                format!(
-                    "{} elements is more than this code is meant for (≤ 1e6)",
-                    w.elements
-                ),
+                if w.segments.is_some() { "wire.segments" } else { "wire.elements" },
+                format!("{n_elements} elements is more than this code is meant for (≤ 1e6)"),
             ));
         }
         let origin = finite3("wire.origin", w.origin.unwrap_or([0.0; 3]))?;
@@ -463,7 +473,7 @@ impl Scene {
                 )
             }
         };
-        let n_nodes = w.elements + 1;
+        let n_nodes = n_elements + 1;
         let node = |field: String, n: NodeRef| -> Result<usize, SceneError> {
             match n {
                 NodeRef::Last => Ok(n_nodes - 1),
@@ -642,12 +652,20 @@ impl Scene {
             },
         };
 
-        let element = ElementIntegration::new(length / w.elements as f64, axial, section);
+        let longest = segments
+            .iter()
+            .map(|s| s.length / s.elements as f64)
+            .fold(0.0, f64::max);
+        let element = ElementIntegration::new(
+            segments[0].length / segments[0].elements as f64,
+            axial,
+            section,
+        );
         let wire_radius = element.section.outer_radius();
         let (rods, contact_settings) = validate_rods(
             &f.rod,
             f.contact.as_ref(),
-            length / w.elements as f64,
+            longest,
             wire_radius,
             &outer_material,
             &find,
@@ -661,9 +679,15 @@ impl Scene {
                 "a release time needs kind = \"dynamic\"",
             ));
         }
-        let model = Model::new(
-            element, w.elements, origin, direction, supports, gravity, loads,
-        )
+        let model = if w.segments.is_some() {
+            Model::graded(
+                element, &segments, origin, direction, supports, gravity, loads,
+            )
+        } else {
+            Model::new(
+                element, n_elements, origin, direction, supports, gravity, loads,
+            )
+        }
         .map_err(|e| SceneError {
             field: String::new(),
             message: e.0,
@@ -682,6 +706,49 @@ impl Scene {
             analysis,
             output,
         })
+    }
+}
+
+/// The mesh of `[wire]`: `elements` equal elements, or the `segments` of a
+/// graded mesh (each checked, their lengths adding up to `length`).
+fn mesh_segments(w: &WireSpec, length: f64) -> Result<Vec<Segment>, SceneError> {
+    match (w.elements, &w.segments) {
+        (Some(_), Some(_)) => Err(err(
+            "wire.segments",
+            "give either wire.elements (equal elements) or wire.segments (a graded mesh), not both",
+        )),
+        (None, None) => Err(err(
+            "wire.elements",
+            "missing: give the number of elements (or wire.segments for a graded mesh)",
+        )),
+        (Some(0), None) => Err(err("wire.elements", "must be at least 1")),
+        (Some(n), None) => Ok(vec![Segment { length, elements: n }]),
+        (None, Some(list)) => {
+            if list.is_empty() {
+                return Err(err("wire.segments", "name at least one segment"));
+            }
+            let mut out = Vec::new();
+            for (i, s) in list.iter().enumerate() {
+                let l = positive(&format!("wire.segments[{i}].length"), s.length)?;
+                if s.elements == 0 {
+                    return Err(err(format!("wire.segments[{i}].elements"), "must be at least 1"));
+                }
+                out.push(Segment {
+                    length: l,
+                    elements: s.elements,
+                });
+            }
+            let sum: f64 = out.iter().map(|s| s.length).sum();
+            if (sum - length).abs() > 1e-9 * length {
+                return Err(err(
+                    "wire.segments",
+                    format!(
+                        "the segments' lengths add up to {sum} m, but wire.length is {length} m"
+                    ),
+                ));
+            }
+            Ok(out)
+        }
     }
 }
 

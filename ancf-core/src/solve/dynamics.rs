@@ -307,7 +307,7 @@ impl Integrator {
             energy_scale: 0.0,
             energy_floor: match model.gravity_acceleration() {
                 Some(g) => {
-                    let length = model.element.length * model.n_elements as f64;
+                    let length = model.length();
                     let g = g.iter().map(|x| x * x).sum::<f64>().sqrt();
                     1e-9 * model.total_mass() * g * length + 1e-12
                 }
@@ -581,7 +581,7 @@ impl Integrator {
                     mq.fill(0.0);
                     mv.fill(0.0);
                     power += kelvin_voigt_element(
-                        &model.element,
+                        model.element(el),
                         *coefficient,
                         &e,
                         &ve,

@@ -10,7 +10,7 @@
 
 use super::point::{ElementOut, PointInput, axis_offset, point_contact};
 use super::zone::active_zones;
-use super::{Contact, DeepestPoint, Rod};
+use super::{Contact, DeepestPoint, ElementGeometry, Rod};
 use crate::element::{ElementVector, shape_functions};
 use crate::math::vec3::dot;
 
@@ -22,13 +22,14 @@ pub const MAX_PIECE: f64 = 0.5;
 /// [`Contact::element_rod`].
 pub(crate) fn element_rod(
     contact: &Contact,
+    geometry: &ElementGeometry,
     ri: usize,
     rod: &Rod,
     e: &ElementVector,
     out: &mut ElementOut,
 ) -> Option<DeepestPoint> {
     let mut deepest: Option<DeepestPoint> = None;
-    let l = contact.element_length;
+    let l = geometry.length;
     let reach = rod.radius + contact.wire_radius;
     let rule = &contact.zone_rule;
     for &(a, b) in active_zones(e, l, rod, reach).iter() {

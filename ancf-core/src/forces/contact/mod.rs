@@ -148,16 +148,24 @@ pub struct Contact {
     pub rods: Vec<Rod>,
     /// Integration and regularization settings.
     pub settings: ContactSettings,
-    /// Surface test points of one element (empty without surface-law rods).
-    pub points: Vec<TestPoint>,
     /// Gauss rule on [0, 1] for a piece of an active zone (line laws).
     pub zone_rule: Rule1d,
     /// Outer radius of the wire, m.
     pub wire_radius: f64,
+    /// What depends on the element length, one per element group of the
+    /// model (one for a uniform mesh).
+    pub geometry: Vec<ElementGeometry>,
+}
+
+/// The contact quantities of elements of one length, computed once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElementGeometry {
     /// Reference element length, m.
-    pub element_length: f64,
+    pub length: f64,
+    /// Surface test points of one element (empty without surface-law rods).
+    pub points: Vec<TestPoint>,
     /// Shape functions on the centerline at the 9 broad-phase stations
-    /// (constant: computed once; recomputing them was 14 % of the impact run).
+    /// (constant: computed once, not per element and step).
     broad_phase: [[f64; 8]; 9],
 }
 
@@ -195,34 +203,36 @@ pub struct DeepestPoint {
 }
 
 impl Contact {
-    /// The contact of a wire of outer radius `wire_radius` (m) and element
-    /// length `element_length` (m) with `rods`.
+    /// The contact of a wire of outer radius `wire_radius` (m) with `rods`;
+    /// `element_lengths` (m) are those of the model's element groups, in
+    /// order (one for a uniform mesh).
     pub fn new(
         rods: Vec<Rod>,
         settings: ContactSettings,
         wire_radius: f64,
-        element_length: f64,
+        element_lengths: &[f64],
     ) -> Self {
-        let points = if rods.iter().any(|r| r.law == ContactLaw::Surface) {
-            surface::test_points(
-                settings.stations,
-                settings.angles,
-                wire_radius,
-                element_length,
-            )
-        } else {
-            Vec::new()
-        };
+        let surface = rods.iter().any(|r| r.law == ContactLaw::Surface);
+        let geometry = element_lengths
+            .iter()
+            .map(|&length| ElementGeometry {
+                length,
+                points: if surface {
+                    surface::test_points(settings.stations, settings.angles, wire_radius, length)
+                } else {
+                    Vec::new()
+                },
+                broad_phase: std::array::from_fn(|k| {
+                    shape_functions(k as f64 / 8.0, 0.0, 0.0, length)
+                }),
+            })
+            .collect();
         Contact {
             zone_rule: gauss_legendre_unit(settings.zone_points),
             rods,
             settings,
-            points,
             wire_radius,
-            element_length,
-            broad_phase: std::array::from_fn(|k| {
-                shape_functions(k as f64 / 8.0, 0.0, 0.0, element_length)
-            }),
+            geometry,
         }
     }
 
@@ -230,12 +240,13 @@ impl Contact {
         self.rods.iter().any(|r| r.friction > 0.0)
     }
 
-    /// Broad phase: can element `e` touch rod `rod`? The minimal distance
-    /// between its cubic centerline (sampled at 9 stations) and the rod's
-    /// axis, against R_w + R_rod plus a margin for the chord sag between
-    /// samples and the section's deformation (R_w + l/8).
-    pub fn may_touch(&self, rod: &Rod, e: &ElementVector) -> bool {
-        let l = self.element_length;
+    /// Broad phase: can element `e` (of element group `group`) touch rod
+    /// `rod`? The minimal distance between its cubic centerline (sampled at
+    /// 9 stations) and the rod's axis, against R_w + R_rod plus a margin for
+    /// the chord sag between samples and the section's deformation (R_w + l/8).
+    pub fn may_touch(&self, group: usize, rod: &Rod, e: &ElementVector) -> bool {
+        let geometry = &self.geometry[group];
+        let l = geometry.length;
         let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0;
         // First a sphere around the centerline's Bézier control points
         // r₁, r₁ + l/3 r₁ₓ, r₂ − l/3 r₂ₓ, r₂ (the cubic lies in their hull):
@@ -284,7 +295,7 @@ impl Contact {
         {
             return false;
         }
-        self.broad_phase.iter().any(|s| {
+        geometry.broad_phase.iter().any(|s| {
             let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| s[i] * e[3 * i + c]).sum());
             let (along, distance) = axis_coordinates(&p);
             if let Some(len) = rod.length
@@ -296,11 +307,13 @@ impl Contact {
         })
     }
 
-    /// Contact force on one element (added to `q`, N), −∂Q/∂q (added to
-    /// `kq`) and −∂Q/∂v (added to `kv`), with coordinates `e` and velocities
-    /// `v`. Returns the sample and the deepest point.
+    /// Contact force on one element of element group `group` (added to
+    /// `q`, N), −∂Q/∂q (added to `kq`) and −∂Q/∂v (added to `kv`), with
+    /// coordinates `e` and velocities `v`. Returns the sample and the
+    /// deepest point.
     pub fn element(
         &self,
+        group: usize,
         e: &ElementVector,
         v: &ElementVector,
         q: &mut ElementVector,
@@ -310,7 +323,8 @@ impl Contact {
         let mut sample = ContactSample::default();
         let mut deepest: Option<DeepestPoint> = None;
         for ri in 0..self.rods.len() {
-            let (s, dp) = self.element_rod(ri, e, v, q, kq.as_deref_mut(), kv.as_deref_mut());
+            let (s, dp) =
+                self.element_rod(group, ri, e, v, q, kq.as_deref_mut(), kv.as_deref_mut());
             sample.accumulate(&s);
             if let Some(dp) = dp
                 && deepest.is_none_or(|d| dp.penetration > d.penetration)
@@ -322,8 +336,10 @@ impl Contact {
     }
 
     /// [`Contact::element`] for rod `ri` alone.
+    #[allow(clippy::too_many_arguments)]
     pub fn element_rod(
         &self,
+        group: usize,
         ri: usize,
         e: &ElementVector,
         v: &ElementVector,
@@ -332,7 +348,7 @@ impl Contact {
         kv: Option<&mut ElementMatrix>,
     ) -> (ContactSample, Option<DeepestPoint>) {
         let rod = &self.rods[ri];
-        if !self.may_touch(rod, e) {
+        if !self.may_touch(group, rod, e) {
             return (ContactSample::default(), None);
         }
         let mut out = point::ElementOut {
@@ -342,9 +358,12 @@ impl Contact {
             kv,
             sample: ContactSample::default(),
         };
+        let geometry = &self.geometry[group];
         let deepest = match rod.law {
-            ContactLaw::Surface => surface::element_rod(self, ri, rod, e, &mut out),
-            ContactLaw::Line | ContactLaw::Hertz => line::element_rod(self, ri, rod, e, &mut out),
+            ContactLaw::Surface => surface::element_rod(self, geometry, ri, rod, e, &mut out),
+            ContactLaw::Line | ContactLaw::Hertz => {
+                line::element_rod(self, geometry, ri, rod, e, &mut out)
+            }
         };
         (out.sample, deepest)
     }

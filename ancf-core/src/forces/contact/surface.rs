@@ -6,7 +6,7 @@
 //! matters; its force jumps as test points enter the contact patch.
 
 use super::point::{ElementOut, PointInput, axis_offset, point_contact};
-use super::{Contact, DeepestPoint, Rod};
+use super::{Contact, DeepestPoint, ElementGeometry, Rod};
 use crate::element::{ElementVector, shape_functions};
 use crate::math::quadrature::gauss_legendre_unit;
 
@@ -50,13 +50,14 @@ pub fn test_points(stations: usize, angles: usize, wire_radius: f64, l: f64) -> 
 /// [`Contact::element_rod`].
 pub(crate) fn element_rod(
     contact: &Contact,
+    geometry: &ElementGeometry,
     ri: usize,
     rod: &Rod,
     e: &ElementVector,
     out: &mut ElementOut,
 ) -> Option<DeepestPoint> {
     let mut deepest: Option<DeepestPoint> = None;
-    for tp in &contact.points {
+    for tp in &geometry.points {
         let p: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| tp.s[i] * e[3 * i + c]).sum());
         // Open ends: a point beyond the rod's length does not touch it.
         let Some((w, inside)) = axis_offset(rod, &p, false) else {

@@ -93,6 +93,36 @@ const CASES: &[(&str, &str, &str, &str)] = &[
         "wire.elements",
     ),
     (
+        "graded mesh and elements both given",
+        "elements = 4",
+        "elements = 4\nsegments = [ { length = 1.0, elements = 4 } ]",
+        "wire.segments",
+    ),
+    (
+        "neither elements nor segments",
+        "elements = 4",
+        "",
+        "wire.elements",
+    ),
+    (
+        "segments not adding up to the length",
+        "elements = 4",
+        "segments = [ { length = 0.5, elements = 2 }, { length = 0.4, elements = 8 } ]",
+        "wire.segments",
+    ),
+    (
+        "a segment without elements",
+        "elements = 4",
+        "segments = [ { length = 0.5, elements = 2 }, { length = 0.5, elements = 0 } ]",
+        "wire.segments[1].elements",
+    ),
+    (
+        "a segment of negative length",
+        "elements = 4",
+        "segments = [ { length = 1.5, elements = 2 }, { length = -0.5, elements = 3 } ]",
+        "wire.segments[1].length",
+    ),
+    (
         "ω above 1",
         "bending_factor = 1.0",
         "bending_factor = 1.5",

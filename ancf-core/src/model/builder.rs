@@ -17,7 +17,7 @@
 //! assert!(model.contact().is_some());
 //! ```
 
-use super::{Model, ModelError, PointLoad, Support, SupportKind};
+use super::{Model, ModelError, PointLoad, Segment, Support, SupportKind};
 use crate::element::ElementIntegration;
 use crate::forces::contact::{ContactSettings, Rod};
 use crate::forces::damping::Damping;
@@ -29,6 +29,8 @@ use crate::section::Section;
 pub struct WireBuilder {
     length: f64,
     elements: usize,
+    /// A graded mesh (replaces `length` and `elements`).
+    segments: Option<Vec<Segment>>,
     origin: [f64; 3],
     direction: [f64; 3],
     layers: Vec<(Material, f64)>,
@@ -49,6 +51,7 @@ impl WireBuilder {
         WireBuilder {
             length,
             elements,
+            segments: None,
             origin: [0.0; 3],
             direction: [1.0, 0.0, 0.0],
             layers: Vec::new(),
@@ -61,6 +64,16 @@ impl WireBuilder {
             contact: ContactSettings::default(),
             damping: None,
         }
+    }
+
+    /// A graded mesh: the wire is the `segments` in order, each with its
+    /// own element length (fine where the wire meets a rod, coarse
+    /// elsewhere). Replaces the length and element count of [`WireBuilder::new`].
+    pub fn graded(mut self, segments: &[Segment]) -> Self {
+        self.length = segments.iter().map(|s| s.length).sum();
+        self.elements = segments.iter().map(|s| s.elements).sum();
+        self.segments = Some(segments.to_vec());
+        self
     }
 
     /// Where the wire starts (m) and its direction (normalised).
@@ -161,15 +174,27 @@ impl WireBuilder {
             self.axial_order,
             section,
         );
-        Ok(Model::new(
-            element,
-            self.elements,
-            self.origin,
-            self.direction,
-            self.supports,
-            self.gravity,
-            self.loads,
-        )?
+        let model = match &self.segments {
+            Some(segments) => Model::graded(
+                element,
+                segments,
+                self.origin,
+                self.direction,
+                self.supports,
+                self.gravity,
+                self.loads,
+            ),
+            None => Model::new(
+                element,
+                self.elements,
+                self.origin,
+                self.direction,
+                self.supports,
+                self.gravity,
+                self.loads,
+            ),
+        };
+        Ok(model?
         .with_rods(self.rods, self.contact)
         .with_damping(self.damping))
     }

@@ -10,12 +10,15 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Design numbers of one rod, in results.csv's column order.
-const ROD_COLUMNS: [&str; 5] = [
+const ROD_COLUMNS: [&str; 8] = [
     "peak_force",
     "peak_time",
     "filtered_peak_force",
     "filtered_peak_time",
     "impulse",
+    "first_contact_time",
+    "first_impact_filtered_peak",
+    "first_impact_impulse",
 ];
 
 /// One variant as results.csv has it.
@@ -29,7 +32,7 @@ pub struct Row {
     pub message: String,
     pub wall_time_s: Option<f64>,
     /// Per rod: [`ROD_COLUMNS`].
-    pub rods: Vec<[Option<f64>; 5]>,
+    pub rods: Vec<[Option<f64>; ROD_COLUMNS.len()]>,
     /// Tip displacement components and length, m.
     pub tip: Option<[f64; 4]>,
     pub max_drift: Option<f64>,
@@ -202,7 +205,7 @@ pub fn collect(out: &Path) -> Result<SweepEnd, String> {
 /// A design number of a row, by name (see [`design_numbers`]).
 type Pick = Box<dyn Fn(&Row) -> Option<f64>>;
 
-/// The design numbers worth a plot: each rod's filtered peak and impulse,
+/// The design numbers worth a plot: each rod's filtered peak and impulse, over the run and in its first impact,
 /// the tip displacement and the energy drift.
 fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
     let mut out: Vec<(String, String, Pick)> = Vec::new();
@@ -216,6 +219,16 @@ fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
             format!("rod {k}: impulse"),
             "N s".into(),
             Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[4])),
+        ));
+        out.push((
+            format!("rod {k}: first impact, filtered peak"),
+            "N".into(),
+            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[6])),
+        ));
+        out.push((
+            format!("rod {k}: first impact, impulse"),
+            "N s".into(),
+            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[7])),
         ));
     }
     out.push((

@@ -140,32 +140,39 @@ impl WireBuilder {
 
     /// Checks the description and builds the model.
     pub fn build(self) -> Result<Model, ModelError> {
-        let fail = |m: String| Err(ModelError(m));
+        let fail = |what: &str, message: String| {
+            Err(ModelError::Wire {
+                what: what.into(),
+                message,
+            })
+        };
         if !(self.length.is_finite() && self.length > 0.0) {
-            return fail(format!("length: must be > 0 m, got {}", self.length));
+            return fail("length", format!("must be > 0 m, got {}", self.length));
         }
         if self.elements == 0 {
-            return fail("elements: need at least one element".into());
+            return fail("elements", "need at least one element".into());
         }
         if self.layers.is_empty() {
-            return fail("layers: a wire needs at least one layer".into());
+            return fail("layers", "a wire needs at least one layer".into());
         }
         let mut inner = 0.0;
         let mut section_layers = Vec::new();
         for (i, (material, outer)) in self.layers.into_iter().enumerate() {
             if !(outer.is_finite() && outer > inner) {
-                return fail(format!(
-                    "layer {i}: outer radius {outer} m must exceed the layer's inner radius {inner} m"
-                ));
+                return fail(
+                    &format!("layer {i}"),
+                    format!("outer radius {outer} m must exceed the layer's inner radius {inner} m"),
+                );
             }
             section_layers.push((inner, outer, material));
             inner = outer;
         }
-        for rod in &self.rods {
+        for (i, rod) in self.rods.iter().enumerate() {
             if !(rod.radius > 0.0 && rod.contact_stiffness > 0.0 && rod.friction >= 0.0) {
-                return fail(format!(
-                    "rod: radius and stiffness must be > 0 and friction ≥ 0, got {rod:?}"
-                ));
+                return fail(
+                    &format!("rod {i}"),
+                    format!("radius and stiffness must be > 0 and friction ≥ 0, got {rod:?}"),
+                );
             }
         }
         let section = Section::circular(&section_layers, self.section_order);

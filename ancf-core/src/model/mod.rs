@@ -104,13 +104,57 @@ pub struct Model {
     pub section_z: [f64; 3],
 }
 
-/// Error in building a model (a scene with inconsistent data).
+/// Why a model cannot be built. Each kind names the part at fault in the
+/// model's own terms (segment 1, support 2); a scene maps it to the field
+/// of its file (`scene`), a program to its own input.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ModelError(pub String);
+pub enum ModelError {
+    /// A property of the wire as a whole: `what` is "length", "elements",
+    /// "direction", "segments", "layers", "layer i" or "rod i".
+    Wire { what: String, message: String },
+    /// Segment `index` of a graded mesh: `what` is "length" or "elements".
+    Segment {
+        index: usize,
+        what: &'static str,
+        message: String,
+    },
+    /// Support `index`: `what` is "node" or "kind".
+    Support {
+        index: usize,
+        what: &'static str,
+        message: String,
+    },
+    /// Point load `index` is at a node the wire does not have.
+    LoadNode { index: usize, node: usize },
+}
+
+impl ModelError {
+    fn wire(what: &str, message: impl Into<String>) -> Self {
+        ModelError::Wire {
+            what: what.into(),
+            message: message.into(),
+        }
+    }
+}
 
 impl std::fmt::Display for ModelError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+        match self {
+            ModelError::Wire { what, message } => write!(f, "wire {what}: {message}"),
+            ModelError::Segment {
+                index,
+                what,
+                message,
+            } => write!(f, "segment {index}, {what}: {message}"),
+            ModelError::Support {
+                index,
+                what,
+                message,
+            } => write!(f, "support {index}, {what}: {message}"),
+            ModelError::LoadNode { index, node } => {
+                write!(f, "load {index}: node {node} does not exist")
+            }
+        }
     }
 }
 impl std::error::Error for ModelError {}
@@ -126,11 +170,15 @@ fn eliminate(
     let mut fixed = vec![false; NODE_DOFS * n_nodes];
     for (i, s) in supports.iter().enumerate() {
         if s.node >= n_nodes {
-            return Err(ModelError(format!(
-                "support[{i}].node: node {} does not exist (the wire has nodes 0..={})",
-                s.node,
-                n_nodes - 1
-            )));
+            return Err(ModelError::Support {
+                index: i,
+                what: "node",
+                message: format!(
+                    "node {} does not exist (the wire has nodes 0..={})",
+                    s.node,
+                    n_nodes - 1
+                ),
+            });
         }
         if !active(s) {
             continue;
@@ -142,9 +190,13 @@ fn eliminate(
             SupportKind::Pin => (0..3).for_each(&mut fix),
             SupportKind::Clamp => {
                 let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
-                    return Err(ModelError(format!(
-                        "support[{i}].kind: a clamp needs wire.direction along a coordinate axis (got {axis:?}); use \"fixed\""
-                    )));
+                    return Err(ModelError::Support {
+                        index: i,
+                        what: "kind",
+                        message: format!(
+                            "a clamp needs a wire along a coordinate axis (its direction is {axis:?}); use a fixed support"
+                        ),
+                    });
                 };
                 (0..3).chain(6..12).for_each(&mut fix);
                 (0..3).filter(|&k| k != along).for_each(|k| fix(3 + k));
@@ -203,9 +255,7 @@ impl Model {
         loads: Vec<PointLoad>,
     ) -> Result<Self, ModelError> {
         if n_elements == 0 {
-            return Err(ModelError(
-                "wire.elements: need at least one element".into(),
-            ));
+            return Err(ModelError::wire("elements", "need at least one element"));
         }
         Self::from_groups(
             vec![(element, n_elements)],
@@ -230,20 +280,23 @@ impl Model {
         loads: Vec<PointLoad>,
     ) -> Result<Self, ModelError> {
         if segments.is_empty() {
-            return Err(ModelError("wire.segments: name at least one segment".into()));
+            return Err(ModelError::wire("segments", "name at least one segment"));
         }
         let mut groups = Vec::new();
         for (i, s) in segments.iter().enumerate() {
             if s.elements == 0 {
-                return Err(ModelError(format!(
-                    "wire.segments[{i}].elements: need at least one element"
-                )));
+                return Err(ModelError::Segment {
+                    index: i,
+                    what: "elements",
+                    message: "need at least one element".into(),
+                });
             }
             if !(s.length.is_finite() && s.length > 0.0) {
-                return Err(ModelError(format!(
-                    "wire.segments[{i}].length: must be > 0 m, got {}",
-                    s.length
-                )));
+                return Err(ModelError::Segment {
+                    index: i,
+                    what: "length",
+                    message: format!("must be > 0 m, got {}", s.length),
+                });
             }
             groups.push((element.with_length(s.length / s.elements as f64), s.elements));
         }
@@ -260,8 +313,9 @@ impl Model {
     ) -> Result<Self, ModelError> {
         let dn = (direction.iter().map(|v| v * v).sum::<f64>()).sqrt();
         if !(dn > 0.0 && dn.is_finite()) {
-            return Err(ModelError(
-                "wire.direction: must be a non-zero finite vector".into(),
+            return Err(ModelError::wire(
+                "direction",
+                "must be a non-zero finite vector",
             ));
         }
         let axis = direction.map(|v| v / dn);
@@ -296,10 +350,10 @@ impl Model {
         let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, axis, |_| true)?;
         for (i, ld) in loads.iter().enumerate() {
             if ld.node >= n_nodes {
-                return Err(ModelError(format!(
-                    "load[{i}].node: node {} does not exist",
-                    ld.node
-                )));
+                return Err(ModelError::LoadNode {
+                    index: i,
+                    node: ld.node,
+                });
             }
         }
         let section = &groups[0].integration.section;

@@ -5,7 +5,7 @@
 
 use crate::element::ElementIntegration;
 use crate::material::{Material, MaterialModel};
-use crate::model::{Model, PointLoad, Segment, Support, SupportKind};
+use crate::model::{Model, ModelError, PointLoad, Segment, Support, SupportKind};
 use crate::section::Section;
 use serde::Deserialize;
 use serde::de::{self, Deserializer, Visitor};
@@ -688,10 +688,7 @@ impl Scene {
                 element, n_elements, origin, direction, supports, gravity, loads,
             )
         }
-        .map_err(|e| SceneError {
-            field: String::new(),
-            message: e.0,
-        })?
+        .map_err(|e| model_error(&e))?
         .with_rods(rods, contact_settings)
         .with_damping(damping);
         if model.n_unknowns == 0 {
@@ -750,6 +747,29 @@ fn mesh_segments(w: &WireSpec, length: f64) -> Result<Vec<Segment>, SceneError> 
             Ok(out)
         }
     }
+}
+
+/// A model error as the scene file's field: the model names its parts
+/// (segment 1, support 2), the scene knows where they are written.
+fn model_error(e: &ModelError) -> SceneError {
+    let (field, message) = match e {
+        ModelError::Wire { what, message } => (format!("wire.{what}"), message.clone()),
+        ModelError::Segment {
+            index,
+            what,
+            message,
+        } => (format!("wire.segments[{index}].{what}"), message.clone()),
+        ModelError::Support {
+            index,
+            what,
+            message,
+        } => (format!("support[{index}].{what}"), message.clone()),
+        ModelError::LoadNode { index, node } => (
+            format!("load[{index}].node"),
+            format!("node {node} does not exist"),
+        ),
+    };
+    err(field, message)
 }
 
 fn tolerance(a: &AnalysisSpec) -> Result<f64, SceneError> {

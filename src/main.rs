@@ -77,7 +77,8 @@ enum Command {
         /// Report directory.
         #[arg(long, default_value = "study")]
         out: PathBuf,
-        /// quick: a few runs per sweep (seconds); standard: the full sweeps (minutes).
+        /// quick: a few runs per sweep (seconds); standard: the full sweeps (minutes); refinement: h, elements and
+        /// contact points refined three levels each (error bands of costly dynamic scenes).
         #[arg(long, value_enum, default_value = "standard")]
         level: ancf::study::plan::Level,
         /// Runs at the same time, each single-threaded (default: the cores).

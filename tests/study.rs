@@ -35,8 +35,12 @@ fn num(row: &std::collections::HashMap<String, String>, key: &str) -> f64 {
 }
 
 fn study(scene: &Path, out: &Path) -> String {
+    study_at("quick", scene, out)
+}
+
+fn study_at(level: &str, scene: &Path, out: &Path) -> String {
     let o = Command::new(env!("CARGO_BIN_EXE_ancf"))
-        .args(["study", "--level", "quick", "--quiet", "--out"])
+        .args(["study", "--level", level, "--quiet", "--out"])
         .arg(out)
         .arg(scene)
         .output()
@@ -151,4 +155,56 @@ kind = "pin"
     let fine = err(5e-3, 4.0);
     assert!(coarse > 0.0 && fine > 0.0);
     assert!(fine < coarse / 2.0, "coarse {coarse:e}, fine {fine:e}");
+}
+
+/// Issue 14, item 5: `--level refinement` on a graded wire striking two
+/// rods refines h, the elements (every segment) and the zone points three
+/// levels each, and reports each rod's first impact with an error band.
+#[test]
+fn issue14_refinement_study_gives_each_rods_loads_with_a_band() {
+    let out = tmp("refinement");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("scenes/wire_rod_impact.toml"))
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.4")
+        .replace("time_step = 1e-4", "time_step = 2e-4")
+        .replace(
+            "elements = 64",
+            "segments = [ { length = 0.75, elements = 3 }, { length = 1.25, elements = 10 } ]",
+        )
+        + "\n[[rod]]\ncenter = [1.5, 0.0, -0.45]\naxis = [0.0, 1.0, 0.0]\nradius = 0.02\n\
+           contact_law = \"line\"\ncontact_stiffness = 5e7\n";
+    let scene = out.join("two_rods.toml");
+    std::fs::write(&scene, text).unwrap();
+    let report_dir = out.join("report");
+    let report = study_at("refinement", &scene, &report_dir);
+    let rows = runs(&report_dir);
+    assert_eq!(rows.len(), 7, "h, h/2, h/4; ½, 1, 2 × elements; ½, 2 × zone points");
+    assert!(rows.iter().all(|r| r["status"] == "completed"));
+    let elements: Vec<f64> = rows.iter().map(|r| num(r, "elements")).collect();
+    for n in [6.0, 13.0, 26.0] {
+        assert!(elements.contains(&n), "{n} elements: {elements:?}");
+    }
+    for h in ["time step h", "| elements |", "contact integration points"] {
+        assert!(report.contains(h), "refinement {h} missing");
+    }
+    assert!(report.contains("**Loads at the scene's setting**"));
+    for rod in 0..2 {
+        for q in ["first impact, filtered peak (N)", "first impact, impulse (N s)"] {
+            let line = report
+                .lines()
+                .find(|l| l.starts_with(&format!("| rod {rod}: {q} | ")))
+                .unwrap_or_else(|| panic!("rod {rod}: {q}: no load row"));
+            let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+            let value: f64 = cells[2].parse().unwrap();
+            let band: f64 = cells[3]
+                .trim_start_matches('±')
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(value > 0.0 && band.is_finite() && band >= 0.0, "{line}");
+        }
+    }
 }

@@ -17,10 +17,11 @@ use plan::{Level, Plan, Setting};
 use std::path::{Path, PathBuf};
 
 /// Contact scenes: the first impact is measured over this long after the
-/// first contact, s (the trajectory until then, and the impulse in it).
+/// first contact, s (the trajectory until then, and the impulse in it) —
+/// each rod's first impact in summary.json uses the same window.
 /// Later, a frictional wrap and slide is sensitive to every setting (±4 % in
 /// the impact scene's whole-run impulse) and is no convergence measure.
-pub const CONTACT_WINDOW: f64 = 0.1;
+pub const CONTACT_WINDOW: f64 = ancf_core::loads::rod_load::FIRST_IMPACT_WINDOW;
 
 /// Options of one study.
 #[derive(Clone, Debug)]
@@ -73,6 +74,21 @@ pub struct Outcome {
     pub window_impulse: Option<f64>,
     /// Newton iterations per step (dynamic) or per load step (static).
     pub iterations_per_step: f64,
+    /// Contact runs: each rod's loads, in the scene's rod order.
+    pub rods: Vec<RodOutcome>,
+}
+
+/// One rod's loads in a run (summary.json's `contact.rods`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RodOutcome {
+    /// CFC-filtered peak over the run, N.
+    pub filtered_peak: f64,
+    /// Impulse over the run, N s.
+    pub impulse: f64,
+    /// Filtered peak in the rod's first impact, N.
+    pub first_impact_peak: f64,
+    /// Impulse of the rod's first impact, N s.
+    pub first_impact_impulse: f64,
 }
 
 impl Outcome {
@@ -222,6 +238,19 @@ pub fn run_setting(
         first_contact: contact.and_then(|c| c.first_time),
         window_impulse,
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
+        rods: contact
+            .map(|c| {
+                c.rods
+                    .iter()
+                    .map(|r| RodOutcome {
+                        filtered_peak: r.load.filtered_peak_force,
+                        impulse: r.load.impulse,
+                        first_impact_peak: r.load.first_impact_filtered_peak,
+                        first_impact_impulse: r.load.first_impact_impulse,
+                    })
+                    .collect()
+            })
+            .unwrap_or_default(),
     }
 }
 
@@ -333,7 +362,7 @@ pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
     let _ = std::fs::remove_dir_all(&work);
     let kernels = match opts.level {
         Level::Standard => Some(report::kernel_costs(&scene)),
-        Level::Quick => None,
+        Level::Quick | Level::Refinement => None,
     };
     let input = report::ReportInput {
         scene_path: path,

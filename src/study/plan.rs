@@ -15,6 +15,11 @@ pub enum Level {
     Quick,
     /// The full sweeps of issue 5 (minutes): what `docs/accuracy/` holds.
     Standard,
+    /// Dynamic scenes: only the three refinements a result's error band
+    /// needs — time step h, h/2, h/4; elements ½, 1, 2 ×; contact points
+    /// ½, 1, 2 × — each at the scene's other settings, for scenes too costly
+    /// for the standard sweeps (the span-break frame: minutes per run).
+    Refinement,
 }
 
 /// One point of a sweep: every choice the study varies, resolved.
@@ -312,6 +317,9 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     // ρ∞ and the other Newton kind at the scene's element count.
     let h0 = base.time_step.expect("dynamic scene has a time step");
     let contact = base.stations.is_some() || base.zone_points.is_some();
+    if level == Level::Refinement {
+        return refinement_plan(&base, length);
+    }
     let h_factors: &[f64] = if quick {
         &[2.0, 1.0]
     } else if contact {
@@ -489,6 +497,58 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         families,
         reference,
         sample_interval: Some(h_max),
+    }
+}
+
+/// [`Level::Refinement`] of a dynamic scene: one family, the scene's
+/// setting refined in h, in the elements and in the contact points, three
+/// levels each; the reference run is the finest mesh at the finest step.
+fn refinement_plan(base: &Setting, length: f64) -> Plan {
+    let h0 = base.time_step.expect("dynamic scene has a time step");
+    let at = |h: f64, n: usize| Setting {
+        elements: n,
+        time_step: Some(h),
+        stations: stations_for(base, length, n),
+        ..base.clone()
+    };
+    let half = (base.elements / 2).max(1);
+    let mut settings = Vec::new();
+    for s in [
+        at(h0, half),
+        at(h0, base.elements),
+        at(h0, 2 * base.elements),
+        at(h0 / 2.0, base.elements),
+        at(h0 / 4.0, base.elements),
+    ] {
+        push_unique(&mut settings, s);
+    }
+    if base.zone_points.is_some() || base.stations.is_some() {
+        for k in [0.5, 2.0] {
+            push_unique(
+                &mut settings,
+                Setting {
+                    stations: base
+                        .stations
+                        .map(|s| ((s as f64 * k) as usize).clamp(1, 64)),
+                    zone_points: base
+                        .zone_points
+                        .map(|z| ((z as f64 * k) as usize).clamp(1, 32)),
+                    ..base.clone()
+                },
+            );
+        }
+    }
+    Plan {
+        families: vec![Family {
+            name: "Refinement".into(),
+            kind: FamilyKind::Dynamic,
+            settings,
+        }],
+        reference: Setting {
+            tolerance: Some(base.tolerance.unwrap_or(1.0).min(1e-8)),
+            ..at(h0 / 4.0, 2 * base.elements)
+        },
+        sample_interval: Some(h0),
     }
 }
 

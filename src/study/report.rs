@@ -440,10 +440,10 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
          Timings from runs sharing the cores are a little slower than a lone run; compare them with each other.\n",
         input.scene_path.display(),
         out.display(),
-        if input.level == Level::Quick {
-            " --level quick"
-        } else {
-            ""
+        match input.level {
+            Level::Quick => " --level quick",
+            Level::Standard => "",
+            Level::Refinement => " --level refinement",
         },
         input.outcomes.iter().map(Vec::len).sum::<usize>(),
         input.study_wall_s,
@@ -630,12 +630,80 @@ pub fn richardson(coarse: f64, medium: f64, fine: f64, ratio: f64) -> Option<(f6
 }
 
 /// A quantity a refinement is judged by: its name and how to read it from a run.
-type Quantity<'a> = (&'a str, &'a dyn Fn(&Outcome) -> Option<f64>);
+type Quantity = (String, Box<dyn Fn(&Outcome) -> Option<f64>>);
+
+/// The quantities of a contact run: the filtered peak, the first impact's
+/// impulse and the tip at first contact + 0.1 s; with rods, each rod's
+/// first impact (filtered peak, impulse) and its whole-run filtered peak.
+fn quantities(rods: usize) -> Vec<Quantity> {
+    let tip_z = |o: &Outcome| -> Option<f64> {
+        let t = o.first_contact? + CONTACT_WINDOW;
+        o.samples
+            .iter()
+            .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
+            .map(|s| s.tip[2])
+    };
+    let mut q: Vec<Quantity> = vec![
+        ("filtered peak force (N)".into(), Box::new(|o| o.peak_force)),
+        (
+            "impulse, first 0.1 s of contact (N s)".into(),
+            Box::new(|o| o.window_impulse),
+        ),
+        ("tip z at first contact + 0.1 s (m)".into(), Box::new(tip_z)),
+    ];
+    if rods > 1 {
+        for k in 0..rods {
+            let rod = move |o: &Outcome| o.rods.get(k).copied();
+            q.push((
+                format!("rod {k}: first impact, filtered peak (N)"),
+                Box::new(move |o| rod(o).map(|r| r.first_impact_peak)),
+            ));
+            q.push((
+                format!("rod {k}: first impact, impulse (N s)"),
+                Box::new(move |o| rod(o).map(|r| r.first_impact_impulse)),
+            ));
+            q.push((
+                format!("rod {k}: filtered peak, whole run (N)"),
+                Box::new(move |o| rod(o).map(|r| r.filtered_peak)),
+            ));
+        }
+    }
+    q
+}
+
+/// How one quantity behaves under one refinement.
+struct Convergence {
+    /// The three finest levels' values, coarsest first.
+    values: [f64; 3],
+    /// Observed order and GCI of the finest, when the differences shrink.
+    order_gci: Option<(f64, f64)>,
+}
+
+impl Convergence {
+    /// The spread of the three values relative to the finest.
+    fn spread(&self) -> f64 {
+        let [a, b, c] = self.values;
+        (a.max(b).max(c) - a.min(b).min(c)) / c.abs()
+    }
+
+    /// An error band for the value `at` (the scene's setting) of this
+    /// refinement: its distance from the finest level plus the finest's GCI
+    /// when the values converge, else the spread of the three levels.
+    fn band(&self, at: f64) -> f64 {
+        let fine = self.values[2];
+        match self.order_gci {
+            Some((_, gci)) => (at - fine).abs() / fine.abs() + gci,
+            None => self.spread(),
+        }
+    }
+}
 
 /// Per refinement direction of a family (time step, elements, contact
 /// integration), the three finest runs that differ from the scene's setting
 /// only in it: the values of the filtered peak, the first impact's impulse
-/// and the tip position at first contact + 0.1 s, observed orders and GCIs.
+/// and the tip position at first contact + 0.1 s (with several rods, each
+/// rod's first impact and whole-run peak), observed orders and GCIs; with
+/// several rods, a table of design loads with their bands.
 fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base: &Setting) {
     type Key = fn(&Setting) -> f64;
     let directions: [(&str, Key, Key); 3] = [
@@ -651,6 +719,17 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
             |s| s.zone_points.or(s.stations).unwrap_or(0) as f64,
         ),
     ];
+    let base_run = fam
+        .settings
+        .iter()
+        .zip(outcomes)
+        .find(|(s, o)| *s == base && o.completed())
+        .map(|(_, o)| o);
+    let rods = outcomes.iter().map(|o| o.rods.len()).max().unwrap_or(0);
+    let quantities = quantities(rods);
+    // Per quantity: the largest band over the directions, and whether any
+    // direction oscillated.
+    let mut bands: Vec<(f64, bool)> = vec![(0.0, false); quantities.len()];
     let mut rows = String::new();
     for (name, value, fineness) in directions {
         // Runs equal to the scene's setting but for this direction (and the
@@ -688,48 +767,67 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
             .map(|(s, _)| format!("{}", value(s)))
             .collect::<Vec<_>>()
             .join(" → ");
-        let tip_z = |o: &Outcome| -> Option<f64> {
-            let t = o.first_contact? + CONTACT_WINDOW;
-            o.samples
-                .iter()
-                .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
-                .map(|s| s.tip[2])
-        };
-        let quantities: [Quantity; 3] = [
-            ("filtered peak force (N)", &|o| o.peak_force),
-            ("impulse, first 0.1 s of contact (N s)", &|o| {
-                o.window_impulse
-            }),
-            ("tip z at first contact + 0.1 s (m)", &tip_z),
-        ];
-        for (qname, get) in quantities {
+        for (qi, (qname, get)) in quantities.iter().enumerate() {
             let f: Vec<Option<f64>> = last.iter().map(|(_, o)| get(o)).collect();
             let [Some(f3), Some(f2), Some(f1)] = [f[0], f[1], f[2]] else {
                 continue;
             };
-            let (order, gci) = match richardson(f3, f2, f1, ratio) {
-                Some((p, g)) => (format!("{p:.2}"), format!("{:.2} %", 100.0 * g)),
-                None => {
-                    let spread = (f1.max(f2).max(f3) - f1.min(f2).min(f3)) / f1.abs();
-                    (
-                        "oscillating".into(),
-                        format!("spread {:.2} %", 100.0 * spread),
-                    )
-                }
+            let c = Convergence {
+                values: [f3, f2, f1],
+                order_gci: richardson(f3, f2, f1, ratio),
             };
+            let (order, gci) = match c.order_gci {
+                Some((p, g)) => (format!("{p:.2}"), format!("{:.2} %", 100.0 * g)),
+                None => (
+                    if (f3 - f2) * (f2 - f1) < 0.0 {
+                        "oscillating"
+                    } else {
+                        "not shrinking"
+                    }
+                    .into(),
+                    format!("spread {:.2} %", 100.0 * c.spread()),
+                ),
+            };
+            if let Some(at) = base_run.and_then(|o| get(o)) {
+                let band = &mut bands[qi];
+                band.0 = band.0.max(c.band(at));
+                band.1 |= c.order_gci.is_none();
+            }
             let _ = writeln!(
                 rows,
                 "| {name} | {levels} | {qname} | {f3:.5} → {f2:.5} → {f1:.5} | {order} | {gci} |"
             );
         }
     }
-    if !rows.is_empty() {
-        let _ = writeln!(
-            md,
-            "\nConvergence (Richardson, the three finest levels of each refinement at the scene's other settings; \
-             GCI of the finest with safety factor 1.25):\n\n| refined | levels | quantity | values | observed order | GCI |\n\
-             |---|---|---|---|---|---|\n{rows}"
-        );
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "\nConvergence (Richardson, the three finest levels of each refinement at the scene's other settings; \
+         GCI of the finest with safety factor 1.25):\n\n| refined | levels | quantity | values | observed order | GCI |\n\
+         |---|---|---|---|---|---|\n{rows}"
+    );
+    let Some(at) = base_run.filter(|_| rods > 1) else {
+        return;
+    };
+    let _ = writeln!(
+        md,
+        "\n**Loads at the scene's setting** ({}, {:.0} s wall, single-threaded) with their band: the largest over \
+         the refinements of |value − finest level| + the finest level's GCI where the values converge, or the \
+         spread of the three levels where they oscillate (marked ~).\n\n| quantity | value | band |\n|---|---|---|",
+        base.label(),
+        at.wall_s
+    );
+    for ((qname, get), (band, oscillating)) in quantities.iter().zip(&bands).skip(3) {
+        if let Some(v) = get(at) {
+            let _ = writeln!(
+                md,
+                "| {qname} | {v:.4} | ±{:.1} %{} |",
+                100.0 * band,
+                if *oscillating { " ~" } else { "" }
+            );
+        }
     }
 }
 

@@ -37,6 +37,7 @@
 // Index loops over nodes, directions and Voigt components read like the
 // formulas they implement (Σ_i e[3i+k] g[i][a]); iterator chains would not.
 #![allow(clippy::needless_range_loop)]
+#![warn(missing_docs)]
 
 // The folders follow the data flow: scene → model → forces → linear algebra
 // → solvers → loads. `math`, `element`, `material` and `section` are what a

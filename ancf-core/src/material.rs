@@ -77,9 +77,13 @@ pub enum Law {
     /// Nearly incompressible Mooney–Rivlin (SPEC §3.2), all in Pa:
     /// W = μ10 (I1 − 3) + μ01 (I2 − 3) + k1 (I3 − 1) + k2 (I3 − 1)².
     MooneyRivlin {
+        /// μ10 (Pa).
         mu10: f64,
+        /// μ01 (Pa).
         mu01: f64,
+        /// k1 (Pa), chosen so the reference is stress free.
         k1: f64,
+        /// k2 (Pa), the volume penalty.
         k2: f64,
     },
     /// W = W_a − W_b: the centerline remainder of a locking split.
@@ -96,7 +100,9 @@ ancf_macros::mooney_rivlin_kernel! {
 /// Stress and tangent of a law at one strain.
 #[derive(Clone, Copy, Debug)]
 pub struct StressTangent {
+    /// Second Piola–Kirchhoff stress, Voigt (Pa).
     pub stress: Vector6<f64>,
+    /// ∂S/∂E, Voigt (Pa).
     pub tangent: Matrix6<f64>,
 }
 
@@ -233,7 +239,9 @@ pub enum Locking {
 pub struct Material {
     /// Mass density, kg/m³.
     pub density: f64,
+    /// The constitutive model and its constants.
     pub model: MaterialModel,
+    /// The locking remedy (how the law is split between section and centerline).
     pub locking: Locking,
 }
 
@@ -278,19 +286,30 @@ impl Material {
     }
 }
 
+/// A constitutive model with its constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MaterialModel {
     /// St. Venant–Kirchhoff: Young's modulus (Pa), Poisson's ratio, and the
     /// weakened-bending coefficient ω ∈ [0, 1] (fraction of the continuum
     /// bending stiffness kept; 1 = plain continuum).
     StVenantKirchhoff {
+        /// E (Pa).
         youngs_modulus: f64,
+        /// ν.
         poisson_ratio: f64,
+        /// ω, the weakened-bending coefficient (1: none).
         bending_factor: f64,
     },
     /// Nearly incompressible Mooney–Rivlin: μ10, μ01 (Pa) and the
     /// dimensionless volume penalty κ (k2 = κ max(μ10, μ01)).
-    MooneyRivlin { mu10: f64, mu01: f64, penalty: f64 },
+    MooneyRivlin {
+        /// μ10 (Pa).
+        mu10: f64,
+        /// μ01 (Pa).
+        mu01: f64,
+        /// κ (dimensionless).
+        penalty: f64,
+    },
 }
 
 /// How one layer's energy is integrated: a law over the section points and,
@@ -298,7 +317,9 @@ pub enum MaterialModel {
 /// layer's area.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayerLaws {
+    /// The law integrated over the section points.
     pub section: Law,
+    /// The law integrated on the centerline (weighted by the layer's area), if any.
     pub centerline: Option<Law>,
 }
 

@@ -16,7 +16,9 @@ pub struct SectionLayer {
     pub area: f64,
     /// ∫ y² dA and ∫ z² dA over the layer, m⁴.
     pub second_moments: [f64; 2],
+    /// The layer's material.
     pub material: Material,
+    /// Its laws on the section points and on the centerline.
     pub laws: LayerLaws,
 }
 
@@ -25,15 +27,25 @@ pub struct SectionLayer {
 pub enum SectionShape {
     /// Concentric layers listed from the centre out: (inner radius, outer
     /// radius) in m; the first inner radius is 0 for a solid core.
-    Circular { radii: Vec<(f64, f64)> },
+    Circular {
+        /// (inner, outer) radius of each layer, m.
+        radii: Vec<(f64, f64)>,
+    },
     /// Width (along y) and height (along z), m.
-    Rectangular { width: f64, height: f64 },
+    Rectangular {
+        /// Along y, m.
+        width: f64,
+        /// Along z, m.
+        height: f64,
+    },
 }
 
 /// A cross section with its quadrature.
 #[derive(Clone, Debug)]
 pub struct Section {
+    /// Circular layers or a rectangle.
     pub shape: SectionShape,
+    /// The layers, from the centre out.
     pub layers: Vec<SectionLayer>,
     /// Ring-rule order n per layer (circular) or points per direction (rectangular).
     pub order: usize,

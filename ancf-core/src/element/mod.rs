@@ -174,9 +174,17 @@ pub fn point_kernel_generic(
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum KernelPath {
     /// Unrolled kernel generated for this axial order at compile time.
-    Generated { axial_order: usize },
+    /// The generated, unrolled kernel of this axial order.
+    Generated {
+        /// Gauss points along the element.
+        axial_order: usize,
+    },
     /// Loop-based kernel, any order.
-    Generic { axial_order: usize },
+    /// The generic loop kernel (an order without a generated one).
+    Generic {
+        /// Gauss points along the element.
+        axial_order: usize,
+    },
 }
 
 impl std::fmt::Display for KernelPath {
@@ -202,6 +210,7 @@ pub struct ElementIntegration {
     pub length: f64,
     /// Axial Gauss–Legendre rule on ξ ∈ [0, 1] (weights sum to 1).
     pub axial: Rule1d,
+    /// The cross section (layers, laws, quadrature points).
     pub section: Section,
     /// The points the generated kernel integrates (see [`IntegrationPlan`]).
     pub plan: IntegrationPlan,
@@ -214,7 +223,9 @@ type RadialPiece = (f64, f64, f64);
 /// Section points sharing one law.
 #[derive(Clone, Debug)]
 pub struct PointGroup {
+    /// The group's section points (y, z, weight).
     pub points: Vec<crate::math::quadrature::SectionPoint>,
+    /// The law all of them share.
     pub law: Law,
 }
 
@@ -232,12 +243,14 @@ pub struct PointGroup {
 pub struct IntegrationPlan {
     /// Linear laws, pre-integrated over the section (see `preintegration.rs`).
     pub preintegrated: Option<crate::element::preintegration::PreIntegrated>,
+    /// Section points integrated point by point, grouped by law.
     pub groups: Vec<PointGroup>,
     /// Centerline laws with their weights (m²).
     pub centerline: Vec<(Law, f64)>,
 }
 
 impl IntegrationPlan {
+    /// The plan for `section`: linear laws pre-integrated, the rest by points.
     pub fn new(section: &Section) -> Self {
         let mut groups: Vec<PointGroup> = Vec::new();
         // Proportional linear circular layers: (D̂, pieces (r1, r2, c)).
@@ -321,6 +334,7 @@ impl IntegrationPlan {
 }
 
 impl ElementIntegration {
+    /// Elements of `length` (m) with `axial_order` Gauss points along them.
     pub fn new(length: f64, axial_order: usize, section: Section) -> Self {
         ElementIntegration {
             length,
@@ -346,6 +360,7 @@ impl ElementIntegration {
         self
     }
 
+    /// Which kernel evaluates the element (generated or generic).
     pub fn kernel_path(&self) -> KernelPath {
         let axial_order = self.axial.nodes.len();
         match self.kernel {

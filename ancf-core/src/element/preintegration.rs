@@ -33,11 +33,17 @@ const fn gram(i: usize, j: usize) -> usize {
 /// Section moments of a point rule: m₀, ∫y², ∫z², ∫y⁴, ∫z⁴, ∫y²z².
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Moments {
+    /// ∫ w dA (m²).
     pub m0: f64,
+    /// ∫ w y² dA (m⁴).
     pub yy: f64,
+    /// ∫ w z² dA (m⁴).
     pub zz: f64,
+    /// ∫ w y⁴ dA (m⁶).
     pub y4: f64,
+    /// ∫ w z⁴ dA (m⁶).
     pub z4: f64,
+    /// ∫ w y² z² dA (m⁶).
     pub y2z2: f64,
 }
 
@@ -267,6 +273,7 @@ const GRAM_PAIRS: [(usize, usize); 15] = [
 ];
 
 impl PreIntegrated {
+    /// No section yet: every tensor zero.
     pub fn zero() -> Self {
         let (c0, c, p, t, [al, be, ga]) = strain_maps();
         let mut j = M15::zeros();

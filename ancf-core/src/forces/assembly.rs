@@ -14,6 +14,7 @@ const NO_SLOT: u32 = u32::MAX;
 /// The global matrix pattern over the unknowns (both triangles stored).
 #[derive(Clone, Debug)]
 pub struct Pattern {
+    /// The symbolic (structure-only) matrix the solvers factor.
     pub symbolic: SymbolicSparseColMat<usize>,
     /// For element `el`, local entry (i, j): `slots[el * 576 + i * 24 + j]`
     /// is the index into the value array, or `NO_SLOT`.
@@ -25,6 +26,7 @@ pub struct Pattern {
 }
 
 impl Pattern {
+    /// The pattern of `model`'s Newton matrix (once per phase).
     pub fn new(model: &Model) -> Self {
         let n = model.n_unknowns;
         // Column lists: for every element, the free coordinates it couples.
@@ -82,10 +84,12 @@ impl Pattern {
         }
     }
 
+    /// Structural non-zeros.
     pub fn nnz(&self) -> usize {
         self.symbolic.row_idx().len()
     }
 
+    /// A zero value for every slot.
     pub fn zeros(&self) -> Vec<f64> {
         vec![0.0; self.nnz()]
     }

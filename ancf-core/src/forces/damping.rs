@@ -20,9 +20,17 @@ use nalgebra::{SMatrix, Vector6};
 #[derive(Clone, Debug, PartialEq)]
 pub enum Damping {
     /// Q_d = (mass · M + stiffness · K₀) v; `mass` in 1/s, `stiffness` in s.
-    Rayleigh { mass: f64, stiffness: f64 },
+    Rayleigh {
+        /// Mass-proportional factor (1/s).
+        mass: f64,
+        /// Stiffness-proportional factor (s).
+        stiffness: f64,
+    },
     /// σ_v = c D₀ Ė; `coefficient` c in s.
-    KelvinVoigt { coefficient: f64 },
+    KelvinVoigt {
+        /// c (s).
+        coefficient: f64,
+    },
 }
 
 /// One point of the Kelvin–Voigt force: adds w Bᵀσ_v to `q`, ∂/∂q to `kq`,

@@ -11,15 +11,20 @@ use nalgebra::{DMatrix, SymmetricEigen};
 /// A one-dimensional rule: nodes and weights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rule1d {
+    /// Nodes on [0, 1].
     pub nodes: Vec<f64>,
+    /// Weights (they sum to 1).
     pub weights: Vec<f64>,
 }
 
 /// One point of a cross-section rule: position (y, z) in m and area weight in m².
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SectionPoint {
+    /// Section coordinate y (m).
     pub y: f64,
+    /// Section coordinate z (m).
     pub z: f64,
+    /// Area weight (m²).
     pub weight: f64,
 }
 

@@ -28,9 +28,12 @@ pub enum SupportKind {
     Pin,
 }
 
+/// A support: which node, how it is held, where, and until when.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Support {
+    /// The node held (0 … elements).
     pub node: usize,
+    /// Which coordinates it holds.
     pub kind: SupportKind,
     /// Where the node is held (m); `None`: its reference position.
     pub position: Option<[f64; 3]>,
@@ -54,7 +57,9 @@ impl Support {
 /// A constant force (N) at a node's position r.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLoad {
+    /// The loaded node.
     pub node: usize,
+    /// The force (N).
     pub force: [f64; 3],
 }
 
@@ -66,12 +71,16 @@ pub struct PointLoad {
 pub enum Effect {
     /// Elastic forces of the layers (always present).
     Elasticity {
+        /// Whether a layer is Mooney–Rivlin (point-wise integration).
         mooney_rivlin: bool,
+        /// Whether a layer has a centerline law (Poisson or ω split).
         centerline: bool,
     },
     /// Gravity: constant generalized force, full coordinates (N).
     Gravity {
+        /// g (m/s²).
         acceleration: [f64; 3],
+        /// The generalized gravity force, full coordinates (N).
         force: Vec<f64>,
     },
     /// Point loads.
@@ -90,17 +99,23 @@ pub struct Model {
     pub groups: Vec<ElementGroup>,
     /// Each element's group.
     group_of: Vec<u32>,
+    /// Number of elements (all groups).
     pub n_elements: usize,
     /// Reference coordinates, 12 per node.
     pub reference: Vec<f64>,
     /// For each coordinate, its unknown index, or `None` when eliminated.
     pub dof_map: Vec<Option<usize>>,
+    /// Number of unknowns (coordinates not held).
     pub n_unknowns: usize,
+    /// The supports, in the scene's order.
     pub supports: Vec<Support>,
+    /// The effects the model evaluates (only those its scene names).
     pub effects: Vec<Effect>,
     /// Unit wire axis and section directions.
     pub axis: [f64; 3],
+    /// Section direction y in the reference configuration.
     pub section_y: [f64; 3],
+    /// Section direction z in the reference configuration.
     pub section_z: [f64; 3],
 }
 
@@ -111,21 +126,37 @@ pub struct Model {
 pub enum ModelError {
     /// A property of the wire as a whole: `what` is "length", "elements",
     /// "direction", "segments", "layers", "layer i" or "rod i".
-    Wire { what: String, message: String },
+    Wire {
+        /// The property at fault.
+        what: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// Segment `index` of a graded mesh: `what` is "length" or "elements".
     Segment {
+        /// The segment (0-based).
         index: usize,
+        /// Its property at fault.
         what: &'static str,
+        /// What is wrong with it.
         message: String,
     },
     /// Support `index`: `what` is "node" or "kind".
     Support {
+        /// The support (0-based).
         index: usize,
+        /// Its property at fault.
         what: &'static str,
+        /// What is wrong with it.
         message: String,
     },
     /// Point load `index` is at a node the wire does not have.
-    LoadNode { index: usize, node: usize },
+    LoadNode {
+        /// The load (0-based).
+        index: usize,
+        /// The node it names.
+        node: usize,
+    },
 }
 
 impl ModelError {
@@ -626,6 +657,7 @@ impl Model {
         q
     }
 
+    /// Number of nodes (elements + 1).
     pub fn n_nodes(&self) -> usize {
         self.n_elements + 1
     }
@@ -693,6 +725,7 @@ impl Model {
         self
     }
 
+    /// The point loads (empty without them).
     pub fn point_loads(&self) -> &[PointLoad] {
         self.effects
             .iter()

@@ -30,6 +30,7 @@ pub struct DynamicSettings {
     pub end_time: f64,
     /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1]; 1 = no numerical damping.
     pub spectral_radius: f64,
+    /// Full or modified Newton.
     pub newton: NewtonKind,
     /// Newton iterations allowed per step before the step is cut. Default 25.
     pub max_iterations: usize,
@@ -56,9 +57,13 @@ impl Default for DynamicSettings {
 /// Generalized-α parameters from ρ∞.
 #[derive(Clone, Copy, Debug)]
 pub struct AlphaParameters {
+    /// α_m.
     pub alpha_m: f64,
+    /// α_f.
     pub alpha_f: f64,
+    /// Newmark β.
     pub beta: f64,
+    /// Newmark γ.
     pub gamma: f64,
 }
 
@@ -73,6 +78,7 @@ impl AlphaParameters {
         (q1, v1)
     }
 
+    /// The parameters of Chung & Hulbert for spectral radius ρ∞ ∈ [0, 1].
     pub fn new(rho_inf: f64) -> Self {
         let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
         let alpha_f = rho_inf / (rho_inf + 1.0);
@@ -90,9 +96,13 @@ impl AlphaParameters {
 /// State in full coordinates.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
+    /// Time (s).
     pub time: f64,
+    /// Coordinates, full (m and dimensionless gradients).
     pub q: Vec<f64>,
+    /// Velocities, full.
     pub v: Vec<f64>,
+    /// Accelerations, full.
     pub a: Vec<f64>,
     /// Energy dissipated by friction and damping since t = 0, J.
     pub dissipated: f64,
@@ -108,7 +118,9 @@ pub struct State {
 /// to a state.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PreviousStep {
+    /// Its step size (s).
     pub h: f64,
+    /// The acceleration at its start.
     pub a: Vec<f64>,
 }
 
@@ -150,9 +162,13 @@ pub fn predict(model: &Model, s: &State, h: f64, spectral_radius: f64) -> Vec<f6
 /// Energies of a state (J).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Energies {
+    /// Kinetic energy (J).
     pub kinetic: f64,
+    /// Strain energy (J).
     pub strain: f64,
+    /// Potential of gravity (J).
     pub gravity: f64,
+    /// Potential of the point loads (J).
     pub loads: f64,
     /// Contact penalty energy.
     pub contact: f64,
@@ -170,7 +186,9 @@ impl Energies {
 /// Statistics of one completed step.
 #[derive(Clone, Debug, Default)]
 pub struct StepInfo {
+    /// Newton iterations.
     pub iterations: usize,
+    /// Newton matrix factorizations.
     pub factorizations: usize,
     /// Sub-steps used (1 when no cut was needed).
     pub substeps: usize,
@@ -188,6 +206,7 @@ pub struct StepInfo {
 /// allowed cut, a non-finite residual, a factorization that failed).
 #[derive(Clone, Debug)]
 pub struct StepError {
+    /// What failed, and the likely cause.
     pub message: String,
 }
 
@@ -204,6 +223,7 @@ impl std::error::Error for StepError {}
 pub struct Integrator {
     /// The model it integrates (shared: a simulation keeps one per phase).
     pub model: Arc<Model>,
+    /// The settings it runs with.
     pub settings: DynamicSettings,
     params: AlphaParameters,
     pattern: Pattern,
@@ -272,6 +292,7 @@ fn norm_inf(v: &[f64]) -> f64 {
 }
 
 impl Integrator {
+    /// An integrator for `model` (pattern and symbolic factorization built here).
     pub fn new(model: Arc<Model>, settings: DynamicSettings) -> Result<Self, StepError> {
         let pattern = Pattern::new(&model);
         let solver =

@@ -31,7 +31,11 @@ pub enum Initial {
     Reference,
     /// At rest in static equilibrium with every support holding, reached in
     /// `load_steps` load increments.
-    Static { load_steps: usize },
+    /// The static equilibrium under the scene's loads, in `load_steps` increments.
+    Static {
+        /// Equal load increments (≥ 1).
+        load_steps: usize,
+    },
 }
 
 /// Why a simulation could not start or go on.
@@ -42,14 +46,19 @@ pub enum SimulationError {
     /// The solver could not be set up, or the acceleration of a state not
     /// found (`what` says which, at the start or after a release).
     Setup {
+        /// What was being set up.
         what: &'static str,
+        /// Why it failed.
         error: StepError,
     },
     /// Step `step` (1-based), which was to end at `time` (s), failed after
     /// every allowed cut.
     Step {
+        /// The step (1-based).
         step: usize,
+        /// The time it was to end at (s).
         time: f64,
+        /// Why it failed.
         error: StepError,
     },
 }
@@ -76,10 +85,13 @@ pub struct Snapshot {
     pub step: usize,
     /// Current phase (number of release times passed).
     pub phase: usize,
+    /// The state after `step` steps.
     pub state: State,
     /// The energy guard's reference (see [`Integrator::energy_reference`]).
     pub energy_reference: (f64, f64),
+    /// Newton iterations so far.
     pub newton_iterations: usize,
+    /// Factorizations so far.
     pub factorizations: usize,
     /// Support releases done.
     pub released: usize,

@@ -29,22 +29,27 @@ impl Default for StaticSettings {
     }
 }
 
+/// A static equilibrium.
 #[derive(Clone, Debug)]
 pub struct StaticResult {
     /// Full coordinates at equilibrium.
     pub q: Vec<f64>,
     /// Newton iterations per load increment (increments are halved on failure).
     pub iterations: Vec<usize>,
+    /// Strain energy at equilibrium (J).
     pub strain_energy: f64,
     /// Force each support exerts on the wire at its node's position r, N.
     pub reactions: Vec<(usize, [f64; 3])>,
 }
 
+/// A static solve that did not converge.
 #[derive(Clone, Debug)]
 pub struct StaticError {
+    /// What failed, and the likely cause.
     pub message: String,
     /// The last converged state (the reference if none).
     pub last_converged: Vec<f64>,
+    /// Newton iterations per load increment up to the failure.
     pub iterations: Vec<usize>,
 }
 

@@ -236,6 +236,7 @@ impl Contact {
         }
     }
 
+    /// Whether any rod has friction (then the Newton matrix is not symmetric).
     pub fn has_friction(&self) -> bool {
         self.rods.iter().any(|r| r.friction > 0.0)
     }
@@ -370,6 +371,7 @@ impl Contact {
 }
 
 impl ContactSample {
+    /// Add another sample's energy, forces and counts; keep the larger penetration.
     pub fn accumulate(&mut self, o: &ContactSample) {
         self.energy += o.energy;
         self.max_penetration = self.max_penetration.max(o.max_penetration);

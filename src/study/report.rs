@@ -815,7 +815,7 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
         md,
         "\n**Loads at the scene's setting** ({}, {:.0} s wall, single-threaded) with their band: the largest over \
          the refinements of |value − finest level| + the finest level's GCI where the values converge, or the \
-         spread of the three levels where they oscillate (marked ~).\n\n| quantity | value | band |\n|---|---|---|",
+         spread of the three levels where they do not converge (marked ~).\n\n| quantity | value | band |\n|---|---|---|",
         base.label(),
         at.wall_s
     );

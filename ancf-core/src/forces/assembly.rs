@@ -161,8 +161,25 @@ pub fn assemble(
     jacobian: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
     let mut force = vec![0.0; q.len()];
-    // Per-element energies, summed in element order at the end.
     let mut energy = vec![0.0; model.n_elements];
+    let u = assemble_into(model, pattern, q, jacobian, &mut force, &mut energy);
+    (force, u)
+}
+
+/// [`assemble`] into `force` (full coordinates, overwritten) with
+/// `energy` (one per element, overwritten) as workspace: what a Newton
+/// loop calls every iteration without allocating. Returns the strain energy.
+pub fn assemble_into(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    jacobian: Option<&mut [f64]>,
+    force: &mut [f64],
+    energy: &mut [f64],
+) -> f64 {
+    force.fill(0.0);
+    // Per-element energies, summed in element order at the end.
+    energy.fill(0.0);
     if !runs_in_parallel(model, jacobian.is_some()) || rayon::current_num_threads() == 1 {
         let mut values = jacobian.map(|v| {
             v.fill(0.0);
@@ -193,13 +210,13 @@ pub fn assemble(
             }
             for el in first..group.elements.end {
                 let part = Part::Whole;
-                energy[el] = add_element(model, pattern, q, el, part, &mut force, values.as_mut());
+                energy[el] = add_element(model, pattern, q, el, part, force, values.as_mut());
             }
         }
     } else {
-        assemble_chunks(model, pattern, q, &mut force, &mut energy, jacobian);
+        assemble_chunks(model, pattern, q, force, energy, jacobian);
     }
-    (force, energy.iter().sum())
+    energy.iter().sum()
 }
 
 /// Whether [`assemble`] splits the elements into parallel chunks (with more
@@ -222,15 +239,13 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 
 /// Element work (µs) below which the serial loop is used. Inside a Newton
 /// step the other thread has fallen asleep during the serial factorization
-/// and starts ≈ 40 µs late, and the Jacobian columns it wrote must travel
-/// back to the core that forms the Newton matrix. Full-Newton steps of the
-/// SVK pendulum on 2 threads against 1 (median of 5 pairs, with
-/// `linalg::parallel::run_tasks`): 1.02× at 64 elements (77 µs of element
-/// work), 1.10× at 128, 1.19× at 256; modified-Newton steps (force only)
-/// 1.02× at 512 elements, 1.06× at 1024. With rayon's own join and a
-/// 250 µs threshold they had been 0.87–1.0× up to 128 elements
-/// (BENCHMARKS.md, issue 7).
-pub const PARALLEL_MIN_WORK_US: f64 = 60.0;
+/// and starts ≈ 40 µs late, the Jacobian columns it wrote must travel back
+/// to the core that forms the Newton matrix, and afterwards the idle pool
+/// threads spin for a while on cores the main thread wants. Below about
+/// 100 elements' worth the section gains nothing and the aftermath costs:
+/// the 64-element impact scene (77 µs of Jacobian work) runs 1.2× slower
+/// with it, while 128 elements and more still gain (BENCHMARKS.md).
+pub const PARALLEL_MIN_WORK_US: f64 = 100.0;
 
 /// Elements per chunk: 8 chunks at 256 elements, so that rayon can balance
 /// two cores, and 1 extra element evaluation in 32 (16 per chunk measured
@@ -465,11 +480,29 @@ pub fn assemble_contact(
     pattern: &Pattern,
     q: &[f64],
     v: &[f64],
+    jac_q: Option<&mut [f64]>,
+    jac_v: Option<&mut [f64]>,
+) -> ContactForces {
+    assemble_contact_reusing(model, contact, pattern, q, v, jac_q, jac_v, Vec::new())
+}
+
+/// [`assemble_contact`] whose force vector reuses `force`'s allocation (a
+/// Newton loop hands back the previous iteration's).
+#[allow(clippy::too_many_arguments)]
+pub fn assemble_contact_reusing(
+    model: &Model,
+    contact: &crate::forces::contact::Contact,
+    pattern: &Pattern,
+    q: &[f64],
+    v: &[f64],
     mut jac_q: Option<&mut [f64]>,
     mut jac_v: Option<&mut [f64]>,
+    mut force: Vec<f64>,
 ) -> ContactForces {
+    force.clear();
+    force.resize(q.len(), 0.0);
     let mut out = ContactForces {
-        force: vec![0.0; q.len()],
+        force,
         rod_forces: vec![[0.0; 3]; contact.rods.len()],
         ..Default::default()
     };

@@ -179,7 +179,11 @@ fn issue14_refinement_study_gives_each_rods_loads_with_a_band() {
     let report_dir = out.join("report");
     let report = study_at("refinement", &scene, &report_dir);
     let rows = runs(&report_dir);
-    assert_eq!(rows.len(), 7, "h, h/2, h/4; ½, 1, 2 × elements; ½, 2 × zone points");
+    assert_eq!(
+        rows.len(),
+        7,
+        "h, h/2, h/4; ½, 1, 2 × elements; ½, 2 × zone points"
+    );
     assert!(rows.iter().all(|r| r["status"] == "completed"));
     let elements: Vec<f64> = rows.iter().map(|r| num(r, "elements")).collect();
     for n in [6.0, 13.0, 26.0] {
@@ -190,7 +194,10 @@ fn issue14_refinement_study_gives_each_rods_loads_with_a_band() {
     }
     assert!(report.contains("**Loads at the scene's setting**"));
     for rod in 0..2 {
-        for q in ["first impact, filtered peak (N)", "first impact, impulse (N s)"] {
+        for q in [
+            "first impact, filtered peak (N)",
+            "first impact, impulse (N s)",
+        ] {
             let line = report
                 .lines()
                 .find(|l| l.starts_with(&format!("| rod {rod}: {q} | ")))

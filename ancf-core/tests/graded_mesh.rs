@@ -121,7 +121,12 @@ fn a_crossing_slides_over_a_change_of_element_length_with_the_exact_force() {
             friction: 0.0,
         };
         let c = Contact::new(vec![rod], ContactSettings::default(), RW, &[l0, l1]);
-        let elements = [(0, 0.0, l0), (0, l0, l0), (1, 2.0 * l0, l1), (1, 2.0 * l0 + l1, l1)];
+        let elements = [
+            (0, 0.0, l0),
+            (0, l0, l0),
+            (1, 2.0 * l0, l1),
+            (1, 2.0 * l0 + l1, l1),
+        ];
         let mut force = 0.0;
         for (group, start, l) in elements {
             let e = reference_coordinates(

@@ -255,6 +255,18 @@ fn vec3(name: &str, v: Vec<f64>) -> PyResult<[f64; 3]> {
     }
 }
 
+/// The Wire builder's name for the part a model error is about: `length`,
+/// `layers`, `layer 1`, `segments[0].elements`, `supports[2].node`, …
+fn builder_field(e: &ancf_core::model::ModelError) -> String {
+    use ancf_core::model::ModelError;
+    match e {
+        ModelError::Wire { what, .. } => what.clone(),
+        ModelError::Segment { index, what, .. } => format!("segments[{index}].{what}"),
+        ModelError::Support { index, what, .. } => format!("supports[{index}].{what}"),
+        ModelError::LoadNode { index, .. } => format!("loads[{index}].node"),
+    }
+}
+
 /// A wire described in code (no scene file): each method returns a new
 /// `Wire`, so calls chain. Units: m, N, m/s².
 #[pyclass(module = "ancf", frozen)]
@@ -484,10 +496,8 @@ impl Simulation {
             ));
         }
         let model = wire.builder.clone().build().map_err(|e| {
-            let err = SceneError::new_err(e.0.clone());
-            let _ = err
-                .value(py)
-                .setattr("field", e.0.split(':').next().unwrap_or("").to_string());
+            let err = SceneError::new_err(e.to_string());
+            let _ = err.value(py).setattr("field", builder_field(&e));
             err
         })?;
         let settings = ancf_core::solve::dynamics::DynamicSettings {

@@ -788,7 +788,7 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
                     format!("spread {:.2} %", 100.0 * c.spread()),
                 ),
             };
-            if let Some(at) = base_run.and_then(|o| get(o)) {
+            if let Some(at) = base_run.and_then(get) {
                 let band = &mut bands[qi];
                 band.0 = band.0.max(c.band(at));
                 band.1 |= c.order_gci.is_none();

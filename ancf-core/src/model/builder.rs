@@ -161,7 +161,9 @@ impl WireBuilder {
             if !(outer.is_finite() && outer > inner) {
                 return fail(
                     &format!("layer {i}"),
-                    format!("outer radius {outer} m must exceed the layer's inner radius {inner} m"),
+                    format!(
+                        "outer radius {outer} m must exceed the layer's inner radius {inner} m"
+                    ),
                 );
             }
             section_layers.push((inner, outer, material));
@@ -202,7 +204,7 @@ impl WireBuilder {
             ),
         };
         Ok(model?
-        .with_rods(self.rods, self.contact)
-        .with_damping(self.damping))
+            .with_rods(self.rods, self.contact)
+            .with_damping(self.damping))
     }
 }

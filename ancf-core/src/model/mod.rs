@@ -9,8 +9,8 @@ pub use builder::WireBuilder;
 pub use mesh::{ElementGroup, Segment};
 
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
-use crate::section::Section;
 use crate::math::vec3::{cross, dot, sub, unit};
+use crate::section::Section;
 
 /// Coordinates per node: r, r_x, r_y, r_z.
 pub const NODE_DOFS: usize = 12;
@@ -329,7 +329,10 @@ impl Model {
                     message: format!("must be > 0 m, got {}", s.length),
                 });
             }
-            groups.push((element.with_length(s.length / s.elements as f64), s.elements));
+            groups.push((
+                element.with_length(s.length / s.elements as f64),
+                s.elements,
+            ));
         }
         Self::from_groups(groups, origin, direction, supports, gravity, loads)
     }

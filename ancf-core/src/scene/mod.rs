@@ -514,7 +514,11 @@ impl Scene {
         let n_elements: usize = segments.iter().map(|s| s.elements).sum();
         if n_elements > 1_000_000 {
             return Err(err(
-                if w.segments.is_some() { "wire.segments" } else { "wire.elements" },
+                if w.segments.is_some() {
+                    "wire.segments"
+                } else {
+                    "wire.elements"
+                },
                 format!("{n_elements} elements is more than this code is meant for (≤ 1e6)"),
             ));
         }
@@ -834,7 +838,10 @@ fn mesh_segments(w: &WireSpec, length: f64) -> Result<Vec<Segment>, SceneError> 
             "missing: give the number of elements (or wire.segments for a graded mesh)",
         )),
         (Some(0), None) => Err(err("wire.elements", "must be at least 1")),
-        (Some(n), None) => Ok(vec![Segment { length, elements: n }]),
+        (Some(n), None) => Ok(vec![Segment {
+            length,
+            elements: n,
+        }]),
         (None, Some(list)) => {
             if list.is_empty() {
                 return Err(err("wire.segments", "name at least one segment"));
@@ -843,7 +850,10 @@ fn mesh_segments(w: &WireSpec, length: f64) -> Result<Vec<Segment>, SceneError> 
             for (i, s) in list.iter().enumerate() {
                 let l = positive(&format!("wire.segments[{i}].length"), s.length)?;
                 if s.elements == 0 {
-                    return Err(err(format!("wire.segments[{i}].elements"), "must be at least 1"));
+                    return Err(err(
+                        format!("wire.segments[{i}].elements"),
+                        "must be at least 1",
+                    ));
                 }
                 out.push(Segment {
                     length: l,

@@ -460,7 +460,7 @@ impl Integrator {
         h: f64,
         depth: usize,
     ) -> Result<(State, StepInfo), StepError> {
-        let attempt = self.try_step(s, h).and_then(|(next, info)| {
+        let attempt = self.try_step(s, h).and_then(|(mut next, info)| {
             let Some(c) = self.model.contact() else { return Ok((next, info)) };
             // A converged step that drove the wire deep into a rod was too coarse for the contact.
             if info.contact.max_penetration > c.settings.max_penetration * c.wire_radius {
@@ -478,10 +478,22 @@ impl Integrator {
             // (measured: h = 1e-2 s in the impact scene gained 196 J on an
             // 8 J swing before Newton failed). Only contact creates it, so
             // the check (a whole force and energy evaluation) runs in steps
-            // that touch a rod or follow one that did: what a step entering
-            // contact gains the next step sees, the reference being fixed.
+            // that touch a rod — at the generalized-α midpoint Newton
+            // solved at, or possibly at the step's end (broad phase: a
+            // coarse step can end deep in a rod with its midpoint clear) —
+            // or follow one that did (leaving contact releases its energy).
+            let model = &*self.model;
+            let near_end = c.rods.iter().any(|rod| {
+                (0..model.n_elements).any(|el| {
+                    c.may_touch(model.group(el), rod, &model.element_coordinates(&next.q, el))
+                })
+            });
+            let touching = info.contact.active > 0 || near_end;
+            if let Some(p) = next.previous.as_mut() {
+                p.touching = touching;
+            }
             let touched_before = s.previous.as_ref().is_none_or(|p| p.touching);
-            if info.contact.active == 0 && !touched_before {
+            if !touching && !touched_before {
                 return Ok((next, info));
             }
             let e1 = self.energies(&next);
@@ -759,7 +771,8 @@ impl Integrator {
                     previous: Some(PreviousStep {
                         h,
                         a: s.a.clone(),
-                        touching: info.contact.active > 0,
+                        // Set by the energy guard of `step_cut`.
+                        touching: true,
                     }),
                 });
             }

@@ -238,11 +238,7 @@ fn issue7_predictor_is_exact_for_constant_and_stiff_parts() {
             v: vec![0.0; n],
             a: a0.clone(),
             dissipated: 0.0,
-            previous: Some(PreviousStep {
-                h: 1e-3,
-                a: a_prev,
-                touching: false,
-            }),
+            previous: Some(PreviousStep { h: 1e-3, a: a_prev }),
         };
         let a1 = predict(&model, &state, 1e-3, rho);
         for i in 0..n {

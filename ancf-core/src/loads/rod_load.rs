@@ -201,20 +201,31 @@ impl LoadHistory {
 mod tests {
     use super::*;
 
-    #[test]
-    fn summary_of_a_half_sine_pulse() {
-        // 3 ms half-sine of 2 kN along −z, sampled every 0.1 ms.
-        let mut h = LoadHistory::default();
-        for k in 1..=400 {
+    /// Steps `steps` (every 0.1 ms) of a 3 ms half-sine pulse of `peak` N
+    /// along −z starting at `start` s, added to `h`.
+    fn push_pulse(
+        h: &mut LoadHistory,
+        steps: std::ops::RangeInclusive<usize>,
+        start: f64,
+        peak: f64,
+    ) {
+        for k in steps {
             let t = k as f64 * 1e-4;
-            let tau = t - 0.01;
+            let tau = t - start;
             let f = if (0.0..3e-3).contains(&tau) {
-                2e3 * (std::f64::consts::PI * tau / 3e-3).sin()
+                peak * (std::f64::consts::PI * tau / 3e-3).sin()
             } else {
                 0.0
             };
             h.push(t, [0.0, 0.0, -f]);
         }
+    }
+
+    #[test]
+    fn summary_of_a_half_sine_pulse() {
+        // 3 ms half-sine of 2 kN along −z, sampled every 0.1 ms.
+        let mut h = LoadHistory::default();
+        push_pulse(&mut h, 1..=400, 0.01, 2e3);
         let s = h.summary(&h.filtered(600.0));
         let exact = 2e3 * 3e-3 * 2.0 / std::f64::consts::PI;
         assert!(
@@ -241,16 +252,7 @@ mod tests {
         assert!((s.first_impact_filtered_peak - s.filtered_peak_force).abs() < 1.0);
         // A second, larger blow 0.2 s later counts for the whole run only.
         let mut twice = h.clone();
-        for k in 401..=4000 {
-            let t = k as f64 * 1e-4;
-            let tau = t - 0.21;
-            let f = if (0.0..3e-3).contains(&tau) {
-                4e3 * (std::f64::consts::PI * tau / 3e-3).sin()
-            } else {
-                0.0
-            };
-            twice.push(t, [0.0, 0.0, -f]);
-        }
+        push_pulse(&mut twice, 401..=4000, 0.21, 4e3);
         let s2 = twice.summary(&twice.filtered(600.0));
         assert_eq!(s2.first_impact_impulse, s.impulse);
         assert!((s2.impulse - 3.0 * s.impulse).abs() < 2e-3 * s2.impulse);

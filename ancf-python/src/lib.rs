@@ -286,6 +286,30 @@ impl Wire {
         })
     }
 
+    /// A graded mesh: the wire becomes the `segments`, (length in m,
+    /// elements) pairs in order from node 0 — fine where it meets a rod,
+    /// coarse elsewhere. Replaces the length and element count given to `Wire`.
+    fn graded(&self, segments: Vec<(f64, usize)>) -> PyResult<Wire> {
+        if segments.is_empty() {
+            return Err(PyValueError::new_err(
+                "segments: give at least one (length, elements) pair",
+            ));
+        }
+        let mut list = Vec::new();
+        for (i, (length, elements)) in segments.into_iter().enumerate() {
+            positive(&format!("segments[{i}].length"), length)?;
+            if elements == 0 {
+                return Err(PyValueError::new_err(format!(
+                    "segments[{i}].elements: must be at least 1"
+                )));
+            }
+            list.push(ancf_core::model::Segment { length, elements });
+        }
+        Ok(Wire {
+            builder: self.builder.clone().graded(&list),
+        })
+    }
+
     /// Where the wire starts (m) and its direction.
     fn placed(&self, origin: Vec<f64>, direction: Vec<f64>) -> PyResult<Wire> {
         let b = self
@@ -423,9 +447,15 @@ fn set_load(d: &Bound<'_, PyDict>, load: &ancf_core::loads::rod_load::RodLoad) -
         ("impulse", load.impulse),
         ("contact_duration", load.contact_duration),
         ("cfc", load.cfc),
+        (
+            "first_impact_filtered_peak",
+            load.first_impact_filtered_peak,
+        ),
+        ("first_impact_impulse", load.first_impact_impulse),
     ] {
         d.set_item(k, v)?;
     }
+    d.set_item("first_contact_time", load.first_contact_time)?;
     Ok(())
 }
 
@@ -678,7 +708,8 @@ impl Simulation {
     /// displacement}, energy {…, total, dissipated}
     /// and, with rods, contact {rods: [law, contact_stiffness,
     /// stiffness_unit, peak_force, peak_time, filtered_peak_force,
-    /// filtered_peak_time, impulse, contact_duration, cfc]}.
+    /// filtered_peak_time, impulse, contact_duration, cfc,
+    /// first_contact_time, first_impact_filtered_peak, first_impact_impulse]}.
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = self.sim.progress();
         let model = &self.scene.model;

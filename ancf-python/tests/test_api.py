@@ -131,6 +131,21 @@ def test_contact_loads_per_rod():
     s = sim.summary()
     assert s["steps"] == 3000 and s["contact"]["rods"][0]["impulse"] == rod["impulse"]
     assert s["contact"]["rods"][0]["law"] == "line"
+    # One blow within 0.3 s: the first impact is the whole load so far.
+    assert 0.2 < rod["first_contact_time"] < 0.3
+    assert rod["first_impact_impulse"] == rod["impulse"]
+    assert 0.9 * rod["filtered_peak_force"] <= rod["first_impact_filtered_peak"] <= rod["filtered_peak_force"]
+
+
+def test_a_graded_wire_built_in_code():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    wire = ancf.Wire(1.0, 1).graded([(0.5, 2), (0.5, 8)]).layer(steel, 0.01)
+    sim = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.01)
+    assert sim.summary()["elements"] == 10
+    with pytest.raises(ValueError, match=r"segments\[1\].elements"):
+        ancf.Wire(1.0, 1).graded([(0.5, 2), (0.5, 0)])
+    with pytest.raises(ValueError, match=r"segments\[0\].length"):
+        ancf.Wire(1.0, 1).graded([(-0.5, 2)])
 
 
 def test_simulation_errors():

@@ -145,16 +145,22 @@ fn a_slurm_sweep_with_a_cancelled_task_ends_as_the_local_one() {
     assert!(script.contains("#SBATCH --array=0-5") && script.contains("#SBATCH --time=00:15:00"));
     // Kill task 1 while it runs (two CPUs: tasks 0 and 1 start at once),
     // as a node failure or an operator would.
+    // An empty answer counts only once the task has been listed: right
+    // after submission squeue may not list it yet (a fresh-clone CI run
+    // took that for "finished", cancelled nothing and saw every task
+    // complete).
     let deadline = Instant::now() + Duration::from_secs(60);
+    let mut listed = false;
     loop {
         let q = Command::new("squeue")
             .args(["-h", "-r", "-j", &format!("{job}_1"), "-o", "%T"])
             .output()
             .unwrap();
         let state = String::from_utf8_lossy(&q.stdout).trim().to_string();
-        if state == "RUNNING" || state.is_empty() {
+        if state == "RUNNING" || (state.is_empty() && listed) {
             break;
         }
+        listed |= !state.is_empty();
         assert!(Instant::now() < deadline, "task 1 never ran ({state})");
         std::thread::sleep(Duration::from_millis(50));
     }

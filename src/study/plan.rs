@@ -337,12 +337,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     } else {
         &[0.5, 1.0, 2.0, 4.0]
     };
-    let at = |h: f64, n: usize| Setting {
-        elements: n,
-        time_step: Some(h),
-        stations: stations_for(&base, length, n),
-        ..base.clone()
-    };
+    let at = |h: f64, n: usize| at_step_and_mesh(&base, length, h, n);
     let element_counts: Vec<usize> = {
         let mut v: Vec<usize> = n_factors
             .iter()
@@ -500,17 +495,23 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     }
 }
 
+/// `base` at time step `h` (s) on `n` elements, with the surface-law
+/// stations that mesh needs.
+fn at_step_and_mesh(base: &Setting, length: f64, h: f64, n: usize) -> Setting {
+    Setting {
+        elements: n,
+        time_step: Some(h),
+        stations: stations_for(base, length, n),
+        ..base.clone()
+    }
+}
+
 /// [`Level::Refinement`] of a dynamic scene: one family, the scene's
 /// setting refined in h, in the elements and in the contact points, three
 /// levels each; the reference run is the finest mesh at the finest step.
 fn refinement_plan(base: &Setting, length: f64) -> Plan {
     let h0 = base.time_step.expect("dynamic scene has a time step");
-    let at = |h: f64, n: usize| Setting {
-        elements: n,
-        time_step: Some(h),
-        stations: stations_for(base, length, n),
-        ..base.clone()
-    };
+    let at = |h: f64, n: usize| at_step_and_mesh(base, length, h, n);
     let half = (base.elements / 2).max(1);
     let mut settings = Vec::new();
     for s in [

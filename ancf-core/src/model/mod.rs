@@ -370,6 +370,8 @@ impl Model {
         for g in &groups {
             let l = g.integration.length;
             for (j, el) in g.elements.clone().enumerate() {
+                // The first group keeps the uniform mesh's product order
+                // (axis · l · j), so a uniform wire's bits do not change.
                 let start = std::array::from_fn(|k| {
                     if g.start == 0.0 {
                         origin[k] + axis[k] * l * j as f64
@@ -451,15 +453,6 @@ impl Model {
     /// The element lengths (m), one per group.
     pub fn element_lengths(&self) -> Vec<f64> {
         self.groups.iter().map(|g| g.integration.length).collect()
-    }
-
-    /// The longest and the shortest element (m).
-    pub fn element_length_range(&self) -> (f64, f64) {
-        let l = self.element_lengths();
-        (
-            l.iter().copied().fold(f64::MIN, f64::max),
-            l.iter().copied().fold(f64::MAX, f64::min),
-        )
     }
 
     /// Reference (unstretched) arc length of node `n` from node 0 (m).

@@ -51,6 +51,12 @@ pub struct RodSummary {
     pub contact_stiffness: f64,
     /// Its unit: "N/m^2" (line, hertz) or "N/m^3" (surface).
     pub stiffness_unit: String,
+    /// Coefficient of restitution of the contact damping (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// How the damping follows from it: "exact", "flores" or "lankarani-nikravesh".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution_model: Option<String>,
     /// Peaks (raw and CFC-filtered), impulse, contact duration; for a
     /// static run the final force is the peak.
     #[serde(flatten)]

@@ -749,6 +749,8 @@ fn rod_summary(rod: &ancf_core::forces::contact::Rod, load: RodLoad) -> crate::o
         law: rod.law.name().into(),
         contact_stiffness: rod.contact_stiffness,
         stiffness_unit: rod.law.stiffness_unit().into(),
+        restitution: rod.damping.map(|d| d.restitution()),
+        restitution_model: rod.damping.map(|d| d.model().name().into()),
         load,
     }
 }

@@ -83,6 +83,7 @@ fn a_slowly_sliding_wrap_transmits_the_capstan_ratio() {
         law: ContactLaw::Line,
         contact_stiffness: EPS_L,
         friction: MU,
+        damping: None,
     };
     let settings = ContactSettings {
         slip_velocity: 1e-4,

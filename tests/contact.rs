@@ -1,10 +1,10 @@
 //! Issues 4 and 14: contact forces derive from the penalty potential, and
-//! their Jacobians with respect to positions and velocities (friction
-//! included) match central finite differences — for the surface test
-//! points (away from the contact boundary) and for the line law.
+//! their Jacobians with respect to positions and velocities (friction and
+//! contact damping included) match central finite differences — for the
+//! surface test points (away from the contact boundary) and for the line law.
 
 mod common;
-use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, Rod};
+use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, RestitutionModel, Rod};
 use common::*;
 
 const L: f64 = 0.25;
@@ -26,6 +26,7 @@ fn rod(law: ContactLaw, friction: f64) -> Rod {
             5e8
         },
         friction,
+        damping: None,
     }
 }
 
@@ -124,6 +125,88 @@ fn jacobians_match_finite_differences_with_and_without_friction() {
             assert!(
                 kv.iter().all(|x| *x == 0.0),
                 "frictionless contact has no velocity Jacobian"
+            );
+        }
+    }
+}
+
+/// Force and Jacobians of the only rod within a contact event that began
+/// at `impact_speed` (m/s).
+fn eval_event(
+    c: &Contact,
+    e: &[f64; 24],
+    v: &[f64; 24],
+    impact_speed: f64,
+) -> ([f64; 24], [f64; 576], [f64; 576], f64) {
+    let (mut q, mut kq, mut kv) = ([0.0; 24], [0.0; 576], [0.0; 576]);
+    let (s, _) = c.element_rod(
+        0,
+        0,
+        e,
+        v,
+        impact_speed,
+        &mut q,
+        Some(&mut kq),
+        Some(&mut kv),
+    );
+    (q, kq, kv, s.damping_power)
+}
+
+#[test]
+fn contact_damping_jacobians_match_finite_differences() {
+    for (law, mu) in LAWS.iter().flat_map(|l| [(*l, 0.0), (*l, 0.3)]) {
+        for model in [
+            RestitutionModel::Flores,
+            RestitutionModel::LankaraniNikravesh,
+        ] {
+            let (mut c, e, v) = setup(law, mu);
+            c.rods[0] = c.rods[0].clone().with_restitution(0.5, model);
+            let speed = 2.0;
+            let (q, kq, kv, power) = eval_event(&c, &e, &v, speed);
+            let (q0, _, _, _) = eval(&c, &e, &v);
+            assert!(power > 0.0, "the setup must approach the rod");
+            // Outside an event (impact speed 0) the rod is elastic …
+            assert_eq!(eval_event(&c, &e, &v, 0.0).0, q0);
+            // … within one the damping force takes exactly the reported
+            // power from the wire (without friction: the normal part only).
+            if mu == 0.0 {
+                let work: f64 = (0..24).map(|i| (q[i] - q0[i]) * v[i]).sum();
+                assert!(
+                    (work + power).abs() < 1e-12 * power.abs().max(1.0),
+                    "{law:?}: damping work {work:e} vs power {power:e}"
+                );
+            }
+            let h = 1e-8;
+            let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
+            for j in 0..24 {
+                let (mut ep, mut em) = (e, e);
+                ep[j] += h;
+                em[j] -= h;
+                let (qp, qm) = (
+                    eval_event(&c, &ep, &v, speed).0,
+                    eval_event(&c, &em, &v, speed).0,
+                );
+                let (mut vp, mut vm) = (v, v);
+                vp[j] += h;
+                vm[j] -= h;
+                let (rp, rm) = (
+                    eval_event(&c, &e, &vp, speed).0,
+                    eval_event(&c, &e, &vm, speed).0,
+                );
+                for i in 0..24 {
+                    fq[i * 24 + j] = -(qp[i] - qm[i]) / (2.0 * h);
+                    fv[i * 24 + j] = -(rp[i] - rm[i]) / (2.0 * h);
+                }
+            }
+            let eq = rel(&fq, &kq);
+            assert!(
+                eq < 1e-6,
+                "{law:?}, μ = {mu}, {model:?}: −∂Q/∂q vs FD {eq:e}"
+            );
+            let ev = rel(&fv, &kv);
+            assert!(
+                ev < 1e-6,
+                "{law:?}, μ = {mu}, {model:?}: −∂Q/∂v vs FD {ev:e}"
             );
         }
     }

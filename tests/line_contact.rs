@@ -26,6 +26,7 @@ fn rod(law: ContactLaw, x: f64, depth: f64) -> Rod {
             EPS_L
         },
         friction: 0.0,
+        damping: None,
     }
 }
 

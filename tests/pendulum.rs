@@ -239,6 +239,7 @@ fn issue7_predictor_is_exact_for_constant_and_stiff_parts() {
             a: a0.clone(),
             dissipated: 0.0,
             previous: Some(PreviousStep { h: 1e-3, a: a_prev }),
+            contact_events: Vec::new(),
         };
         let a1 = predict(&model, &state, 1e-3, rho);
         for i in 0..n {

@@ -331,7 +331,7 @@ fn issue8_rod_thinner_than_station_spacing_is_refused() {
 
 /// Issue 14: contact laws. A stiffness without a law (the old N/m³ meaning)
 /// is refused naming `contact_law`; each law's bad values (and an unknown
-/// rod material under any law) name their field;
+/// rod material under any law, and bad contact damping) name their field;
 /// the line law needs no station rule, and hertz derives its stiffness.
 #[test]
 fn issue14_contact_laws_are_validated_naming_the_field() {
@@ -374,6 +374,26 @@ fn issue14_contact_laws_are_validated_naming_the_field() {
             "contact_law = \"line\"\ncontact_stiffness = 5e7\n[contact]\nzone_points = 0\n",
             "contact.zone_points",
         ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution = 0.0\n",
+            "rod[0].restitution",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution = 1.5\n",
+            "rod[0].restitution",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution_model = \"flores\"\n",
+            "rod[0].restitution",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution = 0.5\nrestitution_model = \"newton\"\n",
+            "rod[0].restitution_model",
+        ),
+        (
+            "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution = 0.5\n[contact]\nmin_impact_speed = 0.0\n",
+            "contact.min_impact_speed",
+        ),
     ];
     for (body, field) in cases {
         let err = Scene::from_toml(&rod(body)).expect_err(body);
@@ -386,6 +406,21 @@ fn issue14_contact_laws_are_validated_naming_the_field() {
     ))
     .expect("line");
     assert_eq!(line.model.contact().unwrap().rods[0].contact_stiffness, 5e7);
+    assert_eq!(line.model.contact().unwrap().rods[0].damping, None);
+    // Contact damping: the exact model by default; e = 1 builds none.
+    let damped = Scene::from_toml(&rod(
+        "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution = 0.4\n",
+    ))
+    .expect("damped");
+    let d = damped.model.contact().unwrap().rods[0]
+        .damping
+        .expect("damping");
+    assert_eq!((d.restitution(), d.model().name()), (0.4, "exact"));
+    let elastic = Scene::from_toml(&rod(
+        "contact_law = \"line\"\ncontact_stiffness = 5e7\nrestitution = 1.0\n",
+    ))
+    .expect("e = 1");
+    assert_eq!(elastic.model.contact().unwrap().rods[0].damping, None);
     // Hertz: ε_L = E* √(R_e / (2 R_s)), E* from the rod and the wire's outer layer.
     let hertz = Scene::from_toml(&rod("contact_law = \"hertz\"\nmaterial = \"rod-steel\"\n"))
         .expect("hertz");

@@ -55,7 +55,7 @@ pub mod solve;
 
 /// What most programs need: `use ancf_core::prelude::*;`.
 pub mod prelude {
-    pub use crate::forces::contact::{ContactLaw, Rod};
+    pub use crate::forces::contact::{ContactLaw, RestitutionModel, Rod};
     pub use crate::material::Material;
     pub use crate::math::simd::SimdPath;
     pub use crate::model::{Model, SupportKind, WireBuilder};

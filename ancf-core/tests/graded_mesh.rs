@@ -119,6 +119,7 @@ fn a_crossing_slides_over_a_change_of_element_length_with_the_exact_force() {
             law: ContactLaw::Line,
             contact_stiffness: EPS_L,
             friction: 0.0,
+            damping: None,
         };
         let c = Contact::new(vec![rod], ContactSettings::default(), RW, &[l0, l1]);
         let elements = [

@@ -78,3 +78,52 @@ fn release_contact_and_resume_bit_for_bit() {
         progress.newton_iterations
     );
 }
+
+/// Contact damping remembers each contact event's approach speed in the
+/// state: a simulation resumed from a snapshot taken during contact (sent
+/// through JSON, as a checkpoint file is) ends bit for bit like the
+/// uninterrupted one.
+#[test]
+fn damped_contact_resumes_bit_for_bit_from_inside_an_event() {
+    let (_, settings) = scene();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/wire_rod_impact.toml"
+    ))
+    .unwrap()
+    .replace("end_time = 1.0", "end_time = 0.3")
+    .replace("elements = 64", "elements = 16")
+    .replace("[[rod]]\n", "[[rod]]\nrestitution = 0.4\n");
+    let damped = Scene::from_toml(&text).expect("valid scene");
+    assert!(damped.model.contact().unwrap().rods[0].damping.is_some());
+    let settings = ancf_core::solve::dynamics::DynamicSettings {
+        end_time: 0.3,
+        ..settings
+    };
+    let mut sim = Simulation::new(&damped.model, settings.clone(), Initial::Reference).unwrap();
+    let mut snapshot = None;
+    let mut in_event = 0;
+    while !sim.is_finished() {
+        sim.step().unwrap();
+        if sim.state().contact_events.iter().any(|&v| v > 0.0) {
+            in_event += 1;
+            if in_event == 20 {
+                let json = serde_json::to_string(&sim.snapshot()).unwrap();
+                snapshot = Some(serde_json::from_str(&json).unwrap());
+                sim.refresh_factorization();
+            }
+        }
+    }
+    assert!(
+        in_event > 20,
+        "the wire must stay on the rod a while ({in_event} steps)"
+    );
+    assert!(sim.energies().dissipated > 0.0);
+    let mut resumed = Simulation::resume(&damped.model, settings, snapshot.unwrap()).unwrap();
+    while !resumed.is_finished() {
+        resumed.step().unwrap();
+    }
+    assert_eq!(resumed.state().q, sim.state().q);
+    assert_eq!(resumed.state().v, sim.state().v);
+    assert_eq!(resumed.rod_loads(), sim.rod_loads());
+}

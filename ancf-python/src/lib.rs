@@ -366,8 +366,12 @@ impl Wire {
     }
 
     /// A rigid rod under the line law: a point on its axis, its direction,
-    /// radius (m), stiffness ε_L (N/m²), Coulomb μ and length (m, None: infinite).
-    #[pyo3(signature = (center, axis, radius, stiffness, friction=0.0, length=None))]
+    /// radius (m), stiffness ε_L (N/m²), Coulomb μ, length (m, None:
+    /// infinite), and contact damping by a coefficient of restitution
+    /// (None: elastic) with its model ("exact", "flores",
+    /// "lankarani-nikravesh").
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (center, axis, radius, stiffness, friction=0.0, length=None, restitution=None, restitution_model="exact"))]
     fn rod(
         &self,
         center: Vec<f64>,
@@ -376,7 +380,27 @@ impl Wire {
         stiffness: f64,
         friction: f64,
         length: Option<f64>,
+        restitution: Option<f64>,
+        restitution_model: &str,
     ) -> PyResult<Wire> {
+        use ancf_core::forces::contact::RestitutionModel;
+        let model = match restitution_model {
+            "exact" => RestitutionModel::Exact,
+            "flores" => RestitutionModel::Flores,
+            "lankarani-nikravesh" => RestitutionModel::LankaraniNikravesh,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "restitution_model: unknown model \"{other}\" (use \"exact\", \"flores\" or \"lankarani-nikravesh\")"
+                )));
+            }
+        };
+        if let Some(e) = restitution
+            && !(e > 0.0 && e <= 1.0)
+        {
+            return Err(PyValueError::new_err(format!(
+                "restitution: must be in (0, 1] (1 = elastic), got {e}"
+            )));
+        }
         positive("radius", radius)?;
         positive("stiffness", stiffness)?;
         if !(friction.is_finite() && friction >= 0.0) {
@@ -393,6 +417,9 @@ impl Wire {
                 .with_friction(friction);
         if let Some(l) = length {
             rod = rod.with_length(positive("length", l)?);
+        }
+        if let Some(e) = restitution.filter(|&e| e < 1.0) {
+            rod = rod.with_restitution(e, model);
         }
         Ok(Wire {
             builder: self.builder.clone().rod(rod),

@@ -227,6 +227,29 @@ def test_a_wire_with_a_rod_reports_contact():
     assert sim.contact[0]["impulse"] > 0.0
 
 
+def test_contact_damping_takes_energy_only_when_asked():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3, 0.1)
+
+    def dissipated(**damping):
+        wire = (
+            ancf.Wire(1.0, 16)
+            .layer(steel, 0.01)
+            .support(0, "pin")
+            .gravity([0.0, 0.0, -9.81])
+            .rod([0.5, 0.0, -0.2], [0.0, 1.0, 0.0], 0.02, 5e7, **damping)
+        )
+        sim = ancf.Simulation.from_wire(wire, time_step=1e-4, end_time=0.3)
+        sim.run()
+        return sim.energies()["dissipated"]
+
+    assert dissipated() == 0.0
+    assert dissipated(restitution=0.3) > 0.0
+    with pytest.raises(ValueError, match="restitution"):
+        dissipated(restitution=1.5)
+    with pytest.raises(ValueError, match="restitution_model"):
+        dissipated(restitution=0.5, restitution_model="newton")
+
+
 def test_ctrl_c_stops_a_run_at_its_last_completed_step():
     import os
     import signal

@@ -152,6 +152,7 @@ impl Setting {
                 angles: None,
                 zone_points: None,
                 slip_velocity: None,
+                min_impact_speed: None,
             });
             c.stations = self.stations.or(c.stations);
             c.zone_points = self.zone_points.or(c.zone_points);

@@ -470,6 +470,10 @@ pub struct ContactForces {
     pub rod_forces: Vec<[f64; 3]>,
     /// Deepest penetrating point: (element, point).
     pub deepest: Option<(usize, crate::forces::contact::DeepestPoint)>,
+    /// With contact damping, per (element, rod) pair (index
+    /// `element × rods + rod`): `Some(largest rate of penetration, m/s)`
+    /// where the pair touches, else `None`. Empty without contact damping.
+    pub touching: Vec<Option<f64>>,
 }
 
 /// Contact at (q, v): the forces, −∂Q/∂q added to `jac_q` and −∂Q/∂v added
@@ -483,11 +487,14 @@ pub fn assemble_contact(
     jac_q: Option<&mut [f64]>,
     jac_v: Option<&mut [f64]>,
 ) -> ContactForces {
-    assemble_contact_reusing(model, contact, pattern, q, v, jac_q, jac_v, Vec::new())
+    assemble_contact_reusing(model, contact, pattern, q, v, &[], jac_q, jac_v, Vec::new())
 }
 
 /// [`assemble_contact`] whose force vector reuses `force`'s allocation (a
-/// Newton loop hands back the previous iteration's).
+/// Newton loop hands back the previous iteration's), within the contact
+/// events `events` (per (element, rod) pair, the approach speed in m/s at
+/// which the pair's contact began, 0 = none; empty = no events: contact
+/// damping acts only within an event, see [`crate::solve::dynamics::State`]).
 #[allow(clippy::too_many_arguments)]
 pub fn assemble_contact_reusing(
     model: &Model,
@@ -495,6 +502,7 @@ pub fn assemble_contact_reusing(
     pattern: &Pattern,
     q: &[f64],
     v: &[f64],
+    events: &[f64],
     mut jac_q: Option<&mut [f64]>,
     mut jac_v: Option<&mut [f64]>,
     mut force: Vec<f64>,
@@ -504,14 +512,20 @@ pub fn assemble_contact_reusing(
     let mut out = ContactForces {
         force,
         rod_forces: vec![[0.0; 3]; contact.rods.len()],
+        touching: if contact.has_damping() {
+            vec![None; model.n_elements * contact.rods.len()]
+        } else {
+            Vec::new()
+        },
         ..Default::default()
     };
+    let rods = contact.rods.len();
     let mut kq = [0.0; 576];
     let mut kv = [0.0; 576];
     for el in 0..model.n_elements {
         let e = model.element_coordinates(q, el);
         let ve = model.element_coordinates(v, el);
-        for ri in 0..contact.rods.len() {
+        for ri in 0..rods {
             // kq and kv stay zero between elements: an element away from the
             // rods writes nothing, and they are cleared after one that touched
             // (clearing them for every element was 26 % of the impact run's
@@ -522,12 +536,16 @@ pub fn assemble_contact_reusing(
                 ri,
                 &e,
                 &ve,
+                events.get(el * rods + ri).copied().unwrap_or(0.0),
                 &mut qe,
                 jac_q.is_some().then_some(&mut kq),
                 jac_v.is_some().then_some(&mut kv),
             );
             if sample.active == 0 {
                 continue;
+            }
+            if let Some(t) = out.touching.get_mut(el * rods + ri) {
+                *t = Some(sample.approach_speed);
             }
             out.total.accumulate(&sample);
             for c in 0..3 {

@@ -272,6 +272,11 @@ pub struct RodSpec {
     pub material: Option<String>,
     /// Coulomb μ.
     pub friction: Option<f64>,
+    /// Coefficient of restitution e ∈ (0, 1): contact damping (absent: none).
+    pub restitution: Option<f64>,
+    /// `"exact"` (default), `"flores"` or `"lankarani-nikravesh"`: how the
+    /// damping follows from `restitution`.
+    pub restitution_model: Option<String>,
 }
 
 /// `[contact]`: integration and regularization.
@@ -288,6 +293,8 @@ pub struct ContactSpec {
     pub zone_points: Option<usize>,
     /// Friction regularization velocity (m/s).
     pub slip_velocity: Option<f64>,
+    /// Contact damping: the smallest approach speed its factor uses (m/s).
+    pub min_impact_speed: Option<f64>,
 }
 
 /// `[output]`.
@@ -990,7 +997,7 @@ fn validate_rods(
     ),
     SceneError,
 > {
-    use crate::forces::contact::ContactLaw;
+    use crate::forces::contact::{ContactDamping, ContactLaw, RestitutionModel};
     let mut rods = Vec::new();
     for (i, r) in specs.iter().enumerate() {
         let at = |k: &str| format!("rod[{i}].{k}");
@@ -1069,6 +1076,39 @@ fn validate_rods(
         if friction < 0.0 {
             return Err(err(at("friction"), format!("must be ≥ 0, got {friction}")));
         }
+        let model = match r.restitution_model.as_deref() {
+            None | Some("exact") => RestitutionModel::Exact,
+            Some("flores") => RestitutionModel::Flores,
+            Some("lankarani-nikravesh") => RestitutionModel::LankaraniNikravesh,
+            Some(other) => {
+                return Err(err(
+                    at("restitution_model"),
+                    format!(
+                        "unknown model \"{other}\" (use \"exact\", \"flores\" or \"lankarani-nikravesh\")"
+                    ),
+                ));
+            }
+        };
+        let damping = match r.restitution {
+            None if r.restitution_model.is_some() => {
+                return Err(err(
+                    at("restitution"),
+                    "missing: restitution_model is set but the coefficient of restitution is not",
+                ));
+            }
+            None => None,
+            Some(e) => {
+                let e = finite(&at("restitution"), e)?;
+                if !(e > 0.0 && e <= 1.0) {
+                    return Err(err(
+                        at("restitution"),
+                        format!("must be in (0, 1] (1 = elastic, no damping), got {e}"),
+                    ));
+                }
+                // e = 1 asks for no damping: none is built.
+                (e < 1.0).then(|| ContactDamping::new(e, model))
+            }
+        };
         rods.push(crate::forces::contact::Rod {
             center,
             axis: axis.map(|v| v / n),
@@ -1077,6 +1117,7 @@ fn validate_rods(
             law,
             contact_stiffness,
             friction,
+            damping,
         });
     }
     let mut settings = crate::forces::contact::ContactSettings::default();
@@ -1110,6 +1151,9 @@ fn validate_rods(
         }
         if let Some(v) = c.slip_velocity {
             settings.slip_velocity = positive("contact.slip_velocity", v)?;
+        }
+        if let Some(v) = c.min_impact_speed {
+            settings.min_impact_speed = positive("contact.min_impact_speed", v)?;
         }
     }
     // A rod thinner than the gap between surface test stations can pass

@@ -114,6 +114,35 @@ pub struct State {
     /// checkpoints written before it existed read as `None`.
     #[serde(default)]
     pub previous: Option<PreviousStep>,
+    /// Contact damping's memory: per (element, rod) pair (index
+    /// `element × rods + rod`), the approach speed (m/s) at which the pair's
+    /// current contact event began, 0 where it is apart or its event began
+    /// this step. Empty without contact damping. An event begins at the
+    /// first accepted step in which the pair touches (at the step's
+    /// generalized-α midpoint, the approach speed is the largest rate of
+    /// penetration over the pair's active points) and ends at the first in
+    /// which it does not.
+    #[serde(default)]
+    pub contact_events: Vec<f64>,
+}
+
+/// The contact events after a step: `old` carried where the pair still
+/// touches, begun where it touches for the first time, cleared where it
+/// no longer touches.
+fn next_contact_events(old: &[f64], touching: &[Option<f64>]) -> Vec<f64> {
+    touching
+        .iter()
+        .enumerate()
+        .map(|(i, t)| match t {
+            None => 0.0,
+            Some(rate) => match old.get(i).copied().unwrap_or(0.0) {
+                speed if speed > 0.0 => speed,
+                // A pair that touches without approaching (a settling wire)
+                // begins at the smallest speed the damping factor uses.
+                _ => rate.max(f64::MIN_POSITIVE),
+            },
+        })
+        .collect()
 }
 
 /// Size (s) and start acceleration (full coordinates) of the step that led
@@ -270,6 +299,8 @@ struct Workspace {
     element_energy: Vec<f64>,
     /// The contact force vector, handed back and forth with `assemble_contact_reusing`.
     contact_force: Vec<f64>,
+    /// Which (element, rod) pairs touch in the last residual (contact damping only).
+    contact_touching: Vec<Option<f64>>,
 }
 
 impl Workspace {
@@ -282,6 +313,7 @@ impl Workspace {
             qe: vec![0.0; n],
             element_energy: vec![0.0; elements],
             contact_force: Vec::new(),
+            contact_touching: Vec::new(),
         }
     }
 }
@@ -383,6 +415,7 @@ impl Integrator {
             a: a_full,
             dissipated: 0.0,
             previous: None,
+            contact_events: Vec::new(),
         };
         self.set_energy_reference(&state);
         Ok(state)
@@ -555,7 +588,7 @@ impl Integrator {
             &mut w.element_energy,
         );
         if let Some(c) = model.contact() {
-            let kvc = if c.has_friction() {
+            let kvc = if c.velocity_dependent() {
                 kv.as_deref_mut()
             } else {
                 None
@@ -567,6 +600,7 @@ impl Integrator {
                 &self.pattern,
                 qm,
                 vm,
+                &s.contact_events,
                 kq.as_deref_mut(),
                 kvc,
                 buffer,
@@ -576,6 +610,7 @@ impl Integrator {
             info.deepest = cf.deepest;
             info.rod_forces = cf.rod_forces;
             w.contact_force = cf.force;
+            w.contact_touching = cf.touching;
         }
         let qe = &w.qe;
         model.mass_times_into(&w.am, &mut w.ma);
@@ -689,10 +724,11 @@ impl Integrator {
         } = self.params;
         let model = Arc::clone(&self.model);
         let model = &*model;
-        let friction = model.contact().is_some_and(|c| c.has_friction());
-        // Friction and Kelvin–Voigt damping make the Newton matrix non-symmetric.
-        let symmetric = !friction && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }));
-        let velocity_jacobian = friction || model.damping().is_some();
+        let contact_rates = model.contact().is_some_and(|c| c.velocity_dependent());
+        // Friction, contact damping and Kelvin–Voigt damping make the Newton matrix non-symmetric.
+        let symmetric =
+            !contact_rates && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }));
+        let velocity_jacobian = contact_rates || model.damping().is_some();
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
         // Predictor (see `predict`); `base` is the last accepted iterate.
@@ -732,8 +768,15 @@ impl Integrator {
                 if self.settings.newton == NewtonKind::Modified && iterations > 6 {
                     self.factored_for = None;
                 }
-                let dissipated =
-                    s.dissipated + h * (info.contact.friction_power + info.damping_power);
+                let dissipated = s.dissipated
+                    + h * (info.contact.friction_power
+                        + info.contact.damping_power
+                        + info.damping_power);
+                let contact_events = if self.work.contact_touching.is_empty() {
+                    Vec::new()
+                } else {
+                    next_contact_events(&s.contact_events, &self.work.contact_touching)
+                };
                 let (q1, v1) = (0..s.q.len())
                     .map(|c| self.params.newmark(s, h, &a1, c))
                     .unzip();
@@ -744,6 +787,7 @@ impl Integrator {
                     a: a1,
                     dissipated,
                     previous: Some(PreviousStep { h, a: s.a.clone() }),
+                    contact_events,
                 });
             }
             if evaluations >= max_evaluations || iterations >= self.settings.max_iterations {

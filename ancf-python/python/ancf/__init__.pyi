@@ -60,6 +60,8 @@ class Wire:
         stiffness: float,
         friction: float = 0.0,
         length: Optional[float] = None,
+        restitution: Optional[float] = None,
+        restitution_model: str = "exact",
     ) -> Wire: ...
 
 class RunResult:

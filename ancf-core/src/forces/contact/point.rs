@@ -41,8 +41,12 @@ pub(crate) fn axis_offset(rod: &Rod, p: &[f64; 3], caps: bool) -> Option<([f64; 
 /// What contact adds to one element: the generalized force (N) and, when
 /// asked, −∂Q/∂q and −∂Q/∂v; with the element's velocities (friction).
 pub(crate) struct ElementOut<'a> {
-    /// Element velocities (m/s and 1/s), read by friction.
+    /// Element velocities (m/s and 1/s), read by friction and damping.
     pub v: &'a ElementVector,
+    /// Contact damping factor χ (s/m) of this element and rod when the rod
+    /// has damping (0 at an event's first step: the rate is only measured);
+    /// `None` without.
+    pub damping: Option<f64>,
     pub q: &'a mut ElementVector,
     pub kq: Option<&'a mut ElementMatrix>,
     pub kv: Option<&'a mut ElementMatrix>,
@@ -74,11 +78,13 @@ pub(crate) struct PointResult {
     pub n: [f64; 3],
 }
 
-/// Penalty force k ⟨−g⟩ n and regularized Coulomb friction
-/// −μ k ⟨−g⟩ v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
+/// Penalty force F n, F = k ⟨−g⟩ (times (1 + χ δ̇)⁺ with contact damping,
+/// δ̇ = −n · ṙ the rate of penetration), and regularized Coulomb friction
+/// −μ F v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
 /// element force `out.q` and their derivatives −∂f/∂q into `out.kq`,
-/// −∂f/∂v into `out.kv`, and adds energy ½ k g², normal force, friction
-/// power and the force to `out.sample`. `None` when the point is apart (g ≥ 0).
+/// −∂f/∂v into `out.kv`, and adds energy ½ k g², normal force, friction and
+/// damping power and the force to `out.sample`. `None` when the point is
+/// apart (g ≥ 0).
 pub(crate) fn point_contact(
     pt: &PointInput,
     rod: &Rod,
@@ -98,25 +104,60 @@ pub(crate) fn point_contact(
     let dd = if pt.inside { 1.0 } else { 0.0 };
     let n = [w[0] / dist, w[1] / dist, w[2] / dist];
     let kn = pt.stiffness;
-    let fnorm = kn * (-g);
+    let elastic = kn * (-g);
+    // ∂n/∂p = (I − n nᵀ − d dᵀ) / |w| inside, (I − n nᵀ) / |w| on a cap
+    let nmat = |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - dd * d[a] * d[b]) / dist;
+    let friction = rod.friction > 0.0;
+    let damped = out.damping.is_some();
+    let vp: [f64; 3] = if friction || damped {
+        std::array::from_fn(|c| (0..8).map(|i| pt.s[i] * v[3 * i + c]).sum())
+    } else {
+        [0.0; 3]
+    };
+    // The normal force F and, with damping, its gradients ∂F/∂p and ∂F/∂ṙ.
+    let (fnorm, grad_p, grad_v) = if damped {
+        // Hunt–Crossley: F = k δ (1 + χ δ̇)⁺ with δ = −g, δ̇ = −n · ṙ;
+        // ∂δ/∂p = −n, ∂δ̇/∂p = −(∂n/∂p) ṙ, ∂δ̇/∂ṙ = −n.
+        let chi = out.damping.unwrap_or(0.0);
+        let rate = -dot(vp, n);
+        let m = 1.0 + chi * rate;
+        sample.approach_speed = sample.approach_speed.max(rate);
+        if m > 0.0 {
+            let fnorm = elastic * m;
+            sample.damping_power += (fnorm - elastic) * rate;
+            let nv: [f64; 3] = std::array::from_fn(|a| (0..3).map(|b| nmat(a, b) * vp[b]).sum());
+            let grad_p = std::array::from_fn(|b| -kn * m * n[b] - elastic * chi * nv[b]);
+            let grad_v = std::array::from_fn(|b| -elastic * chi * n[b]);
+            (fnorm, grad_p, grad_v)
+        } else {
+            // Separating faster than 1/χ: the damping cancels the spring.
+            sample.damping_power += -elastic * rate;
+            (0.0, [0.0; 3], [0.0; 3])
+        }
+    } else {
+        (elastic, [0.0; 3], [0.0; 3])
+    };
     sample.energy += 0.5 * kn * g * g;
     sample.max_penetration = sample.max_penetration.max(-g);
     sample.normal_force += fnorm;
     sample.active += 1;
     let mut f = [fnorm * n[0], fnorm * n[1], fnorm * n[2]];
-    // ∂n/∂p = (I − n nᵀ − d dᵀ) / |w| inside, (I − n nᵀ) / |w| on a cap
-    let nmat = |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - dd * d[a] * d[b]) / dist;
-    // ∂f_n/∂p = −kn n nᵀ + F_n ∂n/∂p
+    // ∂f_n/∂p = n (∂F/∂p)ᵀ + F ∂n/∂p, ∂F/∂p = −kn n without damping
     let mut dfdp = [[0.0; 3]; 3];
+    let mut dfdv = [[0.0; 3]; 3];
     for a in 0..3 {
         for b in 0..3 {
-            dfdp[a][b] = -kn * n[a] * n[b] + fnorm * nmat(a, b);
+            dfdp[a][b] = if damped {
+                n[a] * grad_p[b] + fnorm * nmat(a, b)
+            } else {
+                -kn * n[a] * n[b] + fnorm * nmat(a, b)
+            };
+            if damped {
+                dfdv[a][b] = n[a] * grad_v[b];
+            }
         }
     }
-    let mut dfdv = [[0.0; 3]; 3];
-    let friction = rod.friction > 0.0;
     if friction {
-        let vp: [f64; 3] = std::array::from_fn(|c| (0..8).map(|i| pt.s[i] * v[3 * i + c]).sum());
         let vn = dot(vp, n);
         let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
         let eps = slip_velocity;
@@ -140,14 +181,19 @@ pub(crate) fn point_contact(
         }
         for a in 0..3 {
             for b in 0..3 {
-                // ∂f_t/∂p = −μ [ t (∂F_n/∂p) + F_n (∂t/∂n)(∂n/∂p) ], ∂F_n/∂p = −kn nᵀ
+                // ∂f_t/∂p = −μ [ t (∂F_n/∂p) + F_n (∂t/∂n)(∂n/∂p) ]
                 let dtdp: f64 = (0..3).map(|c| dtdn[a][c] * nmat(c, b)).sum();
-                dfdp[a][b] += -mu * (t[a] * (-kn * n[b]) + fnorm * dtdp);
-                // ∂f_t/∂v_p = −μ F_n A P, P = I − n nᵀ
+                let dfn = if damped { grad_p[b] } else { -kn * n[b] };
+                dfdp[a][b] += -mu * (t[a] * dfn + fnorm * dtdp);
+                // ∂f_t/∂v_p = −μ [ t (∂F_n/∂ṙ) + F_n A P ], P = I − n nᵀ
                 let ap: f64 = (0..3)
                     .map(|c| amat(a, c) * ((c == b) as u8 as f64 - n[c] * n[b]))
                     .sum();
-                dfdv[a][b] = -mu * fnorm * ap;
+                if damped {
+                    dfdv[a][b] += -mu * (t[a] * grad_v[b] + fnorm * ap);
+                } else {
+                    dfdv[a][b] = -mu * fnorm * ap;
+                }
             }
         }
     }
@@ -178,7 +224,9 @@ pub(crate) fn point_contact(
     if let Some(k) = out.kq.as_deref_mut() {
         add(k, &dfdp);
     }
-    if friction && let Some(k) = out.kv.as_deref_mut() {
+    if (friction || damped)
+        && let Some(k) = out.kv.as_deref_mut()
+    {
         add(k, &dfdv);
     }
     Some(PointResult { penetration: -g, n })

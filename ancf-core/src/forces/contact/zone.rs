@@ -219,6 +219,7 @@ mod tests {
             law: ContactLaw::Line,
             contact_stiffness: 1.0,
             friction: 0.0,
+            damping: None,
         }
     }
 

@@ -154,6 +154,27 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
     );
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("plots/wire_length.png") && out.join("plots/wire_length.png").exists());
+    // The spread over the variants: the tip displacement's min and max are
+    // those of results.csv's column (report.md rounds to 4 decimals).
+    let magnitude = column(&header, "tip_displacement");
+    let tips: Vec<f64> = rows.iter().map(|r| r[magnitude].parse().unwrap()).collect();
+    let spread = report
+        .lines()
+        .find(|l| l.starts_with("| tip displacement (m) |"))
+        .expect("spread row");
+    let cells: Vec<f64> = spread
+        .split('|')
+        .skip(2)
+        .take(3)
+        .map(|c| c.trim().parse().unwrap())
+        .collect();
+    let (lo, hi) = tips
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    assert!((cells[0] - lo).abs() < 1e-4 * lo.abs().max(1.0), "{spread}");
+    assert!((cells[2] - hi).abs() < 1e-4 * hi.abs().max(1.0), "{spread}");
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -244,6 +244,47 @@ fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
     out
 }
 
+/// The spread of each design number over the completed variants: an
+/// ensemble of slightly perturbed scenes (a sag within its tolerance, a
+/// frame within its placement) gives the scatter a single run hides, and
+/// its largest value is the envelope a design takes.
+fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
+    let done: Vec<&Row> = rows.iter().filter(|r| r.status == "completed").collect();
+    let mut md = String::new();
+    if done.len() < 2 {
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "\nOver the {} completed variants (spread = (max − min) / mean):\n",
+        done.len()
+    );
+    let _ = writeln!(md, "| quantity | min | mean | max | spread |");
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for (name, unit, pick) in numbers {
+        let values: Vec<f64> = done.iter().filter_map(|r| pick(r)).collect();
+        if values.is_empty() {
+            continue;
+        }
+        let (min, max) = values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let spread = if mean != 0.0 {
+            format!("{:.1} %", 100.0 * (max - min) / mean.abs())
+        } else {
+            "–".into()
+        };
+        let _ = writeln!(
+            md,
+            "| {name} ({unit}) | {min:.4} | {mean:.4} | {max:.4} | {spread} |"
+        );
+    }
+    md
+}
+
 /// report.md with a plot per varied parameter.
 fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
     let n_rods = rows.iter().map(|r| r.rods.len()).max().unwrap_or(0);
@@ -279,6 +320,7 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
         );
         let _ = writeln!(md, "| {} |", cells.join(" | "));
     }
+    md.push_str(&spread_table(&numbers, rows));
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| format!("{}: {e}", plots.display()))?;
     for (p, name) in m.parameters.iter().enumerate() {

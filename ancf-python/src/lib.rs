@@ -692,7 +692,7 @@ impl Simulation {
     }
 
     /// Energies of the current state, J: kinetic, strain, gravity, loads,
-    /// contact, total (their sum) and dissipated (friction, damping).
+    /// contact, total (their sum) and dissipated (friction, damping, contact damping).
     #[getter]
     fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let e = self.sim.energies();

@@ -240,7 +240,7 @@ def test_contact_damping_takes_energy_only_when_asked():
         )
         sim = ancf.Simulation.from_wire(wire, time_step=1e-4, end_time=0.3)
         sim.run()
-        return sim.energies()["dissipated"]
+        return sim.energies["dissipated"]
 
     assert dissipated() == 0.0
     assert dissipated(restitution=0.3) > 0.0

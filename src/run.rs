@@ -471,10 +471,13 @@ fn run_dynamic(
         let info = match sim.step() {
             Ok(info) => info,
             Err(e @ SimulationError::Step { .. }) => {
+                let SimulationError::Step { error, .. } = &e else {
+                    unreachable!()
+                };
                 summary.status = "failed".into();
                 summary.message = format!(
-                    "{e}. Likely cause: a time step too large for the stiffness (material penalty, contact) or an \
-                     unstable configuration; reduce analysis.time_step. Output up to t = {t_before:.6} s is kept"
+                    "{e}. Likely cause: {}. Output up to t = {t_before:.6} s is kept",
+                    error.likely_cause()
                 );
                 break;
             }

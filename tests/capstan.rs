@@ -137,7 +137,7 @@ fn a_slowly_sliding_wrap_transmits_the_capstan_ratio() {
     while s.time < dynamic.end_time - 1e-12 {
         let (next, _) = integ
             .step(&s, dynamic.time_step)
-            .unwrap_or_else(|e| panic!("t = {}: {}", s.time, e.message));
+            .unwrap_or_else(|e| panic!("t = {}: {}", s.time, e));
         s = next;
         if s.time < 0.5 * dynamic.end_time {
             continue;

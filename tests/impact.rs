@@ -45,7 +45,7 @@ fn run(scene: &Scene, end: f64) -> Run {
     for k in 1..=steps {
         let (next, info) = integ
             .step(&s, h)
-            .unwrap_or_else(|e| panic!("step {k}: {}", e.message));
+            .unwrap_or_else(|e| panic!("step {k}: {}", e));
         s = next;
         if info.contact.active > 0 && out.first_contact.is_none() {
             out.first_contact = Some(s.time);

@@ -31,7 +31,7 @@
 //! // Free fall for 0.1 s would be 4.9 cm; the pinned wire's tip falls more
 //! // (it swings about the pin), its x barely moves yet.
 //! assert!(tip[2] < -0.049 && tip[0] > 0.99, "{tip:?}");
-//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! # Ok::<(), ancf_core::Error>(())
 //! ```
 
 // Index loops over nodes, directions and Voigt components read like the
@@ -43,6 +43,7 @@
 // → solvers → loads. `math`, `element`, `material` and `section` are what a
 // model is made of.
 pub mod element;
+pub mod error;
 pub mod forces;
 pub(crate) mod linalg;
 pub mod loads;
@@ -53,8 +54,11 @@ pub mod scene;
 pub mod section;
 pub mod solve;
 
+pub use error::Error;
+
 /// What most programs need: `use ancf_core::prelude::*;`.
 pub mod prelude {
+    pub use crate::error::Error;
     pub use crate::forces::contact::{ContactLaw, RestitutionModel, Rod};
     pub use crate::material::Material;
     pub use crate::math::simd::SimdPath;

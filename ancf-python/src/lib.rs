@@ -434,19 +434,9 @@ pub struct Simulation {
     sim: CoreSimulation,
 }
 
-/// A core error as `SimulationError`, with the CLI's likely cause.
+/// A core error as `SimulationError`, with the core's likely cause.
 fn simulation_error(e: &CoreSimError) -> PyErr {
-    let cause = match e {
-        CoreSimError::Step { .. } => {
-            "Likely cause: a time step too large for the stiffness (material penalty, contact) or an unstable \
-             configuration; reduce analysis.time_step"
-        }
-        CoreSimError::Static(_) => {
-            "Likely cause: a load too large for one step; increase analysis.load_steps"
-        }
-        CoreSimError::Setup { .. } => "Likely cause: a singular model (too few supports?)",
-    };
-    SimulationError::new_err(format!("{e}. {cause}"))
+    SimulationError::new_err(format!("{e}. Likely cause: {}", e.likely_cause()))
 }
 
 impl Simulation {

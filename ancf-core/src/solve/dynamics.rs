@@ -6,7 +6,7 @@ use crate::forces::assembly::{
 };
 use crate::forces::contact::{ContactSample, DeepestPoint};
 use crate::forces::damping::{Damping, kelvin_voigt_element};
-use crate::linalg::linear_solver::SparseSolver;
+use crate::linalg::linear_solver::{FactorError, SparseSolver};
 use crate::model::Model;
 use crate::model::NODE_DOFS;
 use std::sync::Arc;
@@ -233,17 +233,120 @@ pub struct StepInfo {
     pub damping_power: f64,
 }
 
-/// A time step that could not be completed (Newton failed after every
-/// allowed cut, a non-finite residual, a factorization that failed).
+/// Why a time step (or the solver's setup) failed: kinds a caller can
+/// match; [`StepError::cause`] looks through the step halvings.
 #[derive(Clone, Debug)]
-pub struct StepError {
-    /// What failed, and the likely cause.
-    pub message: String,
+pub enum StepError {
+    /// Newton's relative residual stayed above `tolerance` for `iterations`
+    /// iterations.
+    NotConverged {
+        /// The iteration limit.
+        iterations: usize,
+        /// The relative residual tolerance.
+        tolerance: f64,
+    },
+    /// The residual became NaN or infinite.
+    NonFinite,
+    /// A converged step drove the wire `depth` m into a rod, deeper than
+    /// `limit` wire radii (`contact.max_penetration`): rejected.
+    Penetration {
+        /// Deepest penetration, m.
+        depth: f64,
+        /// The limit, wire radii.
+        limit: f64,
+    },
+    /// A converged step would raise total + dissipated energy by `gain` J
+    /// above its start: rejected (the contact was not resolved).
+    EnergyGain {
+        /// The gain, J.
+        gain: f64,
+    },
+    /// A matrix could not be factored: `matrix` names it ("Newton", "mass",
+    /// or "pattern" for the symbolic analysis).
+    Factorization {
+        /// Which matrix.
+        matrix: &'static str,
+        /// The factorization's error.
+        error: FactorError,
+    },
+    /// The step was halved `cuts` times, down to `h` (s), and still failed
+    /// with `cause`.
+    Halved {
+        /// How many times the step was halved.
+        cuts: usize,
+        /// The last step size tried, s.
+        h: f64,
+        /// The last failure.
+        cause: Box<StepError>,
+    },
+    /// Something else: a snapshot that does not fit the model.
+    Invalid(String),
+}
+
+impl StepError {
+    /// The failure itself, through any step halvings.
+    pub fn cause(&self) -> &StepError {
+        match self {
+            StepError::Halved { cause, .. } => cause.cause(),
+            other => other,
+        }
+    }
+
+    /// What usually causes this kind of failure, and what to change (scene
+    /// field names): for messages to a user.
+    pub fn likely_cause(&self) -> &'static str {
+        match self.cause() {
+            StepError::NotConverged { .. } | StepError::Halved { .. } => {
+                "a time step too large for the stiffness (material penalty, contact) or an unstable \
+                 configuration; reduce analysis.time_step"
+            }
+            StepError::NonFinite => {
+                "an element turned inside out or a time step far too large; reduce analysis.time_step"
+            }
+            StepError::Penetration { .. } => {
+                "a contact too soft for the blow or a time step too coarse for it; raise the rod's \
+                 contact_stiffness or reduce analysis.time_step"
+            }
+            StepError::EnergyGain { .. } => {
+                "a time step too coarse for the contact; reduce analysis.time_step"
+            }
+            StepError::Factorization { .. } => {
+                "a singular matrix: too few supports (a free rigid motion) or an element turned inside out"
+            }
+            StepError::Invalid(_) => "a checkpoint or snapshot that does not belong to this scene",
+        }
+    }
 }
 
 impl std::fmt::Display for StepError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.message)
+        match self {
+            StepError::NotConverged {
+                iterations,
+                tolerance,
+            } => write!(
+                f,
+                "Newton did not converge in {iterations} iterations (relative residual at the end above {tolerance:.0e})"
+            ),
+            StepError::NonFinite => f.write_str("non-finite residual (NaN or overflow)"),
+            StepError::Penetration { depth, limit } => write!(
+                f,
+                "penetration {depth:.3e} m exceeds {limit} wire radii (contact.max_penetration)"
+            ),
+            StepError::EnergyGain { gain } => write!(
+                f,
+                "the step would raise the energy {gain:.3e} J above its start (contact not resolved)"
+            ),
+            StepError::Factorization { matrix, error } => match *matrix {
+                "mass" => write!(f, "mass matrix: {error}"),
+                _ => write!(f, "{error}"),
+            },
+            StepError::Halved { cuts, h, cause } => write!(
+                f,
+                "{cause} (after halving the step {cuts} times, h = {h:.3e} s)"
+            ),
+            StepError::Invalid(message) => f.write_str(message),
+        }
     }
 }
 
@@ -338,7 +441,10 @@ impl Integrator {
     pub fn new(model: Arc<Model>, settings: DynamicSettings) -> Result<Self, StepError> {
         let pattern = Pattern::new(&model);
         let solver =
-            SparseSolver::for_dynamics(&pattern).map_err(|e| StepError { message: e.0 })?;
+            SparseSolver::for_dynamics(&pattern).map_err(|error| StepError::Factorization {
+                matrix: "pattern",
+                error,
+            })?;
         let mass = mass_values(&model, &pattern);
         let rayleigh = match model.damping() {
             Some(Damping::Rayleigh {
@@ -401,8 +507,9 @@ impl Integrator {
         // Subtract the mass coupling to prescribed velocities' rates (zero: supports are fixed).
         self.solver
             .factorize(&self.mass, true)
-            .map_err(|e| StepError {
-                message: format!("mass matrix: {}", e.0),
+            .map_err(|error| StepError::Factorization {
+                matrix: "mass",
+                error,
             })?;
         self.factored_for = None;
         self.solver.solve_in_place(&mut a);
@@ -485,14 +592,14 @@ impl Integrator {
         depth: usize,
     ) -> Result<(State, StepInfo), StepError> {
         let attempt = self.try_step(s, h).and_then(|(next, info)| {
-            let Some(c) = self.model.contact() else { return Ok((next, info)) };
+            let Some(c) = self.model.contact() else {
+                return Ok((next, info));
+            };
             // A converged step that drove the wire deep into a rod was too coarse for the contact.
             if info.contact.max_penetration > c.settings.max_penetration * c.wire_radius {
-                return Err(StepError {
-                    message: format!(
-                        "penetration {:.3e} m exceeds {} wire radii (contact.max_penetration)",
-                        info.contact.max_penetration, c.settings.max_penetration
-                    ),
+                return Err(StepError::Penetration {
+                    depth: info.contact.max_penetration,
+                    limit: c.settings.max_penetration,
                 });
             }
             // Nor may the run create energy: loads are constant and the
@@ -505,12 +612,12 @@ impl Integrator {
             // whipping with 5 cm elements at h = 1 ms gained 6e13 J within 47
             // steps once the check was skipped outside contact).
             let e1 = self.energies(&next);
-            let scale = self.energy_scale.max(e1.kinetic + e1.strain + e1.gravity.abs() + e1.loads.abs() + e1.contact);
+            let scale = self
+                .energy_scale
+                .max(e1.kinetic + e1.strain + e1.gravity.abs() + e1.loads.abs() + e1.contact);
             let gain = (e1.total() + e1.dissipated) - self.energy_start;
             if gain > 0.01 * scale + self.energy_floor {
-                return Err(StepError {
-                    message: format!("the step would raise the energy {gain:.3e} J above its start (contact not resolved)"),
-                });
+                return Err(StepError::EnergyGain { gain });
             }
             self.energy_scale = scale;
             Ok((next, info))
@@ -539,11 +646,10 @@ impl Integrator {
                     },
                 ))
             }
-            Err(e) => Err(StepError {
-                message: format!(
-                    "{} (after halving the step {} times, h = {:.3e} s)",
-                    e.message, depth, h
-                ),
+            Err(e) => Err(StepError::Halved {
+                cuts: depth,
+                h,
+                cause: Box::new(e),
             }),
         }
     }
@@ -813,9 +919,7 @@ impl Integrator {
             }
             if !rn.is_finite() {
                 self.factored_for = None;
-                return Err(StepError {
-                    message: "non-finite residual (NaN or overflow)".into(),
-                });
+                return Err(StepError::NonFinite);
             }
             // Modified Newton contracting slowly (< 4× per iteration): refresh here.
             if !need_k && iterations > 0 && rn > 0.25 * base_rn {
@@ -842,7 +946,10 @@ impl Integrator {
                 }
                 self.solver
                     .factorize(&self.newton_matrix, symmetric)
-                    .map_err(|e| StepError { message: e.0 })?;
+                    .map_err(|error| StepError::Factorization {
+                        matrix: "Newton",
+                        error,
+                    })?;
                 info.factorizations += 1;
                 self.factored_for = Some(h);
                 fresh = true;
@@ -858,11 +965,9 @@ impl Integrator {
             iterations += 1;
         }
         self.factored_for = None;
-        Err(StepError {
-            message: format!(
-                "Newton did not converge in {} iterations (relative residual at the end above {:.0e})",
-                self.settings.max_iterations, self.settings.tolerance
-            ),
+        Err(StepError::NotConverged {
+            iterations: self.settings.max_iterations,
+            tolerance: self.settings.tolerance,
         })
     }
 }

@@ -77,6 +77,22 @@ impl std::fmt::Display for SimulationError {
 
 impl std::error::Error for SimulationError {}
 
+impl SimulationError {
+    /// What usually causes this failure and what to change (scene field
+    /// names), for messages to a user.
+    pub fn likely_cause(&self) -> &'static str {
+        match self {
+            SimulationError::Static(_) => {
+                "supports too far from the wire's reach or a load too large for one step; increase \
+                 analysis.load_steps"
+            }
+            SimulationError::Setup { error, .. } | SimulationError::Step { error, .. } => {
+                error.likely_cause()
+            }
+        }
+    }
+}
+
 /// Everything a simulation accumulates: what a checkpoint saves and a
 /// resumed simulation starts from.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -179,9 +195,10 @@ impl Simulation {
             .get(snapshot.phase)
             .ok_or_else(|| SimulationError::Setup {
                 what: "resuming",
-                error: StepError {
-                    message: format!("the snapshot's phase {} does not exist", snapshot.phase),
-                },
+                error: StepError::Invalid(format!(
+                    "the snapshot's phase {} does not exist",
+                    snapshot.phase
+                )),
             })?;
         let mut integrator = Integrator::new(phase.clone(), settings.clone()).map_err(|error| {
             SimulationError::Setup {

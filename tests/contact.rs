@@ -262,3 +262,82 @@ fn kelvin_voigt_jacobians_match_finite_differences() {
     assert!(rel(&fq, &kq) < 1e-6, "∂Q/∂q {:e}", rel(&fq, &kq));
     assert!(rel(&fv, &kv) < 1e-6, "∂Q/∂v {:e}", rel(&fv, &kv));
 }
+
+/// Issue 18: a time step finds its candidate (element, rod) pairs once, at
+/// its start, with a margin; its Newton iterates visit only them while their
+/// centerline stays within the margin. Within it the contact must be the
+/// same, bit for bit, as with every pair visited — also for iterates that
+/// moved almost the whole margin toward the rod.
+#[test]
+fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
+    use ancf_core::forces::assembly::{
+        Pattern, assemble_contact, assemble_contact_reusing, centerline_shift, contact_candidates,
+    };
+    use ancf_core::material::Material;
+    use ancf_core::model::WireBuilder;
+    let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
+    let model = WireBuilder::new(2.0, 40)
+        .layer(steel, RW)
+        .rod(Rod::line([1.0, 0.0, -0.045], [0.0, 1.0, 0.0], 0.02, 5e8))
+        .rod(Rod::line([1.6, 0.0, -0.12], [0.3, 1.0, 0.2], 0.03, 5e8).with_length(0.5))
+        .build()
+        .unwrap();
+    let c = model.contact().unwrap();
+    let pattern = Pattern::new(&model);
+    let margin = 4.0 * RW;
+    let mut rng = Rng::new(7);
+    let mut pairs = Vec::new();
+    let (mut moved_in, mut compared) = (0, 0);
+    for _ in 0..300 {
+        // A start a few centimetres above the rods, gently bent.
+        let mut q0 = model.reference.clone();
+        let lift = 0.05 * rng.uniform();
+        for (i, x) in q0.iter_mut().enumerate() {
+            *x += 0.002 * rng.uniform() + if i % 12 == 2 { lift } else { 0.0 };
+        }
+        contact_candidates(&model, c, &q0, margin, &mut pairs);
+        // An iterate that moved down by up to the margin, with noise,
+        // scaled so that the bound on its shift is just inside the margin.
+        let down = -rng.uniform().abs() * margin;
+        let mut dq: Vec<f64> = (0..q0.len())
+            .map(|i| 0.003 * rng.uniform() + if i % 12 == 2 { down } else { 0.0 })
+            .collect();
+        let q1: Vec<f64> = q0.iter().zip(&dq).map(|(a, b)| a + b).collect();
+        let scale = 0.999 * margin / centerline_shift(&model, &q0, &q1);
+        if scale < 1.0 {
+            dq.iter_mut().for_each(|d| *d *= scale);
+        }
+        let q1: Vec<f64> = q0.iter().zip(&dq).map(|(a, b)| a + b).collect();
+        assert!(centerline_shift(&model, &q0, &q1) <= margin);
+        let v = vec![0.0; q1.len()];
+        let all = assemble_contact(&model, c, &pattern, &q1, &v, None, None);
+        let some = assemble_contact_reusing(
+            &model,
+            c,
+            &pattern,
+            &q1,
+            &v,
+            &[],
+            Some(&pairs),
+            None,
+            None,
+            Vec::new(),
+        );
+        assert_eq!(all.force, some.force);
+        assert_eq!(all.rod_forces, some.rod_forces);
+        compared += 1;
+        if all.total.active > 0
+            && assemble_contact(&model, c, &pattern, &q0, &v, None, None)
+                .total
+                .active
+                == 0
+        {
+            moved_in += 1;
+        }
+    }
+    // The iterates must have brought the wire onto the rods from apart.
+    assert!(
+        compared == 300 && moved_in > 20,
+        "{moved_in} iterates moved into contact"
+    );
+}

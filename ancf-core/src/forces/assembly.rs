@@ -220,20 +220,22 @@ pub fn assemble_into(
 }
 
 /// Whether [`assemble`] splits the elements into parallel chunks (with more
-/// than one rayon thread): when the estimated element work reaches
-/// [`PARALLEL_MIN_WORK_US`]. Results do not depend on it (the chunks equal
-/// the serial loop bit for bit); only the speed does.
+/// than one rayon thread): for a Jacobian, when the estimated element work
+/// reaches [`PARALLEL_MIN_WORK_US`]. A force alone (every modified-Newton
+/// iteration) stays serial: at 0.1–0.15 µs per element its section is too
+/// short for the hand-off, and the idle thread's spinning afterwards took
+/// the cores the serial rest of the iteration needs (the 1000-element
+/// span-break scene ran 1.3–1.6× slower on 2 threads than on 1 with it,
+/// as fast without; BENCHMARKS.md, eighth session). Results do not depend
+/// on it (the chunks equal the serial loop bit for bit); only the speed does.
 pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
     let element = model.element(0);
     let points = (element.axial.nodes.len() * element.plan.points()) as f64;
     // µs per element on the CI machine (BENCHMARKS.md): pre-integrated
-    // SVK 1.2 (force 0.15), plus ≈ 0.3 (0.1) per section point.
-    let per_element = if with_jacobian {
-        1.2 + 0.3 * points
-    } else {
-        0.15 + 0.1 * points
-    };
-    model.n_elements >= 2 * CHUNK_ELEMENTS
+    // SVK 1.2, plus ≈ 0.3 per section point.
+    let per_element = 1.2 + 0.3 * points;
+    with_jacobian
+        && model.n_elements >= 2 * CHUNK_ELEMENTS
         && model.n_elements as f64 * per_element >= PARALLEL_MIN_WORK_US
 }
 
@@ -487,14 +489,27 @@ pub fn assemble_contact(
     jac_q: Option<&mut [f64]>,
     jac_v: Option<&mut [f64]>,
 ) -> ContactForces {
-    assemble_contact_reusing(model, contact, pattern, q, v, &[], jac_q, jac_v, Vec::new())
+    assemble_contact_reusing(
+        model,
+        contact,
+        pattern,
+        q,
+        v,
+        &[],
+        None,
+        jac_q,
+        jac_v,
+        Vec::new(),
+    )
 }
 
 /// [`assemble_contact`] whose force vector reuses `force`'s allocation (a
 /// Newton loop hands back the previous iteration's), within the contact
 /// events `events` (per (element, rod) pair, the approach speed in m/s at
 /// which the pair's contact began, 0 = none; empty = no events: contact
-/// damping acts only within an event, see [`crate::solve::dynamics::State`]).
+/// damping acts only within an event, see [`crate::solve::dynamics::State`]),
+/// visiting only the (element, rod) pairs `pairs` (index `element × rods +
+/// rod`, increasing; see [`contact_candidates`]) or, with `None`, all.
 #[allow(clippy::too_many_arguments)]
 pub fn assemble_contact_reusing(
     model: &Model,
@@ -503,6 +518,7 @@ pub fn assemble_contact_reusing(
     q: &[f64],
     v: &[f64],
     events: &[f64],
+    pairs: Option<&[usize]>,
     mut jac_q: Option<&mut [f64]>,
     mut jac_v: Option<&mut [f64]>,
     mut force: Vec<f64>,
@@ -522,10 +538,23 @@ pub fn assemble_contact_reusing(
     let rods = contact.rods.len();
     let mut kq = [0.0; 576];
     let mut kv = [0.0; 576];
-    for el in 0..model.n_elements {
-        let e = model.element_coordinates(q, el);
-        let ve = model.element_coordinates(v, el);
-        for ri in 0..rods {
+    let all = 0..model.n_elements * rods;
+    let visit: Box<dyn Iterator<Item = usize>> = match pairs {
+        Some(p) => Box::new(p.iter().copied()),
+        None => Box::new(all),
+    };
+    let mut current: Option<(usize, ElementVector, ElementVector)> = None;
+    for pair in visit {
+        let (el, ri) = (pair / rods, pair % rods);
+        if current.as_ref().is_none_or(|(c, _, _)| *c != el) {
+            current = Some((
+                el,
+                model.element_coordinates(q, el),
+                model.element_coordinates(v, el),
+            ));
+        }
+        let (_, e, ve) = current.as_ref().expect("set above");
+        {
             // kq and kv stay zero between elements: an element away from the
             // rods writes nothing, and they are cleared after one that touched
             // (clearing them for every element was 26 % of the impact run's
@@ -534,9 +563,9 @@ pub fn assemble_contact_reusing(
             let (sample, dp) = contact.element_rod(
                 model.group(el),
                 ri,
-                &e,
-                &ve,
-                events.get(el * rods + ri).copied().unwrap_or(0.0),
+                e,
+                ve,
+                events.get(pair).copied().unwrap_or(0.0),
                 &mut qe,
                 jac_q.is_some().then_some(&mut kq),
                 jac_v.is_some().then_some(&mut kv),
@@ -544,7 +573,7 @@ pub fn assemble_contact_reusing(
             if sample.active == 0 {
                 continue;
             }
-            if let Some(t) = out.touching.get_mut(el * rods + ri) {
+            if let Some(t) = out.touching.get_mut(pair) {
                 *t = Some(sample.approach_speed);
             }
             out.total.accumulate(&sample);
@@ -574,6 +603,58 @@ pub fn assemble_contact_reusing(
         }
     }
     out
+}
+
+/// The (element, rod) pairs (index `element × rods + rod`, increasing) that
+/// the broad phase lets through at `q` with `margin` (m) more reach: every
+/// pair that can touch in a configuration whose centerline is within
+/// `margin` of this one ([`centerline_shift`]). A time step computes them
+/// once and its Newton iterations visit only them, so the broad phase's
+/// cost per iteration does not grow with the elements far from every rod.
+pub fn contact_candidates(
+    model: &Model,
+    contact: &crate::forces::contact::Contact,
+    q: &[f64],
+    margin: f64,
+    out: &mut Vec<usize>,
+) {
+    out.clear();
+    let rods = contact.rods.len();
+    for el in 0..model.n_elements {
+        let e = model.element_coordinates(q, el);
+        for (ri, rod) in contact.rods.iter().enumerate() {
+            if contact.may_touch_within(model.group(el), rod, &e, margin) {
+                out.push(el * rods + ri);
+            }
+        }
+    }
+}
+
+/// A bound (m) on how far any point of the wire's centerline moved from `a`
+/// to `b` (full coordinates): the cubic Hermite centerline moves by at most
+/// max |Δr| + 2 · (4/27) · l · max |Δr_x| (the shape functions of r_x peak at
+/// 4/27 of the element length l).
+pub fn centerline_shift(model: &Model, a: &[f64], b: &[f64]) -> f64 {
+    let l = model
+        .groups
+        .iter()
+        .map(|g| g.integration.length)
+        .fold(0.0, f64::max);
+    let (mut dr, mut drx) = (0.0f64, 0.0f64);
+    for n in 0..model.n_nodes() {
+        let base = NODE_DOFS * n;
+        let d = |k: usize| {
+            let v = [
+                b[base + k] - a[base + k],
+                b[base + k + 1] - a[base + k + 1],
+                b[base + k + 2] - a[base + k + 2],
+            ];
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+        };
+        dr = dr.max(d(0));
+        drx = drx.max(d(3));
+    }
+    dr + 8.0 / 27.0 * l * drx
 }
 
 #[cfg(test)]

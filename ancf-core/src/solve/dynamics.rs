@@ -2,7 +2,8 @@
 //! on the accelerations, with full or modified Newton and step cutting.
 
 use crate::forces::assembly::{
-    Pattern, assemble, assemble_contact, assemble_contact_reusing, assemble_into, mass_values,
+    Pattern, assemble, assemble_contact, assemble_contact_reusing, assemble_into, centerline_shift,
+    contact_candidates, mass_values,
 };
 use crate::forces::contact::{ContactSample, DeepestPoint};
 use crate::forces::damping::{Damping, kelvin_voigt_element};
@@ -404,7 +405,18 @@ struct Workspace {
     contact_force: Vec<f64>,
     /// Which (element, rod) pairs touch in the last residual (contact damping only).
     contact_touching: Vec<Option<f64>>,
+    /// The (element, rod) pairs the broad phase lets through at the step's
+    /// start with [`CANDIDATE_MARGIN`] wire radii more reach, and the start
+    /// coordinates they were found at (see `contact_candidates`).
+    contact_pairs: Vec<usize>,
+    contact_pairs_at: Vec<f64>,
 }
+
+/// How far (wire radii) the centerline may move within a step before its
+/// Newton iterations stop trusting the step's candidate contact pairs and
+/// run the whole broad phase: a step moves a falling wire by millimetres,
+/// a wire radius is centimetres.
+const CANDIDATE_MARGIN: f64 = 4.0;
 
 impl Workspace {
     fn new(n: usize, elements: usize) -> Self {
@@ -417,6 +429,8 @@ impl Workspace {
             element_energy: vec![0.0; elements],
             contact_force: Vec::new(),
             contact_touching: Vec::new(),
+            contact_pairs: Vec::new(),
+            contact_pairs_at: Vec::new(),
         }
     }
 }
@@ -700,6 +714,15 @@ impl Integrator {
                 None
             };
             let buffer = std::mem::take(&mut w.contact_force);
+            // The step's candidate pairs, found once at its start; an
+            // iterate that moved farther than their margin visits all pairs.
+            let margin = CANDIDATE_MARGIN * c.wire_radius;
+            if w.contact_pairs_at != s.q {
+                contact_candidates(model, c, &s.q, margin, &mut w.contact_pairs);
+                w.contact_pairs_at.clone_from(&s.q);
+            }
+            let pairs =
+                (centerline_shift(model, &s.q, qm) <= margin).then_some(&w.contact_pairs[..]);
             let cf = assemble_contact_reusing(
                 model,
                 c,
@@ -707,6 +730,7 @@ impl Integrator {
                 qm,
                 vm,
                 &s.contact_events,
+                pairs,
                 kq.as_deref_mut(),
                 kvc,
                 buffer,

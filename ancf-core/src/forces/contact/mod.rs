@@ -401,9 +401,21 @@ impl Contact {
     /// 9 stations) and the rod's axis, against R_w + R_rod plus a margin for
     /// the chord sag between samples and the section's deformation (R_w + l/8).
     pub fn may_touch(&self, group: usize, rod: &Rod, e: &ElementVector) -> bool {
+        self.may_touch_within(group, rod, e, 0.0)
+    }
+
+    /// [`Contact::may_touch`] with `margin` (m) more reach: could the
+    /// element touch the rod after its centerline moved by up to `margin`?
+    pub fn may_touch_within(
+        &self,
+        group: usize,
+        rod: &Rod,
+        e: &ElementVector,
+        margin: f64,
+    ) -> bool {
         let geometry = &self.geometry[group];
         let l = geometry.length;
-        let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0;
+        let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0 + margin;
         // First a sphere around the centerline's Bézier control points
         // r₁, r₁ + l/3 r₁ₓ, r₂ − l/3 r₂ₓ, r₂ (the cubic lies in their hull):
         // if even that is out of reach, so is every sample below (the same

@@ -151,7 +151,7 @@ fn a_slurm_sweep_with_a_cancelled_task_ends_as_the_local_one() {
     let jobs = std::fs::read_to_string(slurm_out.join("slurm/jobs.txt")).unwrap();
     let job = jobs.split_whitespace().next().unwrap().to_string();
     let script = std::fs::read_to_string(slurm_out.join("slurm/array_0.sbatch")).unwrap();
-    assert!(script.contains("#SBATCH --array=0-5") && script.contains("#SBATCH --time=00:15:00"));
+    assert!(script.contains("#SBATCH --array=0-5") && script.contains("#SBATCH --time=00:20:00"));
     // Kill task 1 while it runs (two CPUs: tasks 0 and 1 start at once),
     // as a node failure or an operator would.
     // An empty answer counts only once the task has been listed: right

@@ -93,29 +93,41 @@ fn normal_force_is_minus_gradient_of_penalty_energy() {
     }
 }
 
+/// Central differences with step `h` of `f` with respect to its first and
+/// its second argument: ∂f/∂e and ∂f/∂v, row-major 24 × 24.
+fn central_differences(
+    f: impl Fn(&[f64; 24], &[f64; 24]) -> [f64; 24],
+    e: &[f64; 24],
+    v: &[f64; 24],
+    h: f64,
+) -> ([f64; 576], [f64; 576]) {
+    let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
+    for j in 0..24 {
+        let (mut ep, mut em) = (*e, *e);
+        ep[j] += h;
+        em[j] -= h;
+        let (qp, qm) = (f(&ep, v), f(&em, v));
+        let (mut vp, mut vm) = (*v, *v);
+        vp[j] += h;
+        vm[j] -= h;
+        let (rp, rm) = (f(e, &vp), f(e, &vm));
+        for i in 0..24 {
+            fq[i * 24 + j] = (qp[i] - qm[i]) / (2.0 * h);
+            fv[i * 24 + j] = (rp[i] - rm[i]) / (2.0 * h);
+        }
+    }
+    (fq, fv)
+}
+
 #[test]
 fn jacobians_match_finite_differences_with_and_without_friction() {
     for (law, mu) in LAWS.iter().flat_map(|l| [(*l, 0.0), (*l, 0.3)]) {
         let (c, e, v) = setup(law, mu);
         assert!(away_from_boundary(&c, &e, 1e-5));
         let (_, kq, kv, _) = eval(&c, &e, &v);
-        let h = 1e-8;
-        let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
-        for j in 0..24 {
-            let (mut ep, mut em) = (e, e);
-            ep[j] += h;
-            em[j] -= h;
-            let (qp, qm) = (eval(&c, &ep, &v).0, eval(&c, &em, &v).0);
-            let (mut vp, mut vm) = (v, v);
-            vp[j] += h;
-            vm[j] -= h;
-            let (rp, rm) = (eval(&c, &e, &vp).0, eval(&c, &e, &vm).0);
-            for i in 0..24 {
-                // The matrices are −∂Q/∂q and −∂Q/∂v.
-                fq[i * 24 + j] = -(qp[i] - qm[i]) / (2.0 * h);
-                fv[i * 24 + j] = -(rp[i] - rm[i]) / (2.0 * h);
-            }
-        }
+        // The matrices are −∂Q/∂q and −∂Q/∂v.
+        let (fq, fv) = central_differences(|e, v| eval(&c, e, v).0, &e, &v, 1e-8);
+        let (fq, fv) = (fq.map(|x| -x), fv.map(|x| -x));
         let eq = rel(&fq, &kq);
         assert!(eq < 1e-6, "{law:?}, μ = {mu}: −∂Q/∂q vs FD {eq:e}");
         if mu > 0.0 {
@@ -176,28 +188,8 @@ fn contact_damping_jacobians_match_finite_differences() {
                     "{law:?}: damping work {work:e} vs power {power:e}"
                 );
             }
-            let h = 1e-8;
-            let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
-            for j in 0..24 {
-                let (mut ep, mut em) = (e, e);
-                ep[j] += h;
-                em[j] -= h;
-                let (qp, qm) = (
-                    eval_event(&c, &ep, &v, speed).0,
-                    eval_event(&c, &em, &v, speed).0,
-                );
-                let (mut vp, mut vm) = (v, v);
-                vp[j] += h;
-                vm[j] -= h;
-                let (rp, rm) = (
-                    eval_event(&c, &e, &vp, speed).0,
-                    eval_event(&c, &e, &vm, speed).0,
-                );
-                for i in 0..24 {
-                    fq[i * 24 + j] = -(qp[i] - qm[i]) / (2.0 * h);
-                    fv[i * 24 + j] = -(rp[i] - rm[i]) / (2.0 * h);
-                }
-            }
+            let (fq, fv) = central_differences(|e, v| eval_event(&c, e, v, speed).0, &e, &v, 1e-8);
+            let (fq, fv) = (fq.map(|x| -x), fv.map(|x| -x));
             let eq = rel(&fq, &kq);
             assert!(
                 eq < 1e-6,
@@ -243,22 +235,7 @@ fn kelvin_voigt_jacobians_match_finite_differences() {
         (power - qv).abs() < 1e-10 * power.abs() && power > 0.0,
         "power {power} vs Q·v {qv}"
     );
-    let h = 1e-6;
-    let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
-    for j in 0..24 {
-        let (mut ep, mut em) = (e, e);
-        ep[j] += h;
-        em[j] -= h;
-        let (mut vp, mut vm) = (v, v);
-        vp[j] += h;
-        vm[j] -= h;
-        let (qp, qm) = (eval(&ep, &v).0, eval(&em, &v).0);
-        let (rp, rm) = (eval(&e, &vp).0, eval(&e, &vm).0);
-        for i in 0..24 {
-            fq[i * 24 + j] = (qp[i] - qm[i]) / (2.0 * h);
-            fv[i * 24 + j] = (rp[i] - rm[i]) / (2.0 * h);
-        }
-    }
+    let (fq, fv) = central_differences(|e, v| eval(e, v).0, &e, &v, 1e-6);
     assert!(rel(&fq, &kq) < 1e-6, "∂Q/∂q {:e}", rel(&fq, &kq));
     assert!(rel(&fv, &kv) < 1e-6, "∂Q/∂v {:e}", rel(&fv, &kv));
 }

@@ -189,3 +189,20 @@ fn damping_takes_the_energy_the_state_records() {
     // After the event the pair's memory is cleared.
     assert!(s.contact_events.iter().all(|&v| v == 0.0));
 }
+
+#[test]
+fn a_model_built_in_code_refuses_a_restitution_outside_0_1() {
+    let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
+    for e in [0.0, 1.5, f64::NAN] {
+        let rod = Rod::line([0.5, 0.0, -0.1], [0.0, 1.0, 0.0], RR, EPS_L)
+            .with_restitution(e, RestitutionModel::Exact);
+        let err = WireBuilder::new(1.0, 2)
+            .layer(steel.clone(), RW)
+            .rod(rod)
+            .build();
+        assert!(
+            matches!(&err, Err(ancf_core::model::ModelError::Wire { what, .. }) if what == "rod 0"),
+            "e = {e}: {err:?}"
+        );
+    }
+}

@@ -384,16 +384,8 @@ impl Wire {
         restitution_model: &str,
     ) -> PyResult<Wire> {
         use ancf_core::forces::contact::RestitutionModel;
-        let model = match restitution_model {
-            "exact" => RestitutionModel::Exact,
-            "flores" => RestitutionModel::Flores,
-            "lankarani-nikravesh" => RestitutionModel::LankaraniNikravesh,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "restitution_model: unknown model \"{other}\" (use \"exact\", \"flores\" or \"lankarani-nikravesh\")"
-                )));
-            }
-        };
+        let model = RestitutionModel::from_name(restitution_model)
+            .map_err(|message| PyValueError::new_err(format!("restitution_model: {message}")))?;
         if let Some(e) = restitution
             && !(e > 0.0 && e <= 1.0)
         {

@@ -170,10 +170,19 @@ impl WireBuilder {
             inner = outer;
         }
         for (i, rod) in self.rods.iter().enumerate() {
-            if !(rod.radius > 0.0 && rod.contact_stiffness > 0.0 && rod.friction >= 0.0) {
+            let restitution_ok = rod
+                .damping
+                .is_none_or(|d| d.restitution() > 0.0 && d.restitution() <= 1.0);
+            if !(rod.radius > 0.0
+                && rod.contact_stiffness > 0.0
+                && rod.friction >= 0.0
+                && restitution_ok)
+            {
                 return fail(
                     &format!("rod {i}"),
-                    format!("radius and stiffness must be > 0 and friction ≥ 0, got {rod:?}"),
+                    format!(
+                        "radius and stiffness must be > 0, friction ≥ 0 and restitution in (0, 1], got {rod:?}"
+                    ),
                 );
             }
         }

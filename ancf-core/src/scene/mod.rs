@@ -1076,19 +1076,11 @@ fn validate_rods(
         if friction < 0.0 {
             return Err(err(at("friction"), format!("must be ≥ 0, got {friction}")));
         }
-        let model = match r.restitution_model.as_deref() {
-            None | Some("exact") => RestitutionModel::Exact,
-            Some("flores") => RestitutionModel::Flores,
-            Some("lankarani-nikravesh") => RestitutionModel::LankaraniNikravesh,
-            Some(other) => {
-                return Err(err(
-                    at("restitution_model"),
-                    format!(
-                        "unknown model \"{other}\" (use \"exact\", \"flores\" or \"lankarani-nikravesh\")"
-                    ),
-                ));
-            }
-        };
+        let model = r
+            .restitution_model
+            .as_deref()
+            .map_or(Ok(RestitutionModel::Exact), RestitutionModel::from_name)
+            .map_err(|message| err(at("restitution_model"), message))?;
         let damping = match r.restitution {
             None if r.restitution_model.is_some() => {
                 return Err(err(

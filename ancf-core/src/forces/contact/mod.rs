@@ -118,6 +118,19 @@ pub enum RestitutionModel {
 }
 
 impl RestitutionModel {
+    /// The model named `name` in a scene file or a Python call, or what to
+    /// tell the user.
+    pub fn from_name(name: &str) -> Result<Self, String> {
+        match name {
+            "exact" => Ok(RestitutionModel::Exact),
+            "flores" => Ok(RestitutionModel::Flores),
+            "lankarani-nikravesh" => Ok(RestitutionModel::LankaraniNikravesh),
+            other => Err(format!(
+                "unknown model \"{other}\" (use \"exact\", \"flores\" or \"lankarani-nikravesh\")"
+            )),
+        }
+    }
+
     /// The name used in scene files and summaries.
     pub fn name(self) -> &'static str {
         match self {

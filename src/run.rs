@@ -396,9 +396,9 @@ fn run_dynamic(
                 Err(SimulationError::Static(e)) => {
                     summary.status = "failed".into();
                     summary.message = format!(
-                        "initial static equilibrium: {}. Likely cause: supports too far from the wire's \
-                         reach or a load too large; increase analysis.load_steps",
-                        e.message
+                        "initial static equilibrium: {}. Likely cause: {}",
+                        e.message,
+                        e.likely_cause()
                     );
                     return Ok(e.last_converged);
                 }
@@ -471,13 +471,10 @@ fn run_dynamic(
         let info = match sim.step() {
             Ok(info) => info,
             Err(e @ SimulationError::Step { .. }) => {
-                let SimulationError::Step { error, .. } = &e else {
-                    unreachable!()
-                };
                 summary.status = "failed".into();
                 summary.message = format!(
                     "{e}. Likely cause: {}. Output up to t = {t_before:.6} s is kept",
-                    error.likely_cause()
+                    e.likely_cause()
                 );
                 break;
             }

@@ -82,10 +82,7 @@ impl SimulationError {
     /// names), for messages to a user.
     pub fn likely_cause(&self) -> &'static str {
         match self {
-            SimulationError::Static(_) => {
-                "supports too far from the wire's reach or a load too large for one step; increase \
-                 analysis.load_steps"
-            }
+            SimulationError::Static(e) => e.likely_cause(),
             SimulationError::Setup { error, .. } | SimulationError::Step { error, .. } => {
                 error.likely_cause()
             }

@@ -61,6 +61,14 @@ impl std::fmt::Display for StaticError {
 
 impl std::error::Error for StaticError {}
 
+impl StaticError {
+    /// What usually causes this failure and what to change (scene field
+    /// names), for messages to a user.
+    pub fn likely_cause(&self) -> &'static str {
+        "supports too far from the wire's reach or a load too large; increase analysis.load_steps"
+    }
+}
+
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }

@@ -139,7 +139,8 @@ fn next_contact_events(old: &[f64], touching: &[Option<f64>]) -> Vec<f64> {
             Some(rate) => match old.get(i).copied().unwrap_or(0.0) {
                 speed if speed > 0.0 => speed,
                 // A pair that touches without approaching (a settling wire)
-                // begins at the smallest speed the damping factor uses.
+                // still begins an event: a positive speed, which the damping
+                // factor raises to `contact.min_impact_speed`.
                 _ => rate.max(f64::MIN_POSITIVE),
             },
         })

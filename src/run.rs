@@ -9,6 +9,7 @@ use crate::output::{
 use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
 use crate::vtk::VtkWriter;
 use ancf_core::element::{deformation_gradient, green_lagrange, position, shape_gradients};
+use ancf_core::forces::sum::{At, ForceSum};
 use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
@@ -861,9 +862,9 @@ fn plot_rod_forces(
 /// (no impulse, no duration, nothing to filter).
 fn static_contact(model: &Model, q: &[f64]) -> Option<ContactSummary> {
     let c = model.contact()?;
-    let pattern = ancf_core::forces::assembly::Pattern::new(model);
-    let v = vec![0.0; q.len()];
-    let cf = ancf_core::forces::assembly::assemble_contact(model, c, &pattern, q, &v, None, None);
+    let mut forces = ForceSum::new(model);
+    forces.evaluate(model, At::rest(q), None, None);
+    let cf = forces.contact()?;
     let rods = c
         .rods
         .iter()

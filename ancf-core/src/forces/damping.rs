@@ -10,10 +10,12 @@
 //!
 //! The dissipated power Q_d · v ≥ 0 is integrated into the energy balance.
 
+use super::assembly::Pattern;
 use crate::element::{
     ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, strain_matrix,
 };
 use crate::material::{Law, tensor_from_stress};
+use crate::model::{Model, NODE_DOFS};
 use nalgebra::{SMatrix, Vector6};
 
 /// Damping named by a scene.
@@ -105,4 +107,46 @@ pub fn kelvin_voigt_element(
         power += kelvin_voigt_point(e, v, g, w, law, c, q, kq.as_deref_mut(), kv.as_deref_mut());
     });
     power
+}
+
+/// Kelvin–Voigt force of the whole wire at (q, v) on the unknowns (N) and
+/// its power (W); adds ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv` (pattern slots).
+pub fn kelvin_voigt_force(
+    model: &Model,
+    pattern: &Pattern,
+    c: f64,
+    q: &[f64],
+    v: &[f64],
+    mut kq: Option<&mut [f64]>,
+    mut kv: Option<&mut [f64]>,
+) -> (Vec<f64>, f64) {
+    let mut full = vec![0.0; q.len()];
+    let mut power = 0.0;
+    let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
+    for el in 0..model.n_elements {
+        let e = model.element_coordinates(q, el);
+        let ve = model.element_coordinates(v, el);
+        let mut qe = [0.0; 24];
+        mq.fill(0.0);
+        mv.fill(0.0);
+        power += kelvin_voigt_element(
+            model.element(el),
+            c,
+            &e,
+            &ve,
+            &mut qe,
+            kq.is_some().then_some(&mut mq),
+            kv.is_some().then_some(&mut mv),
+        );
+        for i in 0..24 {
+            full[NODE_DOFS * el + i] += qe[i];
+        }
+        if let Some(k) = kq.as_deref_mut() {
+            pattern.add_element(k, el, &mq);
+        }
+        if let Some(k) = kv.as_deref_mut() {
+            pattern.add_element(k, el, &mv);
+        }
+    }
+    (model.gather(&full), power)
 }

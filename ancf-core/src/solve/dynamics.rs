@@ -1,15 +1,11 @@
 //! Implicit generalized-α time integration (Chung–Hulbert, SPEC §6), Newton
 //! on the accelerations, with full or modified Newton and step cutting.
 
-use crate::forces::assembly::{
-    Pattern, assemble, assemble_contact, assemble_contact_reusing, assemble_into, centerline_shift,
-    contact_candidates, mass_values,
-};
+use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values};
 use crate::forces::contact::{ContactSample, DeepestPoint};
-use crate::forces::damping::{Damping, kelvin_voigt_element};
+use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::{FactorError, SparseSolver};
 use crate::model::Model;
-use crate::model::NODE_DOFS;
 use std::sync::Arc;
 
 /// How often the Newton matrix is refactorized.
@@ -354,27 +350,25 @@ impl std::fmt::Display for StepError {
 
 impl std::error::Error for StepError {}
 
-/// The integrator: owns the pattern, the symbolic factorization and the
-/// constant mass values, computed once per model.
+/// The integrator: owns the model's force sum (with the pattern), the
+/// symbolic factorization and the constant mass values, computed once per
+/// model.
 pub struct Integrator {
     /// The model it integrates (shared: a simulation keeps one per phase).
     pub model: Arc<Model>,
     /// The settings it runs with.
     pub settings: DynamicSettings,
     params: AlphaParameters,
-    pattern: Pattern,
+    forces: ForceSum,
     mass: Vec<f64>,
     solver: SparseSolver,
     /// Step size of the current factorization, if it is valid for reuse.
     factored_for: Option<f64>,
-    /// External force Q_ext (all coordinates, N) and its norm on the
-    /// unknowns (a residual scale; constant, so computed once).
-    ext: Vec<f64>,
+    /// The external force's norm on the unknowns (N; a residual scale,
+    /// constant, so computed once).
     ext_norm: f64,
     /// Residual entries below this are round-off (N), see [`Model::roundoff_force`].
     roundoff: f64,
-    /// Rayleigh damping matrix α M + β K₀ in pattern slots (empty without it).
-    rayleigh: Vec<f64>,
     /// Total + dissipated energy at the initial state (J), for the energy guard.
     energy_start: f64,
     /// Largest kinetic + strain + |potentials| + contact seen so far (J).
@@ -399,13 +393,6 @@ struct Workspace {
     vm: Vec<f64>,
     am: Vec<f64>,
     ma: Vec<f64>,
-    /// Elastic force (full) and per-element energies of the last residual.
-    qe: Vec<f64>,
-    element_energy: Vec<f64>,
-    /// The contact force vector, handed back and forth with `assemble_contact_reusing`.
-    contact_force: Vec<f64>,
-    /// Which (element, rod) pairs touch in the last residual (contact damping only).
-    contact_touching: Vec<Option<f64>>,
     /// The (element, rod) pairs the broad phase lets through at the step's
     /// start with [`CANDIDATE_MARGIN`] wire radii more reach, and the start
     /// coordinates they were found at (see `contact_candidates`).
@@ -420,16 +407,12 @@ struct Workspace {
 const CANDIDATE_MARGIN: f64 = 4.0;
 
 impl Workspace {
-    fn new(n: usize, elements: usize) -> Self {
+    fn new(n: usize) -> Self {
         Workspace {
             qm: vec![0.0; n],
             vm: vec![0.0; n],
             am: vec![0.0; n],
             ma: vec![0.0; n],
-            qe: vec![0.0; n],
-            element_energy: vec![0.0; elements],
-            contact_force: Vec::new(),
-            contact_touching: Vec::new(),
             contact_pairs: Vec::new(),
             contact_pairs_at: Vec::new(),
         }
@@ -454,28 +437,14 @@ fn norm_inf(v: &[f64]) -> f64 {
 impl Integrator {
     /// An integrator for `model` (pattern and symbolic factorization built here).
     pub fn new(model: Arc<Model>, settings: DynamicSettings) -> Result<Self, StepError> {
-        let pattern = Pattern::new(&model);
+        let forces = ForceSum::new(&model);
+        let pattern = forces.pattern();
         let solver =
-            SparseSolver::for_dynamics(&pattern).map_err(|error| StepError::Factorization {
+            SparseSolver::for_dynamics(pattern).map_err(|error| StepError::Factorization {
                 matrix: "pattern",
                 error,
             })?;
-        let mass = mass_values(&model, &pattern);
-        let rayleigh = match model.damping() {
-            Some(Damping::Rayleigh {
-                mass: alpha,
-                stiffness: beta,
-            }) => {
-                let mut k0 = pattern.zeros();
-                assemble(&model, &pattern, &model.reference, Some(&mut k0));
-                mass.iter()
-                    .zip(&k0)
-                    .map(|(m, k)| alpha * m + beta * k)
-                    .collect()
-            }
-            _ => Vec::new(),
-        };
-        let ext = model.external_force(1.0);
+        let mass = mass_values(&model, pattern);
         Ok(Integrator {
             params: AlphaParameters::new(settings.spectral_radius),
             model: Arc::clone(&model),
@@ -483,10 +452,8 @@ impl Integrator {
             mass,
             solver,
             factored_for: None,
-            ext_norm: norm(&model.gather(&ext)),
-            ext,
+            ext_norm: norm(&model.gather(forces.external())),
             roundoff: model.roundoff_force(),
-            rayleigh,
             energy_start: 0.0,
             energy_scale: 0.0,
             energy_floor: match model.gravity_acceleration() {
@@ -500,24 +467,24 @@ impl Integrator {
             kq: pattern.zeros(),
             kv: pattern.zeros(),
             newton_matrix: pattern.zeros(),
-            work: Workspace::new(model.reference.len(), model.n_elements),
-            pattern,
+            work: Workspace::new(model.reference.len()),
+            forces,
         })
     }
 
-    /// Initial state at rest at `q0`, with the consistent initial
-    /// acceleration M a₀ = Q_ext − Q_e(q₀).
+    /// State at `q0` with velocities `v0` and the consistent initial
+    /// acceleration M a₀ = Q_ext − Q(q₀, v₀) − Q_d(q₀, v₀).
     pub fn initial_state(&mut self, q0: Vec<f64>, v0: Vec<f64>) -> Result<State, StepError> {
-        let (qe, _) = assemble(&self.model, &self.pattern, &q0, None);
-        let mut rhs_full: Vec<f64> = self.ext.iter().zip(&qe).map(|(a, b)| a - b).collect();
-        if let Some(c) = self.model.contact() {
-            let qc = assemble_contact(&self.model, c, &self.pattern, &q0, &v0, None, None).force;
-            rhs_full.iter_mut().zip(&qc).for_each(|(r, f)| *r += f);
-        }
-        let mut a = self.model.gather(&rhs_full);
-        if self.model.damping().is_some() {
-            let (qd, _) = self.damping_force(&q0, &v0, None, None);
-            a.iter_mut().zip(&qd).for_each(|(r, f)| *r -= f);
+        let model = Arc::clone(&self.model);
+        self.forces
+            .evaluate(&model, At::moving(&q0, &v0), None, None);
+        let rhs_full: Vec<f64> = (self.forces.external().iter())
+            .zip(self.forces.internal())
+            .map(|(a, b)| a - b)
+            .collect();
+        let mut a = model.gather(&rhs_full);
+        if let Some((qd, _)) = self.forces.damping() {
+            a.iter_mut().zip(qd).for_each(|(r, f)| *r -= f);
         }
         // Subtract the mass coupling to prescribed velocities' rates (zero: supports are fixed).
         self.solver
@@ -573,24 +540,15 @@ impl Integrator {
 
     /// Energies of a state.
     pub fn energies(&self, s: &State) -> Energies {
-        let (_, strain) = assemble(&self.model, &self.pattern, &s.q, None);
+        let p = self.forces.potentials(&self.model, &s.q, &s.v);
         let mv = self.model.mass_times(&s.v);
         let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
-        let (gravity, loads) = self.model.external_potential(&s.q);
-        let contact = match self.model.contact() {
-            Some(c) => {
-                assemble_contact(&self.model, c, &self.pattern, &s.q, &s.v, None, None)
-                    .total
-                    .energy
-            }
-            None => 0.0,
-        };
         Energies {
             kinetic,
-            strain,
-            gravity,
-            loads,
-            contact,
+            strain: p.strain,
+            gravity: p.gravity,
+            loads: p.loads,
+            contact: p.contact,
             dissipated: s.dissipated,
         }
     }
@@ -695,133 +653,55 @@ impl Integrator {
             w.am[c] = (1.0 - alpha_m) * a1[c] + alpha_m * s.a[c];
         }
         let (qm, vm) = (&w.qm[..], &w.vm[..]);
-        let (mut kq, mut kv) = match jac {
+        let (kq, kv) = match jac {
             Some((kq, kv)) => (Some(kq), Some(kv)),
             None => (None, None),
         };
-        let qe = &mut w.qe;
-        assemble_into(
-            model,
-            &self.pattern,
-            qm,
-            kq.as_deref_mut(),
-            qe,
-            &mut w.element_energy,
-        );
-        if let Some(c) = model.contact() {
-            let kvc = if c.velocity_dependent() {
-                kv.as_deref_mut()
-            } else {
-                None
-            };
-            let buffer = std::mem::take(&mut w.contact_force);
-            // The step's candidate pairs, found once at its start; an
-            // iterate that moved farther than their margin visits all pairs.
-            let margin = CANDIDATE_MARGIN * c.wire_radius;
-            if w.contact_pairs_at != s.q {
-                contact_candidates(model, c, &s.q, margin, &mut w.contact_pairs);
-                w.contact_pairs_at.clone_from(&s.q);
+        // The step's candidate contact pairs, found once at its start; an
+        // iterate that moved farther than their margin visits all pairs.
+        let pairs = match model.contact() {
+            Some(c) => {
+                let margin = CANDIDATE_MARGIN * c.wire_radius;
+                if w.contact_pairs_at != s.q {
+                    contact_candidates(model, c, &s.q, margin, &mut w.contact_pairs);
+                    w.contact_pairs_at.clone_from(&s.q);
+                }
+                (centerline_shift(model, &s.q, qm) <= margin).then_some(&w.contact_pairs[..])
             }
-            let pairs =
-                (centerline_shift(model, &s.q, qm) <= margin).then_some(&w.contact_pairs[..]);
-            let cf = assemble_contact_reusing(
-                model,
-                c,
-                &self.pattern,
-                qm,
-                vm,
-                &s.contact_events,
-                pairs,
-                kq.as_deref_mut(),
-                kvc,
-                buffer,
-            );
-            qe.iter_mut().zip(&cf.force).for_each(|(a, b)| *a -= b);
+            None => None,
+        };
+        let at = At {
+            q: qm,
+            v: Some(vm),
+            events: &s.contact_events,
+            pairs,
+        };
+        self.forces.evaluate(model, at, kq, kv);
+        if let Some(cf) = self.forces.contact() {
             info.contact = cf.total;
             info.deepest = cf.deepest;
-            info.rod_forces = cf.rod_forces;
-            w.contact_force = cf.force;
-            w.contact_touching = cf.touching;
+            info.rod_forces.clone_from(&cf.rod_forces);
         }
-        let qe = &w.qe;
+        let (q, ext) = (self.forces.internal(), self.forces.external());
         model.mass_times_into(&w.am, &mut w.ma);
         let ma = &w.ma;
         // R, ‖M a‖ and ‖Q‖ on the unknowns in one pass (no gathered copies).
         let mut r = vec![0.0; model.n_unknowns];
-        let (mut ma2, mut qe2) = (0.0, 0.0);
+        let (mut ma2, mut q2) = (0.0, 0.0);
         for (c, u) in model.dof_map.iter().enumerate() {
             if let Some(u) = *u {
-                r[u] = ma[c] + qe[c] - self.ext[c];
+                r[u] = ma[c] + q[c] - ext[c];
                 ma2 += ma[c] * ma[c];
-                qe2 += qe[c] * qe[c];
+                q2 += q[c] * q[c];
             }
         }
-        let scale = ma2.sqrt().max(self.ext_norm).max(qe2.sqrt());
-        if model.damping().is_some() {
-            let (qd, power) = self.damping_force(qm, vm, kq, kv);
-            r.iter_mut().zip(&qd).for_each(|(a, b)| *a += b);
+        let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
+        if let Some((qd, power)) = self.forces.damping() {
+            r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);
             info.damping_power = power;
         }
         self.work = w;
         (r, scale)
-    }
-
-    /// Damping force on the unknowns at (q, v) and its power (W); adds
-    /// ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv` (pattern slots).
-    fn damping_force(
-        &self,
-        q: &[f64],
-        v: &[f64],
-        kq: Option<&mut [f64]>,
-        kv: Option<&mut [f64]>,
-    ) -> (Vec<f64>, f64) {
-        let model = Arc::clone(&self.model);
-        let model = &*model;
-        let vu = model.gather(v);
-        match model.damping() {
-            None => (vec![0.0; model.n_unknowns], 0.0),
-            Some(Damping::Rayleigh { .. }) => {
-                let mut f = vec![0.0; model.n_unknowns];
-                self.pattern.mul_add(&self.rayleigh, &vu, 1.0, &mut f);
-                if let Some(kv) = kv {
-                    kv.iter_mut().zip(&self.rayleigh).for_each(|(a, b)| *a += b);
-                }
-                let power = f.iter().zip(&vu).map(|(a, b)| a * b).sum();
-                (f, power)
-            }
-            Some(Damping::KelvinVoigt { coefficient }) => {
-                let mut full = vec![0.0; q.len()];
-                let mut power = 0.0;
-                let (mut kq, mut kv) = (kq, kv);
-                let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
-                for el in 0..model.n_elements {
-                    let e = model.element_coordinates(q, el);
-                    let ve = model.element_coordinates(v, el);
-                    let mut qe = [0.0; 24];
-                    mq.fill(0.0);
-                    mv.fill(0.0);
-                    power += kelvin_voigt_element(
-                        model.element(el),
-                        *coefficient,
-                        &e,
-                        &ve,
-                        &mut qe,
-                        kq.is_some().then_some(&mut mq),
-                        kv.is_some().then_some(&mut mv),
-                    );
-                    for i in 0..24 {
-                        full[NODE_DOFS * el + i] += qe[i];
-                    }
-                    if let Some(k) = kq.as_deref_mut() {
-                        self.pattern.add_element(k, el, &mq);
-                    }
-                    if let Some(k) = kv.as_deref_mut() {
-                        self.pattern.add_element(k, el, &mv);
-                    }
-                }
-                (model.gather(&full), power)
-            }
-        }
     }
 
     /// One generalized-α step of size h without cutting: damped Newton on
@@ -855,11 +735,8 @@ impl Integrator {
         } = self.params;
         let model = Arc::clone(&self.model);
         let model = &*model;
-        let contact_rates = model.contact().is_some_and(|c| c.velocity_dependent());
-        // Friction, contact damping and Kelvin–Voigt damping make the Newton matrix non-symmetric.
-        let symmetric =
-            !contact_rates && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }));
-        let velocity_jacobian = contact_rates || model.damping().is_some();
+        let symmetric = ForceSum::symmetric(model);
+        let velocity_jacobian = ForceSum::velocity_dependent(model);
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
         // Predictor (see `predict`); `base` is the last accepted iterate.
@@ -903,10 +780,11 @@ impl Integrator {
                     + h * (info.contact.friction_power
                         + info.contact.damping_power
                         + info.damping_power);
-                let contact_events = if self.work.contact_touching.is_empty() {
-                    Vec::new()
-                } else {
-                    next_contact_events(&s.contact_events, &self.work.contact_touching)
+                let contact_events = match self.forces.contact() {
+                    Some(cf) if !cf.touching.is_empty() => {
+                        next_contact_events(&s.contact_events, &cf.touching)
+                    }
+                    _ => Vec::new(),
                 };
                 let (q1, v1) = (0..s.q.len())
                     .map(|c| self.params.newmark(s, h, &a1, c))

@@ -1,7 +1,7 @@
 //! Static equilibrium Q_e(q) = λ Q_ext by Newton–Raphson with load
 //! increments and a backtracking line search (SPEC §5).
 
-use crate::forces::assembly::{Pattern, assemble};
+use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::SparseSolver;
 use crate::model::{Model, NODE_DOFS};
 
@@ -73,40 +73,24 @@ fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Residual on the unknowns, R = Q_e(q) − λ Q_ext, and a scale for it: the
-/// largest of ‖λQ_ext‖ and ‖Q_e‖ (so round-off in large opposing element
-/// forces is judged relative to their size).
+/// Residual on the unknowns, R = Q(q) − λ Q_ext with Q = Q_e − Q_c (the
+/// sum's load factor is λ), and a scale for it: the largest of ‖λQ_ext‖
+/// and ‖Q‖ (so round-off in large opposing element forces is judged
+/// relative to their size); with `k`, the Jacobian ∂Q/∂q written over it.
+/// Returns R, the scale and the strain energy. Statics has normal contact
+/// only (no velocities, so no friction and no damping).
 fn residual(
     model: &Model,
+    forces: &mut ForceSum,
     q: &[f64],
-    ext: &[f64],
-    pattern: &Pattern,
     k: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64, f64) {
-    let (qe, energy) = internal_force(model, pattern, q, k);
-    let full: Vec<f64> = qe.iter().zip(ext).map(|(a, b)| a - b).collect();
+    forces.evaluate(model, At::rest(q), k, None);
+    let (internal, ext) = (forces.internal(), forces.external());
+    let full: Vec<f64> = internal.iter().zip(ext).map(|(a, b)| a - b).collect();
     let r = model.gather(&full);
-    let scale = norm(&model.gather(ext)).max(norm(&model.gather(&qe)));
-    (r, scale, energy)
-}
-
-/// Elastic minus contact force (full coordinates, N), its Jacobian added to
-/// `k`, and the strain energy. Statics has normal contact only (no
-/// velocities, so no friction).
-fn internal_force(
-    model: &Model,
-    pattern: &Pattern,
-    q: &[f64],
-    k: Option<&mut [f64]>,
-) -> (Vec<f64>, f64) {
-    let mut k = k;
-    let (mut qe, energy) = assemble(model, pattern, q, k.as_deref_mut());
-    if let Some(c) = model.contact() {
-        let v = vec![0.0; q.len()];
-        let qc = crate::forces::assembly::assemble_contact(model, c, pattern, q, &v, k, None).force;
-        qe.iter_mut().zip(&qc).for_each(|(a, b)| *a -= b);
-    }
-    (qe, energy)
+    let scale = norm(&model.gather(ext)).max(norm(&model.gather(internal)));
+    (r, scale, forces.strain_energy())
 }
 
 /// Solve for static equilibrium from the model's initial coordinates
@@ -120,17 +104,16 @@ pub fn solve_static(model: &Model, settings: &StaticSettings) -> Result<StaticRe
 #[allow(clippy::too_many_arguments)]
 fn newton(
     model: &Model,
-    pattern: &Pattern,
+    forces: &mut ForceSum,
     solver: &mut SparseSolver,
     q: &mut Vec<f64>,
-    ext: &[f64],
     settings: &StaticSettings,
     roundoff: f64,
 ) -> Result<(usize, f64), String> {
     let mut it = 0;
     loop {
-        let mut kv = pattern.zeros();
-        let (r, scale, u) = residual(model, q, ext, pattern, Some(&mut kv));
+        let mut kv = forces.pattern().zeros();
+        let (r, scale, u) = residual(model, forces, q, Some(&mut kv));
         let rn = norm(&r);
         if !rn.is_finite() {
             return Err(
@@ -155,6 +138,7 @@ fn newton(
         // Π = U − Q_extᵀ(q − q_ref): a full Newton step on a stiff beam can
         // raise ‖R‖ (a linearized rotation stretches r_x) while Π falls, so
         // the residual norm alone is the wrong merit function here.
+        let ext = forces.external().to_vec();
         let potential = |q: &[f64], u: f64| -> f64 {
             u - ext
                 .iter()
@@ -169,7 +153,7 @@ fn newton(
         for _ in 0..12 {
             trial.copy_from_slice(q);
             model.scatter_add(&dq, alpha, &mut trial);
-            let (rt, _, ut) = residual(model, &trial, ext, pattern, None);
+            let (rt, _, ut) = residual(model, forces, &trial, None);
             let pit = potential(&trial, ut);
             let ok_energy =
                 pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
@@ -192,8 +176,8 @@ pub fn solve_static_from(
     settings: &StaticSettings,
     q0: Vec<f64>,
 ) -> Result<StaticResult, StaticError> {
-    let pattern = Pattern::new(model);
-    let mut solver = SparseSolver::new(&pattern).map_err(|e| StaticError {
+    let mut forces = ForceSum::new(model);
+    let mut solver = SparseSolver::new(forces.pattern()).map_err(|e| StaticError {
         message: e.0,
         last_converged: q0.clone(),
         iterations: vec![],
@@ -206,14 +190,13 @@ pub fn solve_static_from(
     let mut energy = 0.0;
     while lambda < 1.0 {
         let target = (lambda + dl).min(1.0);
-        let ext = model.external_force(target);
+        forces.set_load_factor(model, target);
         let mut trial = q.clone();
         match newton(
             model,
-            &pattern,
+            &mut forces,
             &mut solver,
             &mut trial,
-            &ext,
             settings,
             roundoff,
         ) {
@@ -240,8 +223,9 @@ pub fn solve_static_from(
         }
     }
     // Reactions: at equilibrium Q_e − Q_ext − Q_c is the support force on the held coordinates.
-    let (qe, _) = internal_force(model, &pattern, &q, None);
-    let ext = model.external_force(1.0);
+    forces.set_load_factor(model, 1.0);
+    forces.evaluate(model, At::rest(&q), None, None);
+    let (qe, ext) = (forces.internal(), forces.external());
     let reactions = model
         .supports
         .iter()

@@ -1,0 +1,283 @@
+//! The one place where the forces of a model's effects are added up, for
+//! every solver: static equilibrium, the integrator's residual, its initial
+//! acceleration and the energy balance all ask a [`ForceSum`].
+//!
+//! The sum keeps three parts apart, because the solvers use them apart:
+//!
+//! * Q(q, v) = Q_e(q) − Q_c(q, v) on all coordinates (N): the elastic
+//!   force less the contact force (a residual is scaled by ‖Q‖);
+//! * Q_d(q, v) on the unknowns (N): damping, only with velocities;
+//! * Q_ext on all coordinates (N): gravity and point loads, constant at a
+//!   load factor λ (statics raises λ in increments, dynamics keeps λ = 1).
+//!
+//! Statics solves Q − λ Q_ext = 0, the integrator M a + Q + Q_d − Q_ext = 0.
+//! An effect the model does not name is not evaluated (no zero vectors are
+//! added). The parts are added in the order the solvers always added them,
+//! so their results keep their bits.
+//!
+//! Evaluations write into buffers the sum owns (allocated once), and the
+//! Jacobians into the caller's pattern-slot arrays: ∂(Q + Q_d)/∂q into `kq`
+//! (overwritten), ∂(Q + Q_d)/∂v added to `kv`.
+
+use super::assembly::{
+    ContactForces, Pattern, assemble, assemble_contact_reusing, assemble_into, mass_values,
+};
+use super::damping::{Damping, kelvin_voigt_force};
+use crate::model::Model;
+
+/// Where the forces are evaluated.
+#[derive(Clone, Copy, Debug)]
+pub struct At<'a> {
+    /// Coordinates, all of them (m, –).
+    pub q: &'a [f64],
+    /// Velocities (m/s, 1/s); `None` in statics: no friction, no damping.
+    pub v: Option<&'a [f64]>,
+    /// The contact events' approach speeds per (element, rod) pair (m/s, see
+    /// [`crate::solve::dynamics::State::contact_events`]); empty: none.
+    pub events: &'a [f64],
+    /// The (element, rod) pairs contact may visit (see
+    /// [`super::assembly::contact_candidates`]); `None`: all.
+    pub pairs: Option<&'a [usize]>,
+}
+
+impl<'a> At<'a> {
+    /// At rest at `q`: statics.
+    pub fn rest(q: &'a [f64]) -> Self {
+        At {
+            q,
+            v: None,
+            events: &[],
+            pairs: None,
+        }
+    }
+
+    /// At (q, v), outside any contact event, visiting every pair.
+    pub fn moving(q: &'a [f64], v: &'a [f64]) -> Self {
+        At {
+            q,
+            v: Some(v),
+            events: &[],
+            pairs: None,
+        }
+    }
+}
+
+/// The potential energies of the effects at a configuration (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Potentials {
+    /// Strain energy.
+    pub strain: f64,
+    /// Gravity's potential (relative to the reference configuration).
+    pub gravity: f64,
+    /// The point loads' potential (relative to the reference configuration).
+    pub loads: f64,
+    /// Contact penalty energy.
+    pub contact: f64,
+}
+
+/// A model's effects, summed: the pattern their Jacobians live in, the
+/// constant parts (external force, Rayleigh matrix) and the buffers of the
+/// last evaluation. Made once per model; every method takes that model.
+pub struct ForceSum {
+    pattern: Pattern,
+    /// λ Q_ext, all coordinates (N).
+    external: Vec<f64>,
+    /// Rayleigh damping matrix α M + β K₀ in pattern slots (empty without it).
+    rayleigh: Vec<f64>,
+    /// Q = Q_e − Q_c of the last evaluation (all coordinates, N).
+    internal: Vec<f64>,
+    /// Per-element strain energies (workspace) and their sum (J).
+    element_energy: Vec<f64>,
+    strain_energy: f64,
+    /// The last evaluation's contact (its force vector is reused).
+    contact: Option<ContactForces>,
+    /// Q_d on the unknowns (N) and its power Q_d · v (W) of the last
+    /// evaluation with velocities; empty without damping.
+    damping: Vec<f64>,
+    damping_power: f64,
+}
+
+impl ForceSum {
+    /// The sum of `model`'s effects at load factor 1.
+    pub fn new(model: &Model) -> Self {
+        let pattern = Pattern::new(model);
+        let rayleigh = match model.damping() {
+            Some(Damping::Rayleigh {
+                mass: alpha,
+                stiffness: beta,
+            }) => {
+                let mut k0 = pattern.zeros();
+                assemble(model, &pattern, &model.reference, Some(&mut k0));
+                mass_values(model, &pattern)
+                    .iter()
+                    .zip(&k0)
+                    .map(|(m, k)| alpha * m + beta * k)
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
+        let n = model.reference.len();
+        ForceSum {
+            pattern,
+            external: model.external_force(1.0),
+            rayleigh,
+            internal: vec![0.0; n],
+            element_energy: vec![0.0; model.n_elements],
+            strain_energy: 0.0,
+            contact: model.contact().map(|_| ContactForces::default()),
+            damping: Vec::new(),
+            damping_power: 0.0,
+        }
+    }
+
+    /// The sparsity pattern of the Jacobians (the model's element blocks).
+    pub fn pattern(&self) -> &Pattern {
+        &self.pattern
+    }
+
+    /// Scale the external force to load factor `lambda` (statics' increments).
+    pub fn set_load_factor(&mut self, model: &Model, lambda: f64) {
+        self.external = model.external_force(lambda);
+    }
+
+    /// λ Q_ext, all coordinates (N).
+    pub fn external(&self) -> &[f64] {
+        &self.external
+    }
+
+    /// Whether the forces depend on the velocities (friction, contact
+    /// damping, structural damping): then the Newton matrix has a
+    /// velocity part.
+    pub fn velocity_dependent(model: &Model) -> bool {
+        model.contact().is_some_and(|c| c.velocity_dependent()) || model.damping().is_some()
+    }
+
+    /// Whether the Jacobian is symmetric: not with friction, contact
+    /// damping or Kelvin–Voigt damping (Rayleigh's constant matrix is).
+    pub fn symmetric(model: &Model) -> bool {
+        !model.contact().is_some_and(|c| c.velocity_dependent())
+            && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }))
+    }
+
+    /// Evaluate the forces at `at` into the sum's buffers; with `kq`, write
+    /// ∂(Q + Q_d)/∂q over it, with `kv` add ∂(Q + Q_d)/∂v to it (pattern
+    /// slots; the velocity parts only where they exist).
+    pub fn evaluate(
+        &mut self,
+        model: &Model,
+        at: At<'_>,
+        mut kq: Option<&mut [f64]>,
+        mut kv: Option<&mut [f64]>,
+    ) {
+        self.strain_energy = assemble_into(
+            model,
+            &self.pattern,
+            at.q,
+            kq.as_deref_mut(),
+            &mut self.internal,
+            &mut self.element_energy,
+        );
+        if let Some(c) = model.contact() {
+            let kvc = if c.velocity_dependent() {
+                kv.as_deref_mut()
+            } else {
+                None
+            };
+            let buffer = self.contact.take().map(|c| c.force).unwrap_or_default();
+            let rest;
+            let v = match at.v {
+                Some(v) => v,
+                None => {
+                    rest = vec![0.0; at.q.len()];
+                    &rest
+                }
+            };
+            let cf = assemble_contact_reusing(
+                model,
+                c,
+                &self.pattern,
+                at.q,
+                v,
+                at.events,
+                at.pairs,
+                kq.as_deref_mut(),
+                kvc,
+                buffer,
+            );
+            self.internal
+                .iter_mut()
+                .zip(&cf.force)
+                .for_each(|(a, b)| *a -= b);
+            self.contact = Some(cf);
+        }
+        let Some((damping, v)) = model.damping().zip(at.v) else {
+            self.damping.clear();
+            return;
+        };
+        (self.damping, self.damping_power) = match damping {
+            Damping::Rayleigh { .. } => {
+                let vu = model.gather(v);
+                let mut f = vec![0.0; model.n_unknowns];
+                self.pattern.mul_add(&self.rayleigh, &vu, 1.0, &mut f);
+                if let Some(kv) = kv {
+                    kv.iter_mut().zip(&self.rayleigh).for_each(|(a, b)| *a += b);
+                }
+                let power = f.iter().zip(&vu).map(|(a, b)| a * b).sum();
+                (f, power)
+            }
+            Damping::KelvinVoigt { coefficient } => {
+                kelvin_voigt_force(model, &self.pattern, *coefficient, at.q, v, kq, kv)
+            }
+        };
+    }
+
+    /// Q = Q_e − Q_c of the last evaluation (all coordinates, N).
+    pub fn internal(&self) -> &[f64] {
+        &self.internal
+    }
+
+    /// Strain energy of the last evaluation (J).
+    pub fn strain_energy(&self) -> f64 {
+        self.strain_energy
+    }
+
+    /// Contact of the last evaluation (`None` without contact).
+    pub fn contact(&self) -> Option<&ContactForces> {
+        self.contact.as_ref()
+    }
+
+    /// Q_d on the unknowns (N) and its power (W) of the last evaluation;
+    /// `None` without damping or without velocities (statics).
+    pub fn damping(&self) -> Option<(&[f64], f64)> {
+        (!self.damping.is_empty()).then_some((&self.damping[..], self.damping_power))
+    }
+
+    /// The effects' potential energies at (q, v) (contact outside any
+    /// event). Leaves the last evaluation's buffers alone.
+    pub fn potentials(&self, model: &Model, q: &[f64], v: &[f64]) -> Potentials {
+        let (_, strain) = assemble(model, &self.pattern, q, None);
+        let (gravity, loads) = model.external_potential(q);
+        let contact = model.contact().map_or(0.0, |c| {
+            assemble_contact_reusing(
+                model,
+                c,
+                &self.pattern,
+                q,
+                v,
+                &[],
+                None,
+                None,
+                None,
+                Vec::new(),
+            )
+            .total
+            .energy
+        });
+        Potentials {
+            strain,
+            gravity,
+            loads,
+            contact,
+        }
+    }
+}

@@ -1,0 +1,144 @@
+//! The one place forces are added up ([`ForceSum`]): with every effect at
+//! once — elasticity, gravity, a frictional rod with contact damping inside
+//! a contact event, and Kelvin–Voigt damping — its Jacobians are the
+//! derivatives of its force, and its parts are the ones each effect gives
+//! alone.
+
+use ancf_core::forces::assembly::assemble;
+use ancf_core::forces::damping::{Damping, kelvin_voigt_force};
+use ancf_core::forces::sum::{At, ForceSum};
+use ancf_core::prelude::*;
+
+/// A 1 m two-element wire of radius 1 cm lying along x at z = 0, pressed
+/// 2 mm into a rod across it at x = 0.3 m, with all effects named.
+fn model() -> Model {
+    let steel = Material::st_venant_kirchhoff(7800.0, 2e9, 0.3, 1.0);
+    let rod = Rod::line([0.3, 0.0, -0.028], [0.0, 1.0, 0.0], 0.02, 1e7)
+        .with_friction(0.3)
+        .with_restitution(0.5, RestitutionModel::Exact);
+    WireBuilder::new(1.0, 2)
+        .layer(steel, 0.01)
+        .support(0, SupportKind::Pin)
+        .gravity([0.0, 0.0, -9.81])
+        .rod(rod)
+        .damping(Damping::KelvinVoigt { coefficient: 1e-3 })
+        .build()
+        .expect("a valid model")
+}
+
+/// Coordinates and velocities near the reference, deterministic.
+fn state(model: &Model) -> (Vec<f64>, Vec<f64>) {
+    let n = model.reference.len();
+    let wobble = |i: usize, k: f64| 1e-3 * ((i as f64 * k).sin());
+    let q = (0..n)
+        .map(|i| model.reference[i] + wobble(i, 1.7))
+        .collect();
+    let v = (0..n).map(|i| 0.05 * (i as f64 * 0.9).cos()).collect();
+    (q, v)
+}
+
+/// Q + Q_d on the unknowns at (q, v) within the events `events`.
+fn total(sum: &mut ForceSum, model: &Model, q: &[f64], v: &[f64], events: &[f64]) -> Vec<f64> {
+    let at = At {
+        q,
+        v: Some(v),
+        events,
+        pairs: None,
+    };
+    sum.evaluate(model, at, None, None);
+    let mut f = model.gather(sum.internal());
+    if let Some((qd, _)) = sum.damping() {
+        f.iter_mut().zip(qd).for_each(|(a, b)| *a += b);
+    }
+    f
+}
+
+#[test]
+fn jacobians_are_the_derivatives_of_the_sum() {
+    let model = model();
+    let mut sum = ForceSum::new(&model);
+    let (q, v) = state(&model);
+    // Inside a contact event that began at 2 m/s: contact damping acts.
+    let events = vec![2.0; model.n_elements];
+    let at = At {
+        q: &q,
+        v: Some(&v),
+        events: &events,
+        pairs: None,
+    };
+    let (mut kq, mut kv) = (sum.pattern().zeros(), sum.pattern().zeros());
+    sum.evaluate(&model, at, Some(&mut kq), Some(&mut kv));
+    let contact = sum.contact().expect("the model has a rod");
+    assert!(contact.total.active > 0, "the wire presses on the rod");
+    assert!(contact.total.damping_power > 0.0, "contact damping acts");
+    assert!(contact.total.friction_power > 0.0, "friction acts");
+    assert!(sum.damping().unwrap().1 > 0.0, "Kelvin–Voigt acts");
+
+    let m = model.n_unknowns;
+    let h = 1e-7;
+    let (mut worst_q, mut worst_v, mut largest) = (0.0f64, 0.0f64, 0.0f64);
+    for j in 0..m {
+        let mut unit = vec![0.0; m];
+        unit[j] = 1.0;
+        let (mut col_q, mut col_v) = (vec![0.0; m], vec![0.0; m]);
+        sum.pattern().mul_add(&kq, &unit, 1.0, &mut col_q);
+        sum.pattern().mul_add(&kv, &unit, 1.0, &mut col_v);
+        let shifted = |x: &[f64], s: f64| {
+            let mut y = x.to_vec();
+            model.scatter_add(&unit, s, &mut y);
+            y
+        };
+        let dq: Vec<f64> = total(&mut sum, &model, &shifted(&q, h), &v, &events)
+            .iter()
+            .zip(total(&mut sum, &model, &shifted(&q, -h), &v, &events))
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect();
+        let dv: Vec<f64> = total(&mut sum, &model, &q, &shifted(&v, h), &events)
+            .iter()
+            .zip(total(&mut sum, &model, &q, &shifted(&v, -h), &events))
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect();
+        for i in 0..m {
+            worst_q = worst_q.max((col_q[i] - dq[i]).abs());
+            worst_v = worst_v.max((col_v[i] - dv[i]).abs());
+            largest = largest.max(dq[i].abs());
+        }
+    }
+    assert!(
+        worst_q <= 1e-6 * largest,
+        "∂/∂q: {worst_q:e} of {largest:e}"
+    );
+    assert!(
+        worst_v <= 1e-6 * largest,
+        "∂/∂v: {worst_v:e} of {largest:e}"
+    );
+}
+
+#[test]
+fn parts_are_the_effects_alone() {
+    let model = model();
+    let mut sum = ForceSum::new(&model);
+    let (q, v) = state(&model);
+    sum.evaluate(&model, At::moving(&q, &v), None, None);
+    let (elastic, strain) = assemble(&model, sum.pattern(), &q, None);
+    let contact = &sum.contact().unwrap().force;
+    for c in 0..q.len() {
+        assert_eq!(sum.internal()[c], elastic[c] - contact[c]);
+    }
+    assert_eq!(sum.strain_energy(), strain);
+    let (kv, power) = kelvin_voigt_force(&model, sum.pattern(), 1e-3, &q, &v, None, None);
+    assert_eq!(sum.damping(), Some((&kv[..], power)));
+    assert_eq!(sum.external(), &model.external_force(1.0)[..]);
+    sum.set_load_factor(&model, 0.25);
+    assert_eq!(sum.external(), &model.external_force(0.25)[..]);
+    // At rest (statics): no damping is evaluated, and contact has no friction.
+    let mut rest = ForceSum::new(&model);
+    rest.evaluate(&model, At::rest(&q), None, None);
+    assert_eq!(rest.contact().unwrap().total.friction_power, 0.0);
+    assert_eq!(rest.damping(), None);
+    // The energies: strain as assembled, potentials as the model's.
+    let p = sum.potentials(&model, &q, &v);
+    assert_eq!(p.strain, strain);
+    assert_eq!((p.gravity, p.loads), model.external_potential(&q));
+    assert!(p.contact > 0.0);
+}

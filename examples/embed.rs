@@ -1,17 +1,15 @@
 //! ancf-core embedded in a program (issue 15): a two-layer conductor built
 //! in code, falling onto a rod, run with `Simulation` — no scene file, no
 //! output files. Prints time, tip position and the force on the rod every
-//! millisecond.
+//! millisecond, then when the wire first touched the rod.
 //!
 //! `cargo run --release --example embed`
 
-use ancf_core::forces::contact::Rod;
-use ancf_core::material::Material;
-use ancf_core::model::{SupportKind, WireBuilder};
-use ancf_core::solve::dynamics::DynamicSettings;
-use ancf_core::solve::simulation::{Initial, Simulation};
+use ancf_core::math::vec3::norm;
+use ancf_core::prelude::*;
+use std::ops::ControlFlow;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() -> Result<(), Error> {
     // ACSR "Drake" as two smeared layers (scenes/wire_rod_impact.toml has the sources).
     let core = Material::st_venant_kirchhoff(5990.0, 154e9, 0.0, 0.1);
     let aluminium = Material::st_venant_kirchhoff(2026.0, 51.7e9, 0.0, 0.1);
@@ -30,15 +28,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut sim = Simulation::new(&model, settings, Initial::Reference)?;
     println!("t (s),tip x (m),tip z (m),rod force (N)");
-    while !sim.is_finished() {
-        sim.step()?;
-        let (k, _) = sim.steps();
-        if k % 10 == 0 {
+    // The observer sees the simulation after every step (10 steps = 1 ms).
+    sim.run_until(0.4, |sim, info| {
+        if sim.steps().0 % 10 == 0 {
             let tip = model.node_position(&sim.state().q, model.n_elements);
-            let force = sim.rod_loads()[0]
-                .force
-                .last()
-                .map_or(0.0, |f| ancf_core::math::vec3::norm(*f));
+            let force = norm(info.rod_forces[0]);
             println!(
                 "{:.3},{:.5},{:.5},{force:.1}",
                 sim.state().time,
@@ -46,6 +40,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 tip[2]
             );
         }
+        ControlFlow::Continue(())
+    })?;
+    if let Some(t) = sim.contact().and_then(|c| c.first_time) {
+        eprintln!("first contact at t = {t:.4} s");
     }
     Ok(())
 }

@@ -420,6 +420,11 @@ impl Wire {
 }
 
 /// A dynamic simulation of a scene. Units: SI (m, s, N, J).
+///
+/// It computes what `ancf run` computes, bit for bit, for a scene with
+/// `checkpoint_every = 0`: a checkpoint drops the kept Newton matrix (so a
+/// resumed run repeats the iterations), which moves the results within the
+/// Newton tolerance, and a `Simulation` does not checkpoint.
 #[pyclass(module = "ancf")]
 pub struct Simulation {
     scene: CoreScene,
@@ -715,7 +720,8 @@ impl Simulation {
     /// elements, unknowns, time, steps, newton_iterations, factorizations,
     /// kernel, simd (the instruction-set path), tip {position,
     /// displacement}, energy {…, total, dissipated}
-    /// and, with rods, contact {rods: [law, contact_stiffness,
+    /// and, with rods, contact {first_time, max_normal_force,
+    /// max_penetration, rods: [law, contact_stiffness,
     /// stiffness_unit, peak_force, peak_time, filtered_peak_force,
     /// filtered_peak_time, impulse, contact_duration, cfc,
     /// first_contact_time, first_impact_filtered_peak, first_impact_impulse]}.
@@ -762,6 +768,11 @@ impl Simulation {
                 rods.append(r)?;
             }
             let contact = PyDict::new(py);
+            if let Some(record) = self.sim.contact() {
+                contact.set_item("first_time", record.first_time)?;
+                contact.set_item("max_normal_force", record.max_normal_force)?;
+                contact.set_item("max_penetration", record.max_penetration)?;
+            }
             contact.set_item("rods", rods)?;
             d.set_item("contact", contact)?;
         }

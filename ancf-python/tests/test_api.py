@@ -120,7 +120,7 @@ def test_step_callback_and_energy_balance():
     assert np.max(np.abs(r.total - r.total[0])) < 1e-2
 
 
-def test_contact_loads_per_rod():
+def test_contact_loads_per_rod(tmp_path):
     text = IMPACT.read_text().replace("end_time = 1.0", "end_time = 0.3").replace("elements = 64", "elements = 16")
     sim = ancf.Simulation(ancf.Scene.from_toml(text))
     r = sim.run(every=100)
@@ -135,6 +135,13 @@ def test_contact_loads_per_rod():
     assert 0.2 < rod["first_contact_time"] < 0.3
     assert rod["first_impact_impulse"] == rod["impulse"]
     assert 0.9 * rod["filtered_peak_force"] <= rod["first_impact_filtered_peak"] <= rod["filtered_peak_force"]
+    # The wire's contact record is the CLI's, bit for bit (a CLI run without
+    # checkpoints: each drops the kept Newton matrix, a Simulation does not).
+    unchecked = text.replace("every = 50", "every = 50\ncheckpoint_every = 0", 1)
+    cli = ancf.run(ancf.Scene.from_toml(unchecked), tmp_path / "out")
+    for key in ["first_time", "max_normal_force", "max_penetration"]:
+        assert s["contact"][key] == cli["contact"][key], key
+    assert s["contact"]["first_time"] == rod["first_contact_time"]
 
 
 def test_a_graded_wire_built_in_code():

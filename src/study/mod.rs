@@ -1,8 +1,8 @@
 //! `ancf study`: what accuracy costs in time, on the user's own scene
 //! (issue 5). The study sweeps the settings that matter for the scene
-//! ([`plan`]), runs every setting with the ordinary run pipeline (each run
-//! single-threaded in its own one-thread rayon pool, runs in parallel on
-//! worker threads), measures its error
+//! ([`plan`]), runs every setting with the ordinary run pipeline in memory
+//! (each run single-threaded in its own one-thread rayon pool, runs in
+//! parallel on worker threads; no files), measures its error
 //! against an analytic value ([`mod@reference`]) or a finer reference run, and
 //! writes a Markdown report with log–log error-against-time plots
 //! ([`report`]).
@@ -11,7 +11,7 @@ pub mod plan;
 pub mod reference;
 pub mod report;
 
-use crate::run::{RunOptions, run_scene};
+use crate::run::{RunRecord, run_in_memory};
 use ancf_core::scene::{Scene, SceneFile};
 use plan::{Level, Plan, Setting};
 use std::path::{Path, PathBuf};
@@ -97,73 +97,12 @@ impl Outcome {
     }
 }
 
-/// Read `timeseries.csv` of a run.
-fn read_samples(dir: &Path) -> Result<Vec<Sample>, String> {
-    let path = dir.join("timeseries.csv");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name);
-    let (Some(t), Some(x), Some(total), Some(kin)) =
-        (col("time"), col("tip_x"), col("total"), col("kinetic"))
-    else {
-        return Err(format!("{}: unexpected header", path.display()));
-    };
-    let dissipated = col("dissipated");
-    lines
-        .map(|l| {
-            let v: Vec<f64> = l
-                .split(',')
-                .map(|s| s.parse().unwrap_or(f64::NAN))
-                .collect();
-            Ok(Sample {
-                time: v[t],
-                tip: [v[x], v[x + 1], v[x + 2]],
-                energy: v[total] + dissipated.map_or(0.0, |d| v[d]),
-                kinetic: v[kin],
-            })
-        })
-        .collect()
-}
-
-/// Impulse (N s) of all rods from `rod_forces.csv` between `from` and `to`.
-fn read_window_impulse(dir: &Path, from: f64, to: f64) -> Result<f64, String> {
-    let path = dir.join("rod_forces.csv");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let forces: Vec<usize> = (0..header.len())
-        .filter(|&i| header[i].starts_with("rod") && header[i].ends_with("_force"))
-        .collect();
-    let (mut impulse, mut previous) = (0.0, None);
-    for l in lines {
-        let v: Vec<f64> = l
-            .split(',')
-            .map(|s| s.parse().unwrap_or(f64::NAN))
-            .collect();
-        let t = v[0];
-        if let Some(tp) = previous
-            && t > from
-            && t <= to
-        {
-            impulse += forces.iter().map(|&i| v[i]).sum::<f64>() * (t - tp);
-        }
-        previous = Some(t);
-    }
-    Ok(impulse)
-}
-
-/// Run one setting in `dir`, which is removed afterwards (call it inside a
+/// Run one setting in memory, as `ancf run` would (call it inside a
 /// one-thread rayon pool for a single-threaded timing).
 /// Short runs are repeated (up to 5 times, 0.5 s in all) and the fastest
 /// time kept: the timings of millisecond-scale static solves are otherwise
 /// noise.
-pub fn run_setting(
-    file: &SceneFile,
-    setting: &Setting,
-    sample_interval: Option<f64>,
-    dir: &Path,
-) -> Outcome {
+pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<f64>) -> Outcome {
     let variant = setting.apply(file, sample_interval);
     let scene = match Scene::from_file(&variant) {
         Ok(s) => s,
@@ -175,46 +114,42 @@ pub fn run_setting(
             };
         }
     };
-    let opts = RunOptions {
-        out: dir.to_path_buf(),
-        quiet: true,
-    };
-    let mut best: Option<crate::output::Summary> = None;
+    let mut best: Option<RunRecord> = None;
     let mut total = 0.0;
     for _ in 0..5 {
-        let summary = match run_scene(&scene, &opts) {
-            Ok(s) => s,
-            Err(e) => {
-                return Outcome {
-                    status: "failed".into(),
-                    message: e,
-                    ..Default::default()
-                };
-            }
-        };
-        total += summary.wall_time_s;
-        let done = summary.status != "completed" || total > 0.5;
+        let run = run_in_memory(&scene);
+        total += run.summary.wall_time_s;
+        let done = run.summary.status != "completed" || total > 0.5;
         if best
             .as_ref()
-            .is_none_or(|b| summary.wall_time_s < b.wall_time_s)
+            .is_none_or(|b| run.summary.wall_time_s < b.summary.wall_time_s)
         {
-            best = Some(summary);
+            best = Some(run);
         }
         if done {
             break;
         }
     }
-    let summary = best.expect("at least one run");
-    let samples = if summary.analysis == "dynamic" {
-        read_samples(dir).unwrap_or_default()
-    } else {
-        Vec::new()
-    };
+    let RunRecord {
+        summary,
+        history,
+        rod_loads,
+    } = best.expect("at least one run");
+    let samples = (0..history.time.len())
+        .map(|k| Sample {
+            time: history.time[k],
+            tip: history.tip[k],
+            energy: history.energies[k].total() + history.energies[k].dissipated,
+            kinetic: history.energies[k].kinetic,
+        })
+        .collect();
     let first = summary.contact.as_ref().and_then(|c| c.first_time);
-    let window_impulse = first
-        .filter(|_| summary.analysis == "dynamic")
-        .and_then(|t| read_window_impulse(dir, t, t + CONTACT_WINDOW).ok());
-    let _ = std::fs::remove_dir_all(dir);
+    let window_impulse = first.filter(|_| summary.analysis == "dynamic").map(|t| {
+        rod_loads
+            .iter()
+            .map(|h| h.impulse_between(t, t + CONTACT_WINDOW))
+            .sum()
+    });
     // Contact runs: the rod with the largest filtered peak (SAE J211, the
     // load a designer uses; the raw peak of a penalty contact is not a result).
     let contact = summary.contact.as_ref();
@@ -261,7 +196,6 @@ fn execute(
     plan: &Plan,
     need_reference_run: bool,
     opts: &StudyOptions,
-    work: &Path,
 ) -> (Vec<Vec<Outcome>>, Option<Outcome>) {
     let mut jobs: Vec<(usize, usize, &Setting)> = Vec::new();
     for (fi, fam) in plan.families.iter().enumerate() {
@@ -298,8 +232,7 @@ fn execute(
                     let Some(&(fi, si, s)) = jobs.get(k) else {
                         break;
                     };
-                    let dir = work.join(format!("run{k}"));
-                    let o = pool.install(|| run_setting(file, s, plan.sample_interval, &dir));
+                    let o = pool.install(|| run_setting(file, s, plan.sample_interval));
                     let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                     if !opts.quiet {
                         eprintln!(
@@ -343,7 +276,6 @@ pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
     let plan = plan::plan(&file, &scene, opts.level);
     let analytic = reference::analytic(&scene);
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
-    let work = opts.out.join(".runs");
     let runs: usize = plan.families.iter().map(|f| f.settings.len()).sum();
     if !opts.quiet {
         eprintln!(
@@ -358,8 +290,7 @@ pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
         );
     }
     let start = std::time::Instant::now();
-    let (outcomes, reference_run) = execute(&file, &plan, analytic.is_none(), opts, &work);
-    let _ = std::fs::remove_dir_all(&work);
+    let (outcomes, reference_run) = execute(&file, &plan, analytic.is_none(), opts);
     let kernels = match opts.level {
         Level::Standard => Some(report::kernel_costs(&scene)),
         Level::Quick | Level::Refinement => None,

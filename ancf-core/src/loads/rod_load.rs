@@ -151,6 +151,18 @@ impl LoadHistory {
         }
     }
 
+    /// ∫ |F| dt (N s) over the steps that end in (`from`, `to`] (s), each
+    /// step's |F| at its end times its length (the first step, whose start
+    /// is not recorded, is left out).
+    pub fn impulse_between(&self, from: f64, to: f64) -> f64 {
+        self.time
+            .windows(2)
+            .zip(&self.force[1..])
+            .filter(|(t, _)| t[1] > from && t[1] <= to)
+            .map(|(t, f)| norm(*f) * (t[1] - t[0]))
+            .sum()
+    }
+
     /// Peaks, impulse and duration; the filtered peak from `filtered`, this
     /// history's [`LoadHistory::filtered`].
     pub fn summary(&self, filtered: &Filtered) -> RodLoad {
@@ -219,6 +231,24 @@ mod tests {
             };
             h.push(t, [0.0, 0.0, -f]);
         }
+    }
+
+    #[test]
+    fn impulse_between_two_times_is_the_pulse_inside_them() {
+        // Two 3 ms pulses of 2 kN and 1 kN, at 10 ms and 30 ms.
+        let mut h = LoadHistory::default();
+        push_pulse(&mut h, 1..=250, 0.01, 2e3);
+        let mut second = LoadHistory::default();
+        push_pulse(&mut second, 251..=400, 0.03, 1e3);
+        h.time.extend(second.time);
+        h.force.extend(second.force);
+        let pulse = |peak: f64| peak * 3e-3 * 2.0 / std::f64::consts::PI;
+        let first = h.impulse_between(0.0, 0.02);
+        assert!((first - pulse(2e3)).abs() < 2e-3 * pulse(2e3), "{first}");
+        let later = h.impulse_between(0.02, 0.04);
+        assert!((later - pulse(1e3)).abs() < 2e-3 * pulse(1e3), "{later}");
+        let whole = h.summary(&h.filtered(600.0)).impulse;
+        assert!((first + later - whole).abs() < 1e-12 * whole);
     }
 
     #[test]

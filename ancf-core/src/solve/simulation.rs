@@ -18,10 +18,12 @@
 //! assert!(tip[2] < 0.0, "the pendulum swings down");
 //! ```
 
+use crate::loads::contact_record::ContactRecord;
 use crate::loads::rod_load::LoadHistory;
 use crate::model::Model;
 use crate::solve::dynamics::{DynamicSettings, Energies, Integrator, State, StepError, StepInfo};
 use crate::solve::statics::{StaticError, StaticSettings, solve_static};
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 /// Where a simulation starts.
@@ -110,6 +112,9 @@ pub struct Snapshot {
     pub released: usize,
     /// The force on each rod at every step.
     pub rod_loads: Vec<LoadHistory>,
+    /// Contact so far (`None` without rods).
+    #[serde(default)]
+    pub contact: Option<ContactRecord>,
 }
 
 /// A running dynamic simulation.
@@ -171,6 +176,7 @@ impl Simulation {
                 factorizations: 0,
                 released: 0,
                 rod_loads: vec![LoadHistory::default(); rods],
+                contact: model.contact().map(|_| ContactRecord::default()),
             },
             phases,
             phase_starts,
@@ -185,8 +191,12 @@ impl Simulation {
     pub fn resume(
         model: &Model,
         settings: DynamicSettings,
-        snapshot: Snapshot,
+        mut snapshot: Snapshot,
     ) -> Result<Self, SimulationError> {
+        // A snapshot from before contact was recorded: record from here on.
+        if model.contact().is_some() && snapshot.contact.is_none() {
+            snapshot.contact = Some(ContactRecord::default());
+        }
         let (phases, phase_starts) = Self::phases(model, &settings);
         let phase = phases
             .get(snapshot.phase)
@@ -287,7 +297,30 @@ impl Simulation {
         for (history, force) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
             history.push(p.state.time, *force);
         }
+        if let Some(record) = p.contact.as_mut() {
+            record.push(p.state.time, &info.contact, info.deepest);
+        }
         Ok(info)
+    }
+
+    /// Steps until `time` (s) or the end time, whichever comes first,
+    /// calling `observer` after every step with the simulation and the
+    /// step's statistics; the observer ends the run early with
+    /// `ControlFlow::Break(())`. A failing step ends it with its error,
+    /// leaving the simulation at its last completed step.
+    pub fn run_until(
+        &mut self,
+        time: f64,
+        mut observer: impl FnMut(&Simulation, &StepInfo) -> ControlFlow<()>,
+    ) -> Result<(), SimulationError> {
+        let tolerance = 1e-9 * self.settings.time_step;
+        while !self.is_finished() && self.progress.state.time < time - tolerance {
+            let info = self.step()?;
+            if observer(self, &info).is_break() {
+                break;
+            }
+        }
+        Ok(())
     }
 
     /// Whether every step up to the end time is done.
@@ -320,6 +353,12 @@ impl Simulation {
         &self.progress.rod_loads
     }
 
+    /// The wire's contact so far: first touch, largest normal force and
+    /// penetration (`None` without rods; per rod, see [`Self::rod_loads`]).
+    pub fn contact(&self) -> Option<&ContactRecord> {
+        self.progress.contact.as_ref()
+    }
+
     /// Everything accumulated so far (statistics, loads), see [`Snapshot`].
     pub fn progress(&self) -> &Snapshot {
         &self.progress
@@ -337,5 +376,14 @@ impl Simulation {
     /// Drops the kept factorization (a resumed run starts without one).
     pub fn refresh_factorization(&mut self) {
         self.integrator.refresh_factorization();
+    }
+
+    /// A checkpoint: the snapshot to resume from, with the kept
+    /// factorization dropped so that this run and one resumed from the
+    /// snapshot repeat the same iterations, bit for bit.
+    pub fn checkpoint(&mut self) -> Snapshot {
+        let snapshot = self.snapshot();
+        self.refresh_factorization();
+        snapshot
     }
 }

@@ -86,7 +86,12 @@ class RunResult:
     def __len__(self) -> int: ...
 
 class Simulation:
-    """A dynamic simulation of a scene, started at its initial state."""
+    """A dynamic simulation of a scene, started at its initial state.
+
+    Bit for bit what ``ancf run`` computes for the scene with
+    ``checkpoint_every = 0`` (a checkpoint drops the kept Newton matrix, which
+    moves results within the Newton tolerance; a Simulation does not checkpoint).
+    """
 
     def __init__(self, scene: Scene) -> None: ...
     @staticmethod

@@ -1,0 +1,217 @@
+//! The files of a run in its output directory, written as the run goes
+//! (so a failed or interrupted run keeps what it computed): timeseries.csv
+//! row by row, VTK frames, checkpoints, and at the end rod_forces.csv,
+//! contact_point.csv, final_nodes.csv and summary.json.
+
+use super::Progress;
+use super::history::History;
+use crate::output::{Summary, TimeSeries, write_final_nodes};
+use crate::vtk::VtkWriter;
+use ancf_core::forces::contact::ContactSample;
+use ancf_core::loads::rod_load::{Filtered, LoadHistory};
+use ancf_core::math::vec3::norm;
+use ancf_core::model::Model;
+use ancf_core::scene::Scene;
+use ancf_core::solve::dynamics::{Energies, State};
+use std::path::{Path, PathBuf};
+
+/// An I/O error as the message of a failed run.
+pub fn io_err(path: &Path, e: std::io::Error) -> String {
+    format!("cannot write to {}: {e}", path.display())
+}
+
+/// `checkpoint.json`: the scene and the progress after a step.
+#[derive(serde::Serialize, serde::Deserialize)]
+pub struct Checkpoint {
+    /// The scene file's text.
+    pub scene: String,
+    /// Everything the run had accumulated.
+    pub progress: Progress,
+}
+
+/// A dynamic run's open files.
+pub struct Files {
+    dir: PathBuf,
+    series: TimeSeries,
+    vtk: Option<VtkWriter>,
+}
+
+impl Files {
+    /// The files in `dir` (which exists): new ones, or with `resume` the
+    /// files of the run checkpointed there, cut back to the checkpoint's
+    /// time and continued. VTK frames when the scene asks.
+    pub fn open(dir: &Path, scene: &Scene, resume: Option<&Progress>) -> Result<Self, String> {
+        let model = &scene.model;
+        let vtk_dir = dir.join("vtk");
+        let (series, vtk) = match resume {
+            None => (
+                TimeSeries::create(dir, model.contact().is_some()),
+                scene.output.vtk.then(|| VtkWriter::new(&vtk_dir, model)),
+            ),
+            Some(p) => {
+                truncate_csv(&dir.join("timeseries.csv"), p.sim.state.time)?;
+                (
+                    TimeSeries::append(dir),
+                    (scene.output.vtk)
+                        .then(|| VtkWriter::resume(&vtk_dir, model, p.vtk_frames.clone())),
+                )
+            }
+        };
+        Ok(Files {
+            dir: dir.to_path_buf(),
+            series: series.map_err(|e| io_err(dir, e))?,
+            vtk: vtk.transpose().map_err(|e| io_err(dir, e))?,
+        })
+    }
+
+    /// A written step: a timeseries.csv row (with contact's columns when
+    /// `contact` is given) and a VTK frame.
+    pub fn row(
+        &mut self,
+        model: &Model,
+        s: &State,
+        e: &Energies,
+        iterations: usize,
+        contact: Option<&ContactSample>,
+    ) -> Result<(), String> {
+        let p = model.node_position(&s.q, model.n_elements);
+        let mut row = vec![
+            s.time,
+            p[0],
+            p[1],
+            p[2],
+            e.kinetic,
+            e.strain,
+            e.gravity,
+            e.total(),
+            e.loads,
+            iterations as f64,
+        ];
+        if let Some(c) = contact {
+            row.extend([c.normal_force, c.max_penetration, e.contact, e.dissipated]);
+        }
+        self.series.row(&row).map_err(|e| io_err(&self.dir, e))?;
+        if let Some(v) = self.vtk.as_mut() {
+            v.frame(s.time, &s.q, &s.v)
+                .map_err(|e| io_err(&self.dir, e))?;
+        }
+        Ok(())
+    }
+
+    /// Write `checkpoint.json` for `p` (its VTK frames are synced to disk
+    /// first: the checkpoint names them).
+    pub fn checkpoint(&mut self, scene: &Scene, p: &mut Progress) -> Result<(), String> {
+        let dir = &self.dir;
+        if let Some(v) = self.vtk.as_mut() {
+            v.sync().map_err(|e| io_err(dir, e))?;
+        }
+        p.vtk_frames = self
+            .vtk
+            .as_ref()
+            .map(|v| v.frames().to_vec())
+            .unwrap_or_default();
+        let text = serde_json::to_string(&Checkpoint {
+            scene: scene.source.clone(),
+            progress: p.clone(),
+        })
+        .map_err(|e| format!("checkpoint: {e}"))?;
+        let tmp = dir.join("checkpoint.json.tmp");
+        std::fs::write(&tmp, text).map_err(|e| io_err(dir, e))?;
+        std::fs::rename(&tmp, dir.join("checkpoint.json")).map_err(|e| io_err(dir, e))
+    }
+
+    /// The end of a dynamic run: VTK's collection, rod_forces.csv (and
+    /// rod_forces.png), the plots, contact_point.csv.
+    pub fn finish(
+        &mut self,
+        scene: &Scene,
+        history: &History,
+        loads: &[LoadHistory],
+        filtered: &[Filtered],
+        summary: &Summary,
+    ) -> Result<(), String> {
+        let dir = &self.dir;
+        if let Some(v) = self.vtk.as_mut() {
+            v.finish().map_err(|e| io_err(dir, e))?;
+        }
+        if let Some(cs) = &summary.contact {
+            write_rod_forces(dir, loads, filtered).map_err(|e| io_err(dir, e))?;
+            if scene.output.plots {
+                super::plots::plot_rod_forces(dir, loads, filtered, &cs.rods)?;
+            }
+        }
+        if scene.output.plots {
+            super::plots::plot_dynamic(dir, &scene.model, history)?;
+        }
+        if !history.contact_point.is_empty() {
+            write_contact_point(dir, history).map_err(|e| io_err(dir, e))?;
+        }
+        Ok(())
+    }
+}
+
+/// final_nodes.csv and summary.json.
+pub fn write_final(dir: &Path, nodes: &[[f64; 3]], summary: &Summary) -> Result<(), String> {
+    write_final_nodes(dir, nodes).map_err(|e| io_err(dir, e))?;
+    summary.write(dir).map_err(|e| io_err(dir, e))
+}
+
+/// `rod_forces.csv`: every step's force on each rod, |F| raw and CFC
+/// filtered (interpolated from the filter's grid to the step times), and
+/// the components.
+fn write_rod_forces(
+    out: &Path,
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+) -> std::io::Result<()> {
+    let mut s = String::from("time");
+    for i in 0..loads.len() {
+        s += &format!(",rod{i}_force,rod{i}_filtered,rod{i}_fx,rod{i}_fy,rod{i}_fz");
+    }
+    s.push('\n');
+    let steps = loads.first().map_or(0, |h| h.time.len());
+    for k in 0..steps {
+        let t = loads[0].time[k];
+        s += &format!("{t:.9e}");
+        for (h, f) in loads.iter().zip(filtered) {
+            let v = h.force[k];
+            let mag = norm(v);
+            s += &format!(
+                ",{mag:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+                f.at(t),
+                v[0],
+                v[1],
+                v[2]
+            );
+        }
+        s.push('\n');
+    }
+    std::fs::write(out.join("rod_forces.csv"), s)
+}
+
+fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {
+    let mut s = String::from("time,dz,exx,eyy,ezz\n");
+    for r in &h.contact_point {
+        s.push_str(&format!(
+            "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n",
+            r[0], r[1], r[2], r[3], r[4]
+        ));
+    }
+    std::fs::write(out.join("contact_point.csv"), s)
+}
+
+/// Keep the header and the rows of a CSV whose first column is ≤ `t`.
+fn truncate_csv(path: &Path, t: f64) -> Result<(), String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(());
+    };
+    let mut kept = String::new();
+    for (i, line) in text.lines().enumerate() {
+        let time = line.split(',').next().and_then(|v| v.parse::<f64>().ok());
+        if i == 0 || time.is_some_and(|x| x <= t + 1e-9 * t.abs().max(1e-300)) {
+            kept.push_str(line);
+            kept.push('\n');
+        }
+    }
+    std::fs::write(path, kept).map_err(|e| io_err(path, e))
+}

@@ -1,0 +1,478 @@
+//! Running a validated scene: the solver loop, what it keeps in memory
+//! ([`history`]) and the files it writes ([`files`], [`plots`]).
+//! Numerical failure ends the run with `status = "failed"` and a message
+//! naming the step, the time and the likely cause; everything written up
+//! to the last converged step stays on disk.
+//!
+//! The loop drives `ancf_core`'s `Simulation`; a run without an output
+//! directory ([`run_in_memory`], the study's) computes the same summary and
+//! keeps its records in memory only.
+
+pub mod files;
+pub mod history;
+mod plots;
+
+use crate::output::{ContactSummary, EnergySummary, Summary, TipSummary};
+use ancf_core::forces::sum::{At, ForceSum};
+use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
+use ancf_core::math::vec3::norm;
+use ancf_core::model::{Effect, Model};
+use ancf_core::scene::{Analysis, Scene};
+use ancf_core::solve::dynamics::{DynamicSettings, Energies};
+use ancf_core::solve::simulation::{Initial, Simulation, SimulationError, Snapshot};
+use ancf_core::solve::statics::{StaticSettings, solve_static};
+use files::{Checkpoint, Files, io_err, write_final};
+use history::History;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Set by the Ctrl-C handler (see `main.rs`); the run loop checks it each
+/// step and ends with status "interrupted", keeping what it wrote.
+pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Output directory (created if absent).
+    pub out: PathBuf,
+    /// No progress bar.
+    pub quiet: bool,
+}
+
+/// A run kept in memory: its summary (as summary.json has it), its written
+/// steps and the force on each rod at every step.
+#[derive(Clone, Debug, Default)]
+pub struct RunRecord {
+    pub summary: Summary,
+    /// Dynamic runs: the written steps (empty for a static run).
+    pub history: History,
+    /// Dynamic runs with rods: the force on each rod at every step, N.
+    pub rod_loads: Vec<LoadHistory>,
+}
+
+fn effect_names(model: &Model) -> Vec<String> {
+    model
+        .effects
+        .iter()
+        .map(|e| match e {
+            Effect::Elasticity {
+                mooney_rivlin: true,
+                ..
+            } => "elasticity (with Mooney-Rivlin)".to_string(),
+            Effect::Elasticity { .. } => "elasticity".to_string(),
+            Effect::Gravity { .. } => "gravity".to_string(),
+            Effect::PointLoads(l) => format!("point loads ({})", l.len()),
+            Effect::Contact(c) if c.has_friction() => {
+                format!("contact ({} rods, with friction)", c.rods.len())
+            }
+            Effect::Contact(c) => format!("contact ({} rods, frictionless)", c.rods.len()),
+            Effect::Damping(d) => format!("damping ({d:?})"),
+        })
+        .collect()
+}
+
+fn tip(model: &Model, q: &[f64]) -> TipSummary {
+    let n = model.n_elements;
+    let p = model.node_position(q, n);
+    let p0 = model.node_position(&model.reference, n);
+    TipSummary {
+        position: p,
+        displacement: [p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]],
+    }
+}
+
+fn node_positions(model: &Model, q: &[f64]) -> Vec<[f64; 3]> {
+    (0..model.n_nodes())
+        .map(|n| model.node_position(q, n))
+        .collect()
+}
+
+/// Run a scene and write its outputs into `opts.out`. Returns the summary
+/// (whose `status` says whether the run completed); `Err` only when the
+/// outputs cannot be written at all.
+pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
+    std::fs::create_dir_all(&opts.out).map_err(|e| io_err(&opts.out, e))?;
+    execute(scene, Some(&opts.out), opts.quiet, None).map(|r| r.summary)
+}
+
+/// Run a scene without writing anything: the summary `run_scene` would
+/// write, and the records in memory.
+pub fn run_in_memory(scene: &Scene) -> RunRecord {
+    execute(scene, None, true, None).expect("a run without files has no I/O to fail")
+}
+
+/// Continue the run checkpointed in `dir` (`ancf run --resume DIR`): the
+/// outputs are cut back to the checkpoint and continued; the result equals
+/// an uninterrupted run bit for bit.
+pub fn resume(dir: &Path, quiet: bool) -> Result<Summary, String> {
+    let path = dir.join("checkpoint.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let ck: Checkpoint =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::from_toml(&ck.scene).map_err(|e| format!("the checkpoint's scene: {e}"))?;
+    if !matches!(scene.analysis, Analysis::Dynamic { .. }) {
+        return Err("only dynamic runs have checkpoints".into());
+    }
+    execute(&scene, Some(dir), quiet, Some(ck.progress)).map(|r| r.summary)
+}
+
+/// The run: static or dynamic, with files in `out` or in memory only,
+/// from the start or from a checkpoint's progress.
+fn execute(
+    scene: &Scene,
+    out: Option<&Path>,
+    quiet: bool,
+    resume: Option<Progress>,
+) -> Result<RunRecord, String> {
+    let model = &scene.model;
+    let mut summary = new_summary(scene);
+    let start = Instant::now();
+    let mut record = RunRecord::default();
+    let final_q = match &scene.analysis {
+        Analysis::Static {
+            load_steps,
+            tolerance,
+            max_iterations,
+        } => {
+            summary.analysis = "static".into();
+            let settings = StaticSettings {
+                load_steps: *load_steps,
+                max_iterations: *max_iterations,
+                residual_tolerance: *tolerance,
+                increment_tolerance: *tolerance,
+            };
+            match solve_static(model, &settings) {
+                Ok(res) => {
+                    summary.status = "completed".into();
+                    summary.message = format!(
+                        "converged in {:?} Newton iterations per load step",
+                        res.iterations
+                    );
+                    summary.steps = res.iterations.len();
+                    summary.newton_iterations = res.iterations.iter().sum();
+                    summary.contact = static_contact(model, &res.q);
+                    res.q
+                }
+                Err(e) => {
+                    summary.status = "failed".into();
+                    summary.message = format!(
+                        "{}. Likely cause: a load too large for one step or an unstable configuration; \
+                         increase analysis.load_steps",
+                        e.message
+                    );
+                    summary.steps = e.iterations.len();
+                    summary.newton_iterations = e.iterations.iter().sum();
+                    e.last_converged
+                }
+            }
+        }
+        Analysis::Dynamic {
+            settings,
+            initial_static,
+            load_steps,
+        } => {
+            summary.analysis = "dynamic".into();
+            let initial = match (*initial_static, resume.is_some()) {
+                (true, false) => Initial::Static {
+                    load_steps: *load_steps,
+                },
+                _ => Initial::Reference,
+            };
+            let (q, history, loads) =
+                run_dynamic(scene, settings, initial, out, quiet, &mut summary, resume)?;
+            record.history = history;
+            record.rod_loads = loads;
+            q
+        }
+    };
+    summary.tip = tip(model, &final_q);
+    summary.wall_time_s = start.elapsed().as_secs_f64();
+    if let Some(dir) = out {
+        write_final(dir, &node_positions(model, &final_q), &summary)?;
+    }
+    record.summary = summary;
+    Ok(record)
+}
+
+fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} steps  t = {msg}  {per_sec}  ETA {eta}",
+        )
+        .expect("valid template"),
+    );
+    bar
+}
+
+/// What a run accumulates besides the simulation's own snapshot: with it,
+/// what a checkpoint saves and a resumed run starts from.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub struct Progress {
+    /// The simulation: step, phase, state, statistics, rod loads, contact.
+    sim: Snapshot,
+    message: String,
+    history: History,
+    max_drift: f64,
+    e0: Energies,
+    last: Energies,
+    vtk_frames: Vec<(f64, String)>,
+}
+
+fn new_summary(scene: &Scene) -> Summary {
+    let model = &scene.model;
+    Summary {
+        elements: model.n_elements,
+        unknowns: model.n_unknowns,
+        kernel: model.element(0).kernel_path().to_string(),
+        simd: ancf_core::math::simd::path().name().into(),
+        effects: effect_names(model),
+        ..Default::default()
+    }
+}
+
+/// The dynamic run's loop: steps the simulation, writes every
+/// `output.every`-th step (and the last) to the history and the files,
+/// checkpoints. Returns the final coordinates, the history and the rod loads.
+fn run_dynamic(
+    scene: &Scene,
+    settings: &DynamicSettings,
+    initial: Initial,
+    out: Option<&Path>,
+    quiet: bool,
+    summary: &mut Summary,
+    resume: Option<Progress>,
+) -> Result<(Vec<f64>, History, Vec<LoadHistory>), String> {
+    let model = &scene.model;
+    let contact = model.contact();
+    let h = settings.time_step;
+    let (mut p, mut sim, mut files) = match resume {
+        Some(p) => {
+            let sim = Simulation::resume(model, settings.clone(), p.sim.clone())
+                .map_err(|e| e.to_string())?;
+            let files = out
+                .map(|dir| Files::open(dir, scene, Some(&p)))
+                .transpose()?;
+            (p, sim, files)
+        }
+        None => {
+            let mut files = out.map(|dir| Files::open(dir, scene, None)).transpose()?;
+            let from_static = matches!(initial, Initial::Static { .. });
+            let sim = match Simulation::new(model, settings.clone(), initial) {
+                Ok(sim) => sim,
+                Err(SimulationError::Static(e)) => {
+                    summary.status = "failed".into();
+                    summary.message = format!(
+                        "initial static equilibrium: {}. Likely cause: {}",
+                        e.message,
+                        e.likely_cause()
+                    );
+                    return Ok((e.last_converged, History::default(), Vec::new()));
+                }
+                Err(e) => {
+                    summary.status = "failed".into();
+                    summary.message = e.to_string();
+                    return Ok((model.initial_coordinates(), History::default(), Vec::new()));
+                }
+            };
+            let message = if from_static {
+                format!(
+                    "initial static equilibrium in {:?} iterations; ",
+                    sim.static_iterations
+                )
+            } else {
+                String::new()
+            };
+            let state = sim.state();
+            let e0 = sim.energies();
+            let mut history = History::default();
+            let no_contact = ancf_core::forces::contact::ContactSample::default();
+            if let Some(f) = files.as_mut() {
+                f.row(model, state, &e0, 0, contact.map(|_| &no_contact))?;
+            }
+            history.push(model, state, &e0);
+            history.push_shape(model, state);
+            let p = Progress {
+                sim: sim.snapshot(),
+                message,
+                history,
+                max_drift: 0.0,
+                e0,
+                last: e0,
+                vtk_frames: Vec::new(),
+            };
+            (p, sim, files)
+        }
+    };
+    let (done, n_steps) = sim.steps();
+    summary.unknowns = model.holding_at(0.0).n_unknowns;
+    let bar = progress_bar(n_steps as u64, quiet);
+    bar.set_position(done as u64);
+    let snapshot_every = (n_steps / 8).max(1);
+    // Checkpoints drop the kept factorization (a resumed run starts
+    // without one), which changes the iterations' last bits: a run in
+    // memory does so too, to compute what the same run with files would.
+    let checkpoint_every = scene.output.checkpoint_every;
+    summary.status = "completed".into();
+    summary.message = format!("{}{n_steps} steps of {h} s", p.message);
+    while !sim.is_finished() {
+        let k = sim.steps().0 + 1;
+        if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            summary.status = "interrupted".into();
+            summary.message = format!(
+                "interrupted (Ctrl-C or a termination signal) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
+                sim.state().time,
+                if checkpoint_every > 0 && files.is_some() {
+                    "; continue with `ancf run --resume DIR`"
+                } else {
+                    ""
+                }
+            );
+            break;
+        }
+        let t_before = sim.state().time;
+        let info = match sim.step() {
+            Ok(info) => info,
+            Err(e @ SimulationError::Step { .. }) => {
+                summary.status = "failed".into();
+                summary.message = format!(
+                    "{e}. Likely cause: {}. Output up to t = {t_before:.6} s is kept",
+                    e.likely_cause()
+                );
+                break;
+            }
+            Err(e) => {
+                summary.status = "failed".into();
+                summary.message = e.to_string();
+                break;
+            }
+        };
+        let state = sim.state();
+        if k % scene.output.every == 0 || k == n_steps {
+            let e = sim.energies();
+            if !e.total().is_finite() {
+                summary.status = "failed".into();
+                summary.message = format!(
+                    "step {k} at t = {:.6} s: the energy is not finite. Likely cause: an inverted \
+                     element or a time step too large; reduce analysis.time_step",
+                    state.time
+                );
+                break;
+            }
+            p.max_drift = p
+                .max_drift
+                .max((e.total() + e.dissipated - p.e0.total()).abs());
+            p.last = e;
+            if let Some(f) = files.as_mut() {
+                f.row(
+                    model,
+                    state,
+                    &e,
+                    info.iterations,
+                    contact.map(|_| &info.contact),
+                )?;
+            }
+            p.history.push(model, state, &e);
+            if let Some(cp) = sim.contact().and_then(|c| c.first_point) {
+                p.history.push_contact_point(model, state, &cp);
+            }
+        }
+        if k % snapshot_every == 0 || k == n_steps {
+            p.history.push_shape(model, state);
+        }
+        let time = state.time;
+        if checkpoint_every > 0 && k % checkpoint_every == 0 && k < n_steps {
+            // The resumed run starts without a factorization: so does this one.
+            p.sim = sim.checkpoint();
+            if let Some(f) = files.as_mut() {
+                f.checkpoint(scene, &mut p)?;
+            }
+        }
+        bar.set_position(k as u64);
+        bar.set_message(format!("{time:.4} s"));
+    }
+    bar.finish_and_clear();
+    let progress = sim.progress();
+    if progress.released > 0 && summary.status == "completed" {
+        summary
+            .message
+            .push_str(&format!("; {} support release(s)", progress.released));
+    }
+    summary.steps = progress.step;
+    summary.newton_iterations = progress.newton_iterations;
+    summary.factorizations = progress.factorizations;
+    summary.time = progress.state.time;
+    summary.energy = Some(EnergySummary {
+        last: p.last,
+        total: p.last.total(),
+        max_drift: p.max_drift,
+    });
+    // Filtered once per rod, for the summary, the CSV and the plot.
+    let cfc = scene.output.cfc;
+    let filtered: Vec<Filtered> = sim.rod_loads().iter().map(|h| h.filtered(cfc)).collect();
+    if let (Some(c), Some(record)) = (contact, sim.contact()) {
+        summary.contact = Some(ContactSummary {
+            first_time: record.first_time,
+            max_normal_force: record.max_normal_force,
+            max_penetration: record.max_penetration,
+            rods: c
+                .rods
+                .iter()
+                .zip(sim.rod_loads())
+                .zip(&filtered)
+                .map(|((rod, h), f)| rod_summary(rod, h.summary(f)))
+                .collect(),
+        });
+    }
+    if let Some(f) = files.as_mut() {
+        f.finish(scene, &p.history, sim.rod_loads(), &filtered, summary)?;
+    }
+    Ok((sim.state().q.clone(), p.history, sim.rod_loads().to_vec()))
+}
+
+/// A rod's entry in the summary: its law and stiffness, and its load.
+fn rod_summary(rod: &ancf_core::forces::contact::Rod, load: RodLoad) -> crate::output::RodSummary {
+    crate::output::RodSummary {
+        law: rod.law.name().into(),
+        contact_stiffness: rod.contact_stiffness,
+        stiffness_unit: rod.law.stiffness_unit().into(),
+        restitution: rod.damping.map(|d| d.restitution()),
+        restitution_model: rod.damping.map(|d| d.model().name().into()),
+        load,
+    }
+}
+
+/// Contact in a static equilibrium: each rod's final force is its peak
+/// (no impulse, no duration, nothing to filter).
+fn static_contact(model: &Model, q: &[f64]) -> Option<ContactSummary> {
+    let c = model.contact()?;
+    let mut forces = ForceSum::new(model);
+    forces.evaluate(model, At::rest(q), None, None);
+    let cf = forces.contact()?;
+    let rods = c
+        .rods
+        .iter()
+        .zip(&cf.rod_forces)
+        .map(|(rod, f)| {
+            let force = norm(*f);
+            rod_summary(
+                rod,
+                RodLoad {
+                    peak_force: force,
+                    filtered_peak_force: force,
+                    ..Default::default()
+                },
+            )
+        })
+        .collect();
+    Some(ContactSummary {
+        first_time: (cf.total.active > 0).then_some(0.0),
+        max_normal_force: cf.total.normal_force,
+        max_penetration: cf.total.max_penetration,
+        rods,
+    })
+}

@@ -1,0 +1,206 @@
+//! A run's PNG plots: the energy balance, configurations, the first
+//! contact point, and the force on each rod.
+
+use super::history::History;
+use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
+use ancf_core::loads::rod_load::{Filtered, LoadHistory};
+use ancf_core::math::vec3::norm;
+use ancf_core::model::Model;
+use ancf_core::solve::dynamics::Energies;
+use std::path::Path;
+
+/// `energy.png`, `configurations.png` and (with a contact point)
+/// `contact_point.png`.
+pub fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
+    let pick = |f: fn(&Energies) -> f64| {
+        h.time
+            .iter()
+            .zip(&h.energies)
+            .map(|(t, e)| (*t, f(e)))
+            .collect::<Vec<_>>()
+    };
+    let mut series = vec![
+        Series {
+            label: "kinetic",
+            points: pick(|e| e.kinetic),
+        },
+        Series {
+            label: "strain",
+            points: pick(|e| e.strain),
+        },
+        Series {
+            label: "gravity potential",
+            points: pick(|e| e.gravity),
+        },
+    ];
+    if h.energies.iter().any(|e| e.loads != 0.0) {
+        series.push(Series {
+            label: "load potential",
+            points: pick(|e| e.loads),
+        });
+    }
+    let contact = model.contact();
+    if contact.is_some() {
+        series.push(Series {
+            label: "contact (penalty)",
+            points: pick(|e| e.contact),
+        });
+        series.push(Series {
+            label: "friction dissipated",
+            points: pick(|e| e.dissipated),
+        });
+    }
+    series.push(Series {
+        label: "total",
+        points: pick(|e| e.total()),
+    });
+    if contact.is_some_and(|c| c.has_friction()) {
+        series.push(Series {
+            label: "total + dissipated",
+            points: pick(|e| e.total() + e.dissipated),
+        });
+    }
+    line_plot(
+        &out.join("energy.png"),
+        "Energy balance",
+        "time t (s)",
+        "energy (J)",
+        &series,
+    )?;
+    let rods: Vec<(f64, f64, f64)> = contact
+        .map(|c| {
+            c.rods
+                .iter()
+                .filter(|r| r.axis[1].abs() > 0.99)
+                .map(|r| (r.center[0], r.center[2], r.radius))
+                .collect()
+        })
+        .unwrap_or_default();
+    configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
+    if !h.contact_point.is_empty() {
+        let col = |i: usize| {
+            h.contact_point
+                .iter()
+                .map(|r| (r[0], r[i]))
+                .collect::<Vec<_>>()
+        };
+        panels_plot(
+            &out.join("contact_point.png"),
+            2,
+            2,
+            (560, 420),
+            &[
+                Panel {
+                    title: "First contact point: vertical displacement",
+                    x_label: "t (s)",
+                    y_label: "Δz (m)",
+                    series: vec![Series {
+                        label: "Δz",
+                        points: col(1),
+                    }],
+                    ..Default::default()
+                },
+                Panel {
+                    title: "Normal strain E_xx",
+                    x_label: "t (s)",
+                    y_label: "E_xx (-)",
+                    series: vec![Series {
+                        label: "E_xx",
+                        points: col(2),
+                    }],
+                    ..Default::default()
+                },
+                Panel {
+                    title: "Normal strain E_yy",
+                    x_label: "t (s)",
+                    y_label: "E_yy (-)",
+                    series: vec![Series {
+                        label: "E_yy",
+                        points: col(3),
+                    }],
+                    ..Default::default()
+                },
+                Panel {
+                    title: "Normal strain E_zz",
+                    x_label: "t (s)",
+                    y_label: "E_zz (-)",
+                    series: vec![Series {
+                        label: "E_zz",
+                        points: col(4),
+                    }],
+                    ..Default::default()
+                },
+            ],
+        )?;
+    }
+    Ok(())
+}
+
+/// `rod_forces.png`: per rod, the raw and the filtered force with both peaks marked.
+pub fn plot_rod_forces(
+    out: &Path,
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+    rods: &[crate::output::RodSummary],
+) -> Result<(), String> {
+    let titles: Vec<String> = (0..loads.len())
+        .map(|i| format!("Force on rod {i} (CFC {:.0})", rods[i].load.cfc))
+        .collect();
+    let panels: Vec<Panel> = loads
+        .iter()
+        .zip(filtered)
+        .zip(rods)
+        .zip(&titles)
+        .map(|(((h, f), r), title)| {
+            let raw = h
+                .time
+                .iter()
+                .zip(&h.force)
+                .map(|(t, v)| (*t, norm(*v)))
+                .collect();
+            Panel {
+                title,
+                x_label: "time t (s)",
+                y_label: "force (N)",
+                // The filtered force drawn over the raw one.
+                series: vec![
+                    Series {
+                        label: "raw (every step)",
+                        points: raw,
+                    },
+                    Series {
+                        label: "CFC filtered",
+                        points: f
+                            .time
+                            .iter()
+                            .copied()
+                            .zip(f.force.iter().copied())
+                            .collect(),
+                    },
+                ],
+                marks: vec![
+                    (
+                        r.load.peak_time,
+                        r.load.peak_force,
+                        format!("raw peak {:.0} N", r.load.peak_force),
+                    ),
+                    (
+                        r.load.filtered_peak_time,
+                        r.load.filtered_peak_force,
+                        format!("filtered peak {:.0} N", r.load.filtered_peak_force),
+                    ),
+                ],
+            }
+        })
+        .collect();
+    if panels.iter().all(|p| p.series[0].points.is_empty()) {
+        return Ok(());
+    }
+    panels_plot(
+        &out.join("rod_forces.png"),
+        panels.len(),
+        1,
+        (960, 480),
+        &panels,
+    )
+}

@@ -1,5 +1,6 @@
 //! Issue 6 §3: properties over random states and random scene files.
 
+#[path = "../ancf-core/tests/common/mod.rs"]
 mod common;
 use ancf_core::scene::Scene;
 use common::*;

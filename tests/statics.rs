@@ -1,6 +1,7 @@
 //! Issue 3: the two-layer cantilever against beam theory (SPEC §8), the
 //! slower axial convergence of `fixed`, and the large-deflection elastica.
 
+#[path = "../ancf-core/tests/common/mod.rs"]
 mod common;
 use ancf_core::element::ElementIntegration;
 use ancf_core::model::{Model, PointLoad, Support, SupportKind};

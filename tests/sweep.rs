@@ -3,6 +3,7 @@
 //! others, Ctrl-C keeping what is done, reruns doing only what is missing,
 //! and results.csv holding each variant's own summary numbers.
 
+#[path = "../ancf-core/tests/common/mod.rs"]
 mod common;
 
 use common::split_csv;

@@ -9,6 +9,7 @@
 //! munge if missing); otherwise it says why and passes without checking.
 //! `.ci/run` runs as root, so CI checks it.
 
+#[path = "../ancf-core/tests/common/mod.rs"]
 mod common;
 
 use common::split_csv;

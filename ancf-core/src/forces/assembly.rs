@@ -153,7 +153,7 @@ impl Pattern {
 /// Every value receives its contributions in the serial loop's order, so
 /// the result has the same bits as the serial loop with any number of
 /// threads (tests: `chunked_assembly_equals_the_serial_loop` here,
-/// `parallel_assembly_is_deterministic` in tests/pendulum.rs).
+/// `parallel_assembly_is_deterministic` in ancf-core/tests/pendulum.rs).
 pub fn assemble(
     model: &Model,
     pattern: &Pattern,

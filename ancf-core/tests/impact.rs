@@ -6,7 +6,11 @@ use ancf_core::scene::{Analysis, Scene};
 use ancf_core::solve::dynamics::{Energies, Integrator};
 
 fn scene(edit: impl Fn(String) -> String) -> Scene {
-    let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/wire_rod_impact.toml"
+    ))
+    .unwrap();
     Scene::from_toml(&edit(text)).expect("edited impact scene is valid")
 }
 

@@ -8,7 +8,15 @@ use ancf_core::model::Effect;
 use ancf_core::scene::Scene;
 
 fn load(path: &str, edit: impl Fn(String) -> String) -> Scene {
-    Scene::from_toml(&edit(std::fs::read_to_string(path).unwrap())).unwrap()
+    Scene::from_toml(&edit(
+        std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("..")
+                .join(path),
+        )
+        .unwrap(),
+    ))
+    .unwrap()
 }
 
 #[test]

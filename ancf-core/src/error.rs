@@ -14,6 +14,7 @@
 //!   or its energy gain, a factorization.
 
 use crate::model::ModelError;
+#[cfg(feature = "scene")]
 use crate::scene::SceneError;
 use crate::solve::simulation::SimulationError;
 use crate::solve::statics::StaticError;
@@ -22,6 +23,7 @@ use crate::solve::statics::StaticError;
 #[derive(Clone, Debug)]
 pub enum Error {
     /// A scene that cannot be run: the field (TOML path) and why.
+    #[cfg(feature = "scene")]
     Scene(SceneError),
     /// A model built in code that cannot be made: the part and why.
     Model(ModelError),
@@ -34,6 +36,7 @@ pub enum Error {
 impl std::fmt::Display for Error {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            #[cfg(feature = "scene")]
             Error::Scene(e) => write!(f, "{e}"),
             Error::Model(e) => write!(f, "{e}"),
             Error::Static(e) => write!(f, "{e}"),
@@ -45,6 +48,7 @@ impl std::fmt::Display for Error {
 impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
+            #[cfg(feature = "scene")]
             Error::Scene(e) => Some(e),
             Error::Model(e) => Some(e),
             Error::Static(e) => Some(e),
@@ -53,6 +57,7 @@ impl std::error::Error for Error {
     }
 }
 
+#[cfg(feature = "scene")]
 impl From<SceneError> for Error {
     fn from(e: SceneError) -> Self {
         Error::Scene(e)

@@ -50,6 +50,7 @@ pub mod loads;
 pub mod material;
 pub mod math;
 pub mod model;
+#[cfg(feature = "scene")]
 pub mod scene;
 pub mod section;
 pub mod solve;
@@ -63,6 +64,7 @@ pub mod prelude {
     pub use crate::material::Material;
     pub use crate::math::simd::SimdPath;
     pub use crate::model::{Model, SupportKind, WireBuilder};
+    #[cfg(feature = "scene")]
     pub use crate::scene::{Analysis, Scene, SceneError};
     pub use crate::solve::dynamics::{DynamicSettings, Energies, NewtonKind};
     pub use crate::solve::simulation::{Initial, Simulation, SimulationError};
@@ -80,6 +82,7 @@ mod tests {
         is_error::<crate::linalg::linear_solver::FactorError>();
         is_error::<crate::solve::statics::StaticError>();
         is_error::<crate::model::ModelError>();
+        #[cfg(feature = "scene")]
         is_error::<crate::scene::SceneError>();
     }
 }

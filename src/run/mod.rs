@@ -1,5 +1,5 @@
 //! Running a validated scene: the solver loop, what it keeps in memory
-//! ([`history`]) and the files it writes ([`files`], [`plots`]).
+//! ([`history`]) and the files it writes ([`files`], `plots`).
 //! Numerical failure ends the run with `status = "failed"` and a message
 //! naming the step, the time and the likely cause; everything written up
 //! to the last converged step stays on disk.

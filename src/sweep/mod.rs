@@ -1,4 +1,4 @@
-//! `ancf sweep`: many variants of one scene ([`file`]), run on this
+//! `ancf sweep`: many variants of one scene ([`mod@file`]), run on this
 //! machine's cores ([`local`]) or as a Slurm job array ([`slurm`]), gathered
 //! into one table of design numbers ([`results`]).
 //!

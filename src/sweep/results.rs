@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Design numbers of one rod, in results.csv's column order.
-const ROD_COLUMNS: [&str; 8] = [
+pub const ROD_COLUMNS: [&str; 8] = [
     "peak_force",
     "peak_time",
     "filtered_peak_force",

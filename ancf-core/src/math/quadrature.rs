@@ -233,13 +233,13 @@ mod tests {
     fn gauss_legendre_integrates_degree_2n_minus_1() {
         for n in 1..=10 {
             let r = gauss_legendre(n);
-            for d in 0..=(2 * n - 1) {
-                let q: f64 = r
-                    .nodes
-                    .iter()
-                    .zip(&r.weights)
+            let integrate = |d: usize| -> f64 {
+                (r.nodes.iter().zip(&r.weights))
                     .map(|(x, w)| w * x.powi(d as i32))
-                    .sum();
+                    .sum()
+            };
+            for d in 0..=(2 * n - 1) {
+                let q = integrate(d);
                 let exact = if d % 2 == 1 {
                     0.0
                 } else {
@@ -248,12 +248,7 @@ mod tests {
                 assert!((q - exact).abs() < 1e-14, "n={n} d={d}: {q} vs {exact}");
             }
             let d = 2 * n;
-            let q: f64 = r
-                .nodes
-                .iter()
-                .zip(&r.weights)
-                .map(|(x, w)| w * x.powi(d as i32))
-                .sum();
+            let q = integrate(d);
             assert!(
                 (q - 2.0 / (d as f64 + 1.0)).abs() > 1e-8,
                 "n={n} must not be exact at degree 2n"

@@ -345,13 +345,10 @@ pub struct SceneFile {
 
 /// Defaults, documented in docs/scene.md.
 pub mod defaults {
-    /// Axial Gauss points. 5 would integrate an SVK element's energy exactly
-    /// (degree 8 in ξ), but the accuracy study (docs/accuracy, issue 5) finds
-    /// 3 points give the same cantilever and pendulum errors to three digits
-    /// at 60–70 % of the cost; 2 points are 9× less accurate in dynamics.
-    pub const AXIAL_ORDER: usize = 3;
-    /// Ring-rule order: 3 integrates an SVK layer exactly (degree 4 in y, z).
-    pub const SECTION_ORDER: usize = 3;
+    /// Axial Gauss points (see [`crate::model::DEFAULT_AXIAL_ORDER`]).
+    pub const AXIAL_ORDER: usize = crate::model::DEFAULT_AXIAL_ORDER;
+    /// Ring-rule order (see [`crate::model::DEFAULT_SECTION_ORDER`]).
+    pub const SECTION_ORDER: usize = crate::model::DEFAULT_SECTION_ORDER;
     /// ρ∞ = 0.9: damps the unresolved axial modes of a stiff wire a little;
     /// set 1 to conserve energy (the verification scenes do).
     pub const SPECTRAL_RADIUS: f64 = 0.9;

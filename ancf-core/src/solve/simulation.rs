@@ -6,16 +6,25 @@
 //! bit for bit.
 //!
 //! ```
-//! use ancf_core::scene::{Analysis, Scene};
-//! use ancf_core::solve::simulation::{Initial, Simulation};
-//! let scene = Scene::from_toml(include_str!("../../../scenes/pendulum.toml")).unwrap();
-//! let Analysis::Dynamic { settings, .. } = &scene.analysis else { unreachable!() };
-//! let mut sim = Simulation::new(&scene.model, settings.clone(), Initial::Reference).unwrap();
-//! while !sim.is_finished() && sim.state().time < 0.1 {
-//!     sim.step().unwrap();
-//! }
-//! let tip = sim.model().node_position(&sim.state().q, sim.model().n_elements);
-//! assert!(tip[2] < 0.0, "the pendulum swings down");
+//! use ancf_core::prelude::*;
+//! let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
+//! let model = WireBuilder::new(1.0, 8)
+//!     .layer(steel, 0.01)
+//!     .support(0, SupportKind::Pin)
+//!     .gravity([0.0, 0.0, -9.81])
+//!     .build()?;
+//! let settings = DynamicSettings { time_step: 1e-3, end_time: 1.0, ..Default::default() };
+//! let mut sim = Simulation::new(&model, settings, Initial::Reference)?;
+//! // Step to 0.1 s, watching the tip after every step.
+//! let mut lowest = 0.0_f64;
+//! sim.run_until(0.1, |sim, _info| {
+//!     let tip = sim.model().node_position(&sim.state().q, sim.model().n_elements);
+//!     lowest = lowest.min(tip[2]);
+//!     std::ops::ControlFlow::Continue(())
+//! })?;
+//! assert!(lowest < 0.0, "the pendulum swings down");
+//! assert_eq!(sim.steps(), (100, 1000));
+//! # Ok::<(), ancf_core::Error>(())
 //! ```
 
 use crate::loads::contact_record::ContactRecord;

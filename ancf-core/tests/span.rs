@@ -1,8 +1,9 @@
 //! Issue 8: a hanging span against the elastic catenary, the release of a
-//! support, and the static initial state of a dynamic run.
+//! support, and the static initial state of a dynamic run — through the
+//! core's `solve_static` and `Simulation`.
 
-use ancf_core::scene::Scene;
-use ancf_core::solve::statics::{StaticSettings, solve_static};
+use ancf_core::prelude::*;
+use std::ops::ControlFlow;
 
 /// A conductor of unstretched length `l0` pinned at (0,0,0) and at `(span, 0, 0)`.
 fn span_scene(l0: f64, span: f64, elements: usize, extra: &str) -> String {
@@ -106,39 +107,56 @@ fn hanging_span_matches_the_elastic_catenary() {
     }
 }
 
-fn run_to_dir(text: &str, name: &str) -> (std::path::PathBuf, serde_json::Value) {
-    let scene = Scene::from_toml(text).unwrap();
-    let dir = std::env::temp_dir().join(format!("ancf-span-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let summary = ancf::run::run_scene(
-        &scene,
-        &ancf::run::RunOptions {
-            out: dir.clone(),
-            quiet: true,
-        },
-    )
-    .unwrap();
-    assert_eq!(summary.status, "completed", "{}", summary.message);
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    (dir, json)
+/// A dynamic scene run with `Simulation` from its initial state: every
+/// step's time, tip and energies (total + dissipated in `.1`), and the
+/// largest |total + dissipated − E(0)| over the steps (J).
+struct Run {
+    time: Vec<f64>,
+    tip: Vec<[f64; 3]>,
+    energies: Vec<Energies>,
+    max_drift: f64,
 }
 
-fn columns(dir: &std::path::Path, file: &str) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(dir.join(file)).unwrap();
-    let mut lines = text.lines();
-    let header = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    (
-        header,
-        lines
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect(),
-    )
+fn run(text: &str) -> Run {
+    let scene = Scene::from_toml(text).unwrap();
+    let Analysis::Dynamic {
+        settings,
+        initial_static,
+        load_steps,
+    } = &scene.analysis
+    else {
+        panic!("a dynamic scene")
+    };
+    let initial = if *initial_static {
+        Initial::Static {
+            load_steps: *load_steps,
+        }
+    } else {
+        Initial::Reference
+    };
+    let model = &scene.model;
+    let mut sim = Simulation::new(model, settings.clone(), initial).expect("the run starts");
+    let e0 = sim.energies();
+    let mut run = Run {
+        time: vec![0.0],
+        tip: vec![model.node_position(&sim.state().q, model.n_elements)],
+        energies: vec![e0],
+        max_drift: 0.0,
+    };
+    sim.run_until(settings.end_time, |sim, _| {
+        let e = sim.energies();
+        run.max_drift = run
+            .max_drift
+            .max((e.total() + e.dissipated - e0.total()).abs());
+        run.time.push(sim.state().time);
+        run.tip
+            .push(model.node_position(&sim.state().q, model.n_elements));
+        run.energies.push(e);
+        ControlFlow::Continue(())
+    })
+    .expect("the run completes");
+    assert!(sim.is_finished());
+    run
 }
 
 /// A dynamic run of the 50 m span from its static equilibrium; the right
@@ -146,7 +164,6 @@ fn columns(dir: &std::path::Path, file: &str) -> (Vec<String>, Vec<Vec<f64>>) {
 fn released_span(release: f64, end: f64, rho: f64, damping: &str) -> String {
     span_scene(50.06, 50.0, 25, &format!("release_time = {release}\n{damping}"))
         .replace("kind = \"static\"\nload_steps = 1", &format!("kind = \"dynamic\"\ninitial = \"static\"\nend_time = {end}\ntime_step = 2e-3\nspectral_radius = {rho}"))
-        + "\n[output]\nvtk = false\nplots = false\n"
 }
 
 /// ρ∞ = 0.9 here: with ρ∞ = 1 and no damping, the free end of this nearly
@@ -155,36 +172,33 @@ fn released_span(release: f64, end: f64, rho: f64, damping: &str) -> String {
 /// highest frequencies carries it through.
 #[test]
 fn released_support_holds_exactly_then_the_span_swings_down() {
-    let (dir, summary) = run_to_dir(&released_span(0.1, 0.6, 0.9, ""), "release");
-    let (h, rows) = columns(&dir, "timeseries.csv");
-    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
-    let (t, x, z) = (col("time"), col("tip_x"), col("tip_z"));
-    for r in rows.iter().filter(|r| r[t] <= 0.1 + 1e-12) {
-        assert_eq!(
-            (r[x], r[z]),
-            (50.0, 0.0),
-            "before its release time the support holds exactly (t = {})",
-            r[t]
-        );
+    let r = run(&released_span(0.1, 0.6, 0.9, ""));
+    for (t, tip) in r.time.iter().zip(&r.tip) {
+        if *t <= 0.1 + 1e-12 {
+            assert_eq!(
+                (tip[0], tip[2]),
+                (50.0, 0.0),
+                "before its release time the support holds exactly (t = {t})"
+            );
+        }
     }
-    let last = rows.last().unwrap();
+    let last = r.tip.last().unwrap();
     // Free fall of the tip for 0.5 s would be 1.2 m; the span pulls it towards the pivot too.
-    assert!(last[z] < -0.5, "tip z {} after the release", last[z]);
-    assert!(last[x] < 50.0, "tip x {} moves towards the pivot", last[x]);
-    let drift = summary["energy"]["max_drift"].as_f64().unwrap();
-    let scale = summary["energy"]["gravity"].as_f64().unwrap().abs();
+    assert!(last[2] < -0.5, "tip z {} after the release", last[2]);
+    assert!(last[0] < 50.0, "tip x {} moves towards the pivot", last[0]);
+    let drift = r.max_drift;
+    let scale = r.energies.last().unwrap().gravity.abs();
     println!(
         "release: tip ({:.3}, {:.3}), drift {drift:.3e} J of {scale:.3e} J",
-        last[x], last[z]
+        last[0], last[2]
     );
     // Numerical damping only removes energy, and only a little.
-    let (e_first, e_last) = (rows[0][col("total")], last[col("total")]);
+    let (e_first, e_last) = (r.energies[0].total(), r.energies.last().unwrap().total());
     assert!(
         e_last <= e_first + 1e-6 * scale,
         "energy rose from {e_first} to {e_last}"
     );
     assert!(drift < 0.01 * scale, "energy drift {drift} J");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -199,11 +213,11 @@ fn damping_dissipation_closes_the_energy_balance() {
             "\n[damping]\nkind = \"rayleigh\"\nmass = 0.5\nstiffness = 1e-4\n",
         ),
     ] {
-        let (dir, summary) = run_to_dir(&released_span(0.0, 0.4, 1.0, damping), name);
-        let e = &summary["energy"];
-        let dissipated = e["dissipated"].as_f64().unwrap();
-        let drift = e["max_drift"].as_f64().unwrap();
-        let scale = e["gravity"].as_f64().unwrap().abs();
+        let r = run(&released_span(0.0, 0.4, 1.0, damping));
+        let e = r.energies.last().unwrap();
+        let dissipated = e.dissipated;
+        let drift = r.max_drift;
+        let scale = e.gravity.abs();
         println!(
             "{name}: dissipated {dissipated:.3} J, drift of total + dissipated {drift:.3e} J (scale {scale:.3} J)"
         );
@@ -212,6 +226,5 @@ fn damping_dissipation_closes_the_energy_balance() {
             drift < 0.01 * scale,
             "{name}: total + dissipated drifts by {drift} J"
         );
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -23,10 +23,10 @@ pub type ElementMatrix = [f64; 576];
 
 /// Signature of a whole-element kernel: adds the elastic force (N) to `q`
 /// and, when asked, its Jacobian (N/m) to `k`; returns the strain energy (J).
-pub type ElementKernelFn =
+pub(crate) type ElementKernelFn =
     fn(&ElementIntegration, &ElementVector, &mut ElementVector, Option<&mut ElementMatrix>) -> f64;
 
-pub mod preintegration;
+pub(crate) mod preintegration;
 
 mod generated {
     include!(concat!(env!("OUT_DIR"), "/generated_kernels.rs"));
@@ -34,7 +34,7 @@ mod generated {
 pub use generated::{COMPILED_AXIAL_ORDERS, axial_rule_for as compiled_axial_rule};
 
 /// The axial factor of each shape function, N_i(ξ) (s_i = N_i · m_i(y, z)).
-pub fn axial_factors(xi: f64, l: f64) -> [f64; 8] {
+pub(crate) fn axial_factors(xi: f64, l: f64) -> [f64; 8] {
     let (x2, x3) = (xi * xi, xi * xi * xi);
     [
         1.0 - 3.0 * x2 + 2.0 * x3,
@@ -49,7 +49,7 @@ pub fn axial_factors(xi: f64, l: f64) -> [f64; 8] {
 }
 
 /// Which section factor m ∈ {1, y, z} (index 0, 1, 2) multiplies N_i.
-pub const SECTION_FACTOR: [usize; 8] = [0, 0, 1, 2, 0, 0, 1, 2];
+pub(crate) const SECTION_FACTOR: [usize; 8] = [0, 0, 1, 2, 0, 0, 1, 2];
 
 /// Shape functions s_i(ξ, y, z) (SPEC §1).
 pub fn shape_functions(xi: f64, y: f64, z: f64, l: f64) -> [f64; 8] {
@@ -127,7 +127,7 @@ pub fn strain_matrix(f: &[[f64; 3]; 3], g: &[[f64; 3]; 8]) -> SMatrix<f64, 6, 24
 
 /// Generic point kernel, the textbook form: B = ∂ε/∂e (6×24),
 /// q += w Bᵀσ, K += w (BᵀDB + geometric part).
-pub fn point_kernel_generic(
+pub(crate) fn point_kernel_generic(
     e: &ElementVector,
     g: &[[f64; 3]; 8],
     w: f64,
@@ -491,7 +491,7 @@ impl ElementIntegration {
 /// Whole-element kernel with the axial rule fixed at compile time (`N`
 /// points), calling the generated point kernel. `build.rs` instantiates it
 /// for each compiled order with the rule's nodes and weights as constants.
-pub fn structured_element<const N: usize>(
+pub(crate) fn structured_element<const N: usize>(
     nodes: &[f64; N],
     weights: &[f64; N],
     ei: &ElementIntegration,

@@ -242,7 +242,7 @@ pub struct PointGroup {
 #[derive(Clone, Debug)]
 pub struct IntegrationPlan {
     /// Linear laws, pre-integrated over the section (see `preintegration.rs`).
-    pub preintegrated: Option<crate::element::preintegration::PreIntegrated>,
+    pub(crate) preintegrated: Option<crate::element::preintegration::PreIntegrated>,
     /// Section points integrated point by point, grouped by law.
     pub groups: Vec<PointGroup>,
     /// Centerline laws with their weights (m²).
@@ -390,11 +390,7 @@ impl ElementIntegration {
     /// pre-integration alone with a generated axial rule (then evaluate one
     /// by one).
     pub fn forces_x4(&self, e: &[[f64; 4]; 24], q: &mut [[f64; 4]; 24]) -> Option<[f64; 4]> {
-        let pre = self.plan.preintegrated.as_ref()?;
-        if self.kernel.is_none() || self.plan.points() > 0 {
-            return None;
-        }
-        let (nodes, weights) = generated::axial_rule_for(self.axial.nodes.len())?;
+        let (pre, nodes, weights) = self.lane_kernel_data()?;
         Some(preintegration::forces_4(
             crate::math::simd::path(),
             pre,
@@ -403,6 +399,39 @@ impl ElementIntegration {
             self.length,
             e,
             q,
+        ))
+    }
+
+    /// What the lane kernel needs — the pre-integrated section and the
+    /// generated axial rule — when this element is integrated by
+    /// pre-integration alone with a generated rule.
+    fn lane_kernel_data(
+        &self,
+    ) -> Option<(
+        &preintegration::PreIntegrated,
+        &'static [f64],
+        &'static [f64],
+    )> {
+        let pre = self.plan.preintegrated.as_ref()?;
+        if self.kernel.is_none() || self.plan.points() > 0 {
+            return None;
+        }
+        let (nodes, weights) = generated::axial_rule_for(self.axial.nodes.len())?;
+        Some((pre, nodes, weights))
+    }
+
+    /// Strain energies of four elements at once (as [`Self::forces_x4`]
+    /// gives them, bit for bit) without their forces; `None` where
+    /// `forces_x4` is.
+    pub fn energies_x4(&self, e: &[[f64; 4]; 24]) -> Option<[f64; 4]> {
+        let (pre, nodes, weights) = self.lane_kernel_data()?;
+        Some(preintegration::energies_4(
+            crate::math::simd::path(),
+            pre,
+            nodes,
+            weights,
+            self.length,
+            e,
         ))
     }
 

@@ -21,6 +21,7 @@
 
 use super::assembly::{
     ContactForces, Pattern, assemble, assemble_contact_reusing, assemble_into, mass_values,
+    strain_energy,
 };
 use super::damping::{Damping, kelvin_voigt_force};
 use crate::model::Model;
@@ -255,7 +256,7 @@ impl ForceSum {
     /// The effects' potential energies at (q, v) (contact outside any
     /// event). Leaves the last evaluation's buffers alone.
     pub fn potentials(&self, model: &Model, q: &[f64], v: &[f64]) -> Potentials {
-        let (_, strain) = assemble(model, &self.pattern, q, None);
+        let strain = strain_energy(model, q);
         let (gravity, loads) = model.external_potential(q);
         let contact = model.contact().map_or(0.0, |c| {
             assemble_contact_reusing(

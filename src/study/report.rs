@@ -636,12 +636,15 @@ type Quantity = (String, Box<dyn Fn(&Outcome) -> Option<f64>>);
 /// impulse and the tip at first contact + 0.1 s; with rods, each rod's
 /// first impact (filtered peak, impulse) and its whole-run filtered peak.
 fn quantities(rods: usize) -> Vec<Quantity> {
+    // Interpolated linearly between the samples around the time (the
+    // nearest sample was ambiguous: with samples every 2 steps the time
+    // often falls midway, and round-off in the sample times picked a side).
     let tip_z = |o: &Outcome| -> Option<f64> {
         let t = o.first_contact? + CONTACT_WINDOW;
-        o.samples
-            .iter()
-            .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
-            .map(|s| s.tip[2])
+        let k = o.samples.partition_point(|s| s.time < t);
+        let (a, b) = (o.samples.get(k.checked_sub(1)?)?, o.samples.get(k)?);
+        let w = ((t - a.time) / (b.time - a.time)).clamp(0.0, 1.0);
+        Some(a.tip[2] + w * (b.tip[2] - a.tip[2]))
     };
     let mut q: Vec<Quantity> = vec![
         ("filtered peak force (N)".into(), Box::new(|o| o.peak_force)),

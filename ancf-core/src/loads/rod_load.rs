@@ -151,14 +151,15 @@ impl LoadHistory {
         }
     }
 
-    /// ∫ |F| dt (N s) over the steps that end in (`from`, `to`] (s), each
+    /// ∫ |F| dt (N s) over the steps that end in [`from`, `to`] (s), each
     /// step's |F| at its end times its length (the first step, whose start
-    /// is not recorded, is left out).
+    /// is not recorded, is left out). From a first contact time on, the
+    /// step that made the contact counts, as in a rod's first impact.
     pub fn impulse_between(&self, from: f64, to: f64) -> f64 {
         self.time
             .windows(2)
             .zip(&self.force[1..])
-            .filter(|(t, _)| t[1] > from && t[1] <= to)
+            .filter(|(t, _)| t[1] >= from && t[1] <= to)
             .map(|(t, f)| norm(*f) * (t[1] - t[0]))
             .sum()
     }

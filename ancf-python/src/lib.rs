@@ -602,17 +602,14 @@ impl Simulation {
         if until.is_some_and(|t| !t.is_finite()) {
             return Err(PyValueError::new_err("until: must be a finite time in s"));
         }
-        let (rods, h) = {
-            let this = slf.borrow();
-            let h = match &this.scene.analysis {
-                Analysis::Dynamic { settings, .. } => settings.time_step,
-                Analysis::Static { .. } => unreachable!("a Simulation is dynamic"),
-            };
-            (this.scene.model.contact().map_or(0, |c| c.rods.len()), h)
-        };
-        let done = move |s: &CoreSimulation| {
-            s.is_finished() || until.is_some_and(|t| s.state().time >= t - 1e-9 * h)
-        };
+        let rods = slf
+            .borrow()
+            .scene
+            .model
+            .contact()
+            .map_or(0, |c| c.rods.len());
+        let until = until.unwrap_or(f64::INFINITY);
+        let done = move |s: &CoreSimulation| s.has_reached(until);
         let mut result = RunResult::default();
         loop {
             {

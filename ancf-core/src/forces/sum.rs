@@ -20,8 +20,8 @@
 //! (overwritten), ∂(Q + Q_d)/∂v added to `kv`.
 
 use super::assembly::{
-    ContactForces, Pattern, assemble, assemble_contact_reusing, assemble_into, mass_values,
-    strain_energy,
+    ContactForces, Pattern, assemble, assemble_contact, assemble_contact_reusing, assemble_into,
+    mass_values, strain_energy,
 };
 use super::damping::{Damping, kelvin_voigt_force};
 use crate::model::Model;
@@ -146,6 +146,14 @@ impl ForceSum {
         &self.external
     }
 
+    /// The work of λ Q_ext from the reference to `q`, λ Q_extᵀ(q − q_ref) (J).
+    pub fn external_work(&self, model: &Model, q: &[f64]) -> f64 {
+        (self.external.iter())
+            .zip(q.iter().zip(&model.reference))
+            .map(|(f, (a, b))| f * (a - b))
+            .sum::<f64>()
+    }
+
     /// Whether the forces depend on the velocities (friction, contact
     /// damping, structural damping): then the Newton matrix has a
     /// velocity part.
@@ -259,20 +267,9 @@ impl ForceSum {
         let strain = strain_energy(model, q);
         let (gravity, loads) = model.external_potential(q);
         let contact = model.contact().map_or(0.0, |c| {
-            assemble_contact_reusing(
-                model,
-                c,
-                &self.pattern,
-                q,
-                v,
-                &[],
-                None,
-                None,
-                None,
-                Vec::new(),
-            )
-            .total
-            .energy
+            assemble_contact(model, c, &self.pattern, q, v, None, None)
+                .total
+                .energy
         });
         Potentials {
             strain,

@@ -322,8 +322,7 @@ impl Simulation {
         time: f64,
         mut observer: impl FnMut(&Simulation, &StepInfo) -> ControlFlow<()>,
     ) -> Result<(), SimulationError> {
-        let tolerance = 1e-9 * self.settings.time_step;
-        while !self.is_finished() && self.progress.state.time < time - tolerance {
+        while !self.has_reached(time) {
             let info = self.step()?;
             if observer(self, &info).is_break() {
                 break;
@@ -335,6 +334,12 @@ impl Simulation {
     /// Whether every step up to the end time is done.
     pub fn is_finished(&self) -> bool {
         self.progress.step >= self.steps
+    }
+
+    /// Whether the simulation has reached `time` (s; within round-off of
+    /// the step times) or its end time.
+    pub fn has_reached(&self, time: f64) -> bool {
+        self.is_finished() || self.progress.state.time >= time - 1e-9 * self.settings.time_step
     }
 
     /// The current state (time, coordinates, velocities, accelerations).

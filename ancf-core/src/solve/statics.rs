@@ -138,15 +138,7 @@ fn newton(
         // Π = U − Q_extᵀ(q − q_ref): a full Newton step on a stiff beam can
         // raise ‖R‖ (a linearized rotation stretches r_x) while Π falls, so
         // the residual norm alone is the wrong merit function here.
-        let ext = forces.external().to_vec();
-        let potential = |q: &[f64], u: f64| -> f64 {
-            u - ext
-                .iter()
-                .zip(q.iter().zip(&model.reference))
-                .map(|(f, (a, b))| f * (a - b))
-                .sum::<f64>()
-        };
-        let pi0 = potential(q, u);
+        let pi0 = u - forces.external_work(model, q);
         let slope: f64 = r.iter().zip(&dq).map(|(a, b)| a * b).sum();
         let mut alpha = 1.0;
         let mut trial = q.clone();
@@ -154,7 +146,7 @@ fn newton(
             trial.copy_from_slice(q);
             model.scatter_add(&dq, alpha, &mut trial);
             let (rt, _, ut) = residual(model, forces, &trial, None);
-            let pit = potential(&trial, ut);
+            let pit = ut - forces.external_work(model, &trial);
             let ok_energy =
                 pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
             if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {

@@ -178,6 +178,37 @@ pub fn batched_force_us(el: &ElementIntegration) -> f64 {
     }) / 32.0
 }
 
+/// Floating-point operations of one pre-integrated SVK element force and
+/// Jacobian with a 3-point axial rule, counted in `jacobians_lanes`
+/// (preintegration.rs): per station the force's 582, the Hessian blocks'
+/// 45 outer products of an isotropic law at 21 each (3 scalings, 9
+/// multiply-adds) and K's 82 node-block terms at 20 each (2 products of
+/// T's coefficients, 9 multiply-adds) — 3167, times 3 stations — plus the
+/// 576 additions into the element matrix.
+pub const JACOBIAN_FLOPS: f64 = 3.0 * (582.0 + 45.0 * 21.0 + 82.0 * 20.0) + 576.0;
+
+/// Force + Jacobian time (µs per element) of 32 elements evaluated four at
+/// a time, as the Jacobian assembly does
+/// (`ElementIntegration::jacobians_x4`); `NaN` when the element has no
+/// batched kernel.
+pub fn batched_jacobian_us(el: &ElementIntegration) -> f64 {
+    let e = deformed_element(el.length);
+    let lanes: [[f64; 4]; 24] = std::array::from_fn(|i| [e[i], e[i] * 1.0001, e[i] * 0.9999, e[i]]);
+    let mut k = Box::new([[0.0; 4]; 576]);
+    if el
+        .jacobians_x4(&lanes, &mut [[0.0; 4]; 24], &mut k)
+        .is_none()
+    {
+        return f64::NAN;
+    }
+    time_us(|| {
+        for _ in 0..8 {
+            let mut q = [[0.0; 4]; 24];
+            std::hint::black_box(el.jacobians_x4(std::hint::black_box(&lanes), &mut q, &mut k));
+        }
+    }) / 32.0
+}
+
 /// The core's multiply-add peak on the chosen path (GFLOP/s): 12
 /// independent chains of 4-lane (256-bit: the kernels' width) fused
 /// multiply-adds on the AVX paths, of 2-lane multiplies and adds on the
@@ -293,11 +324,20 @@ pub struct BenchReport {
     pub fma_peak_gflops: f64,
     pub force_peak_fraction: f64,
     pub jacobian_us: f64,
+    /// The same force + Jacobian, four elements at a time as the Jacobian
+    /// assembly evaluates them (µs per element), its operations
+    /// ([`JACOBIAN_FLOPS`]) and their rate (GFLOP/s).
+    pub jacobian_batch_us: f64,
+    pub jacobian_flops: f64,
+    pub jacobian_gflops: f64,
+    pub jacobian_peak_fraction: f64,
     /// Rectangle 3 axial × 2×2 SVK (Chrono's ChElementBeamANCF_3243 case).
     pub rect_force_us: f64,
     /// The rectangle's force four elements at a time (µs per element).
     pub rect_force_batch_us: f64,
     pub rect_jacobian_us: f64,
+    /// The rectangle's force + Jacobian four elements at a time (µs per element).
+    pub rect_jacobian_batch_us: f64,
     /// Mooney–Rivlin Jacobian per section point (plain formulation).
     pub mooney_rivlin_jacobian_us_per_point: f64,
     pub step_ms_32_full_newton: f64,
@@ -345,7 +385,12 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
             let (f, j) = element_times(&circle);
             let (rf, rj) = element_times(&rect);
             let (_, mj) = element_times(&mr);
-            let batch = (batched_force_us(&circle), batched_force_us(&rect));
+            let batch = (
+                batched_force_us(&circle),
+                batched_force_us(&rect),
+                batched_jacobian_us(&circle),
+                batched_jacobian_us(&rect),
+            );
             (f, j, rf, rj, mj / points as f64, batch)
         });
     let peak = fma_peak_gflops();
@@ -435,6 +480,10 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         simd: ancf_core::math::simd::path().name().into(),
         force_us,
         force_batch_us: batch.0,
+        jacobian_batch_us: batch.2,
+        jacobian_flops: JACOBIAN_FLOPS,
+        jacobian_gflops: JACOBIAN_FLOPS / batch.2 / 1e3,
+        jacobian_peak_fraction: JACOBIAN_FLOPS / batch.2 / 1e3 / peak,
         force_flops: FORCE_FLOPS,
         force_gflops,
         fma_peak_gflops: peak,
@@ -442,6 +491,7 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         jacobian_us,
         rect_force_us,
         rect_force_batch_us: batch.1,
+        rect_jacobian_batch_us: batch.3,
         rect_jacobian_us,
         mooney_rivlin_jacobian_us_per_point: mr,
         step_ms_32_full_newton: step_full.get("32").copied().unwrap_or(f64::NAN),
@@ -483,8 +533,9 @@ pub fn table(r: &BenchReport) -> String {
         r.rect_force_us, r.rect_jacobian_us
     );
     s += &format!(
-        "  four at a time (assembly): circle force {:.3}, rectangle force {:.3}\n",
-        r.force_batch_us, r.rect_force_batch_us
+        "  four at a time (assembly): circle force {:.3}, rectangle force {:.3}; \
+         circle Jacobian {:.3}, rectangle Jacobian {:.3}\n",
+        r.force_batch_us, r.rect_force_batch_us, r.jacobian_batch_us, r.rect_jacobian_batch_us
     );
     s += &format!(
         "  circle force: {:.0} flops, {:.1} GFLOP/s of a {:.1} GFLOP/s multiply-add peak ({:.0} %)\n",
@@ -492,6 +543,12 @@ pub fn table(r: &BenchReport) -> String {
         r.force_gflops,
         r.fma_peak_gflops,
         100.0 * r.force_peak_fraction
+    );
+    s += &format!(
+        "  circle force + Jacobian: {:.0} flops, {:.1} GFLOP/s ({:.0} % of the peak)\n",
+        r.jacobian_flops,
+        r.jacobian_gflops,
+        100.0 * r.jacobian_peak_fraction
     );
     s += &format!(
         "  Mooney–Rivlin Jacobian per section point   {:8.3} µs\n",

@@ -402,6 +402,30 @@ impl ElementIntegration {
         ))
     }
 
+    /// Forces (added to `q`), strain energies and Jacobians (written over
+    /// `k`: `k[i * 24 + j][m]` is entry (i, j) of the m-th element) of four
+    /// elements at once: the SIMD-friendly form of
+    /// [`ElementIntegration::evaluate`] with a Jacobian, the same bits per
+    /// element. `None` where [`Self::forces_x4`] is.
+    pub fn jacobians_x4(
+        &self,
+        e: &[[f64; 4]; 24],
+        q: &mut [[f64; 4]; 24],
+        k: &mut [[f64; 4]; 576],
+    ) -> Option<[f64; 4]> {
+        let (pre, nodes, weights) = self.lane_kernel_data()?;
+        Some(preintegration::jacobians_4(
+            crate::math::simd::path(),
+            pre,
+            nodes,
+            weights,
+            self.length,
+            e,
+            q,
+            k,
+        ))
+    }
+
     /// What the lane kernel needs — the pre-integrated section and the
     /// generated axial rule — when this element is integrated by
     /// pre-integration alone with a generated rule.

@@ -17,7 +17,9 @@
 use crate::element::{ElementMatrix, ElementVector};
 use crate::math::quadrature::SectionPoint;
 use crate::math::simd::Arith;
-use nalgebra::{Matrix6, SMatrix, SVector, Vector3};
+#[cfg(test)]
+use nalgebra::Vector3;
+use nalgebra::{Matrix6, SMatrix, SVector};
 
 type M15 = SMatrix<f64, 15, 15>;
 type V15 = SVector<f64, 15>;
@@ -411,7 +413,9 @@ impl PreIntegrated {
 
     /// Energy, force and Jacobian of the pre-integrated laws over the axial
     /// rule (`nodes` ξ ∈ [0, 1], `weights` summing to 1) of an element of
-    /// length `l` (m), added to `q` and `k`.
+    /// length `l` (m), added to `q` and `k`: the lane kernel with one lane,
+    /// so that an element alone and in a batch of four
+    /// ([`jacobians_4`], [`forces_4`]) gets the same bits on every path.
     pub fn evaluate<const N: usize>(
         &self,
         nodes: &[f64; N],
@@ -421,18 +425,37 @@ impl PreIntegrated {
         q: &mut ElementVector,
         k: Option<&mut ElementMatrix>,
     ) -> f64 {
-        let Some(k) = k else {
-            return forces_1(crate::math::simd::path(), self, nodes, weights, l, e, q);
-        };
+        let path = crate::math::simd::path();
+        match k {
+            None => forces_1(path, self, nodes, weights, l, e, q),
+            Some(k) => jacobians_1(path, self, nodes, weights, l, e, q, k),
+        }
+    }
+}
+
+/// The scalar form of the lane kernel, one element and one station at a
+/// time: the readable statement of what [`jacobians_lanes`] computes, and
+/// the tests' reference for it (bit for bit on the baseline path).
+#[cfg(test)]
+impl PreIntegrated {
+    /// [`PreIntegrated::evaluate`] with a Jacobian, element by element: the
+    /// stations' Hessian blocks first, then each node block of K summed
+    /// over the stations and written once.
+    fn evaluate_scalar(
+        &self,
+        nodes: &[f64],
+        weights: &[f64],
+        l: f64,
+        e: &ElementVector,
+        q: &mut ElementVector,
+        k: &mut ElementMatrix,
+    ) -> f64 {
+        let n = nodes.len();
         let mut energy = 0.0;
-        // With a Jacobian: the stations' Hessian blocks first, then each node
-        // block of K summed over the stations in registers and written once
-        // (accumulating station by station into memory stalled on store
-        // forwarding).
-        let mut h = [[[0.0f64; 9]; 25]; N];
-        let mut tc = [[0.0f64; 12]; N];
-        let wx = weights.map(|w| w * l);
-        for st in 0..N {
+        let mut h = vec![[[0.0f64; 9]; 25]; n];
+        let mut tc = vec![[0.0f64; 12]; n];
+        let wx: Vec<f64> = weights.iter().map(|w| w * l).collect();
+        for st in 0..n {
             let f = self.station(nodes[st], l, wx[st], e, q);
             energy += f.energy;
             tc[st] = f.tc;
@@ -571,6 +594,7 @@ impl PreIntegrated {
     }
 }
 
+#[cfg(test)]
 /// What one axial station leaves for the Jacobian: its energy (J), T's
 /// coefficients, the five vectors and S (S_ii = 2σ_ii, S_ij = σ_ij).
 struct Station {
@@ -673,7 +697,79 @@ fn forces_lanes<F: Arith, const W: usize, const FORCE: bool>(
 ) -> Lanes<W> {
     let mut energy = Lanes::splat(0.0);
     for (&xi, &w) in nodes.iter().zip(weights) {
-        energy = energy + station_lanes::<F, W, FORCE>(pre, xi, l, w * l, e, q);
+        energy = energy + station_lanes::<F, W, FORCE>(pre, xi, l, w * l, e, q).energy;
+    }
+    energy
+}
+
+/// What a lane station leaves for the Jacobian (as [`Station`] does for
+/// one element): its energy (J), the five vectors by components and S.
+struct LaneStation<const W: usize> {
+    energy: Lanes<W>,
+    u: [[Lanes<W>; 3]; 5],
+    s: [Lanes<W>; 15],
+}
+
+/// Force, energy and Jacobian of W elements, in [`PreIntegrated::evaluate`]'s
+/// order of operations: each station's Hessian blocks (as
+/// `hessian_blocks`), then K's 36 upper node blocks summed over the stations
+/// term by term (`NODE_BLOCKS`). The blocks' sums are kept apart from `k`
+/// until the end and added once, so that with [`crate::math::simd::Plain`]
+/// every lane has the scalar path's bits. One element's Jacobian is a
+/// chain of 3 × 3 outer products that leaves the vector units idle; W
+/// elements fill the registers (the force kernel's reason, see [`Lanes`]).
+#[inline(always)]
+fn jacobians_lanes<F: Arith, const W: usize>(
+    pre: &PreIntegrated,
+    nodes: &[f64],
+    weights: &[f64],
+    l: f64,
+    e: &[Lanes<W>; 24],
+    q: &mut [Lanes<W>; 24],
+    k: &mut [[Lanes<W>; 9]; 36],
+) -> Lanes<W> {
+    let zero = Lanes::<W>::splat(0.0);
+    *k = [[zero; 9]; 36];
+    let mut energy = zero;
+    for (&xi, &w) in nodes.iter().zip(weights) {
+        let wx = w * l;
+        let st = station_lanes::<F, W, true>(pre, xi, l, wx, e, q);
+        energy = energy + st.energy;
+        let tc = t_coefficients(xi, l);
+        let mut h = [[zero; 9]; 25];
+        for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
+            let mut acc = [zero; 9];
+            acc[0] = st.s[g];
+            acc[4] = st.s[g];
+            acc[8] = st.s[g];
+            let (start, end) = pre.hessian_ranges[g];
+            for &(vl, vr, coef) in &pre.hessian_terms[start..end] {
+                for a in 0..3 {
+                    let ul = st.u[vl][a] * coef;
+                    for b in 0..3 {
+                        acc[3 * a + b] = ul.mul_add::<F>(st.u[vr][b], acc[3 * a + b]);
+                    }
+                }
+            }
+            h[5 * i + j] = acc;
+            if i != j {
+                h[5 * j + i] = [
+                    acc[0], acc[3], acc[6], acc[1], acc[4], acc[7], acc[2], acc[5], acc[8],
+                ];
+            }
+        }
+        for (blk, kb) in NODE_BLOCKS.iter().zip(k.iter_mut()) {
+            // The block's sum in registers over its terms (accumulating in
+            // memory term by term waited on store forwarding, perf).
+            let mut acc = *kb;
+            for &(p1, p2, hi) in &blk.terms[..blk.len] {
+                let c = wx * tc[p1] * tc[p2];
+                for (x, hv) in acc.iter_mut().zip(&h[hi]) {
+                    *x = hv.mul_add_s::<F>(c, *x);
+                }
+            }
+            *kb = acc;
+        }
     }
     energy
 }
@@ -689,7 +785,7 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
     wx: f64,
     e: &[Lanes<W>; 24],
     q: &mut [Lanes<W>; 24],
-) -> Lanes<W> {
+) -> LaneStation<W> {
     let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = t_coefficients(xi, l);
     let zero = Lanes::<W>::splat(0.0);
     // u = T e by components: u[v][c] is component c of vector v.
@@ -736,7 +832,11 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
         sigma[col] = ms[r] * coef;
     }
     if !FORCE {
-        return energy * (wx * 0.5);
+        return LaneStation {
+            energy: energy * (wx * 0.5),
+            u,
+            s: sigma,
+        };
     }
     let mut s = sigma;
     for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
@@ -769,7 +869,11 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
         q[18 + c] = q[18 + c] + gy.mul_add_s::<F>(xi1, ga);
         q[21 + c] = q[21 + c] + gz.mul_add_s::<F>(xi1, gb);
     }
-    energy * (wx * 0.5)
+    LaneStation {
+        energy: energy * (wx * 0.5),
+        u,
+        s,
+    }
 }
 
 /// The lane kernel on plain arrays (`e[i][k]`: coordinate i of element k).
@@ -791,6 +895,75 @@ fn forces_arrays<F: Arith, const W: usize, const FORCE: bool>(
     for (qi, v) in q.iter_mut().zip(&ql) {
         *qi = v.0;
     }
+    energy.0
+}
+
+/// Write K's upper node blocks (as [`jacobians_lanes`] leaves them) and
+/// their mirror images through `k(i * 24 + j, entry)`: each entry of the
+/// 24 × 24 matrix is visited once.
+#[inline(always)]
+fn node_blocks_to_matrix<const W: usize>(
+    blocks: &[[Lanes<W>; 9]; 36],
+    mut k: impl FnMut(usize, Lanes<W>),
+) {
+    for (blk, acc) in NODE_BLOCKS.iter().zip(blocks) {
+        let (a, b) = (blk.a, blk.b);
+        for r in 0..3 {
+            for c in 0..3 {
+                let v = acc[3 * r + c];
+                k((3 * a + r) * 24 + 3 * b + c, v);
+                if a != b {
+                    k((3 * b + c) * 24 + 3 * a + r, v);
+                }
+            }
+        }
+    }
+}
+
+/// One element's force, energy and Jacobian (added to `q` and `k`)
+/// through the lane kernel: the bits of a batch of four's lane.
+#[inline(always)]
+fn jacobians_1_with<F: Arith>(
+    pre: &PreIntegrated,
+    nodes: &[f64],
+    weights: &[f64],
+    l: f64,
+    e: &ElementVector,
+    q: &mut ElementVector,
+    k: &mut ElementMatrix,
+) -> f64 {
+    let el: [Lanes<1>; 24] = std::array::from_fn(|i| Lanes([e[i]]));
+    let mut ql: [Lanes<1>; 24] = std::array::from_fn(|i| Lanes([q[i]]));
+    let mut blocks = [[Lanes([0.0]); 9]; 36];
+    let energy = jacobians_lanes::<F, 1>(pre, nodes, weights, l, &el, &mut ql, &mut blocks);
+    for (qi, v) in q.iter_mut().zip(&ql) {
+        *qi = v.0[0];
+    }
+    node_blocks_to_matrix(&blocks, |i, v| k[i] += v.0[0]);
+    energy.0[0]
+}
+
+/// Four elements' forces (added to `q`), energies and Jacobians (written
+/// over `k` by lanes: `k[i * 24 + j][m]` is entry (i, j) of element m, one
+/// vector store per entry).
+#[inline(always)]
+fn jacobians_4_with<F: Arith>(
+    pre: &PreIntegrated,
+    nodes: &[f64],
+    weights: &[f64],
+    l: f64,
+    e: &[[f64; 4]; 24],
+    q: &mut [[f64; 4]; 24],
+    k: &mut [[f64; 4]; 576],
+) -> [f64; 4] {
+    let el: [Lanes<4>; 24] = std::array::from_fn(|i| Lanes(e[i]));
+    let mut ql: [Lanes<4>; 24] = std::array::from_fn(|i| Lanes(q[i]));
+    let mut blocks = [[Lanes([0.0; 4]); 9]; 36];
+    let energy = jacobians_lanes::<F, 4>(pre, nodes, weights, l, &el, &mut ql, &mut blocks);
+    for (qi, v) in q.iter_mut().zip(&ql) {
+        *qi = v.0;
+    }
+    node_blocks_to_matrix(&blocks, |i, v| k[i] = v.0);
     energy.0
 }
 
@@ -863,6 +1036,34 @@ crate::simd_dispatch! {
         e: &[[f64; 4]; 24],
         q: &mut [[f64; 4]; 24],
     ) -> [f64; 4] = forces_4_with;
+}
+
+crate::simd_dispatch! {
+    fn jacobians_1(
+        pre: &PreIntegrated,
+        nodes: &[f64],
+        weights: &[f64],
+        l: f64,
+        e: &ElementVector,
+        q: &mut ElementVector,
+        k: &mut ElementMatrix,
+    ) -> f64 = jacobians_1_with;
+}
+
+crate::simd_dispatch! {
+    /// Forces (added to `q`), energies and Jacobians (written over `k`,
+    /// entry-major with the elements as lanes) of four elements given by
+    /// lanes: each element's bits as it gets them alone from
+    /// [`PreIntegrated::evaluate`] (into a zero matrix).
+    pub(crate) fn jacobians_4(
+        pre: &PreIntegrated,
+        nodes: &[f64],
+        weights: &[f64],
+        l: f64,
+        e: &[[f64; 4]; 24],
+        q: &mut [[f64; 4]; 24],
+        k: &mut [[f64; 4]; 576],
+    ) -> [f64; 4] = jacobians_4_with;
 }
 
 crate::simd_dispatch! {
@@ -965,6 +1166,73 @@ mod tests {
                     }
                 }
                 assert!((energy - scalar_energy).abs() <= 1e-12 * scalar_energy.abs());
+            }
+        }
+    }
+
+    /// The Jacobian lane kernel against the scalar form: bit for bit on the
+    /// baseline path (force, energy and all 576 entries), to round-off on
+    /// the fused paths; four elements at once give each the bits it gets
+    /// alone ([`PreIntegrated::evaluate`]), on every path this CPU runs;
+    /// and the force of a Jacobian evaluation is the force-only kernel's.
+    #[test]
+    fn jacobian_lane_kernel_equals_the_scalar_form_on_every_path() {
+        let core = Material::st_venant_kirchhoff(5990.0, 1.54e11, 0.0, 0.1);
+        let cover = Material::st_venant_kirchhoff(2026.0, 5.17e10, 0.3, 0.1);
+        let model = WireBuilder::new(2.0, 8)
+            .layer(core, 0.0052)
+            .layer(cover, 0.01407)
+            .build()
+            .unwrap();
+        let pre = model.element(0).plan.preintegrated.as_ref().unwrap();
+        let l = model.element(0).length;
+        let (nodes, weights) = (
+            &[0.1127016653792583, 0.5, 0.8872983346207417],
+            &[5.0 / 18.0, 4.0 / 9.0, 5.0 / 18.0],
+        );
+        let elements: [ElementVector; 4] = std::array::from_fn(|k| {
+            let mut e = model.element_coordinates(&model.reference, k);
+            for (i, v) in e.iter_mut().enumerate() {
+                *v += 0.02 * (((i * 7919 + 31 * k) % 23) as f64 / 23.0 - 0.5);
+            }
+            e
+        });
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
+            let lanes_in: [[f64; 4]; 24] =
+                std::array::from_fn(|i| std::array::from_fn(|k| elements[k][i]));
+            let mut q4 = [[0.0; 4]; 24];
+            let mut k4 = [[f64::NAN; 4]; 576];
+            let u4 = jacobians_4(path, pre, nodes, weights, l, &lanes_in, &mut q4, &mut k4);
+            for (k, e) in elements.iter().enumerate() {
+                let (mut q1, mut k1) = ([0.0; 24], [0.0; 576]);
+                let u1 = jacobians_1(path, pre, nodes, weights, l, e, &mut q1, &mut k1);
+                let q_lane: Vec<f64> = (0..24).map(|i| q4[i][k]).collect();
+                assert_eq!(u1.to_bits(), u4[k].to_bits(), "{}", path.name());
+                assert_eq!(bits(&q1), bits(&q_lane), "{}", path.name());
+                let k_lane: Vec<f64> = (0..576).map(|i| k4[i][k]).collect();
+                assert_eq!(bits(&k1), bits(&k_lane), "{}", path.name());
+                let mut q_force = [0.0; 24];
+                forces_1(path, pre, nodes, weights, l, e, &mut q_force);
+                assert_eq!(bits(&q1), bits(&q_force), "{}", path.name());
+                let (mut qs, mut ks) = ([0.0; 24], [0.0; 576]);
+                let us = pre.evaluate_scalar(nodes, weights, l, e, &mut qs, &mut ks);
+                let size = ks.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                assert!(size > 0.0);
+                if path == SimdPath::Baseline {
+                    assert_eq!(us.to_bits(), u1.to_bits());
+                    assert_eq!(bits(&qs), bits(&q1));
+                    assert_eq!(bits(&ks), bits(&k1));
+                } else {
+                    for (a, b) in ks.iter().zip(&k1) {
+                        assert!(
+                            (a - b).abs() <= 1e-12 * size,
+                            "{}: {a:e} against {b:e}",
+                            path.name()
+                        );
+                    }
+                    assert!((us - u1).abs() <= 1e-12 * us.abs());
+                }
             }
         }
     }

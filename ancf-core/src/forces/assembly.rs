@@ -138,6 +138,26 @@ impl Pattern {
         }
     }
 
+    /// Add lane `lane` of four element matrices stored entry-major
+    /// (`m[i * 24 + j][lane]`, as `jacobians_x4` writes them) as the matrix
+    /// of element `el`, to a window of the values that starts at slot
+    /// `offset`: [`Self::add_element_columns`] over all columns.
+    fn add_lane_columns(
+        &self,
+        values: &mut [f64],
+        offset: usize,
+        el: usize,
+        m: &[[f64; 4]; 576],
+        lane: usize,
+    ) {
+        let slots = &self.slots[el * 576..(el + 1) * 576];
+        for (s, v) in slots.iter().zip(m) {
+            if *s != NO_SLOT {
+                values[*s as usize - offset] += v[lane];
+            }
+        }
+    }
+
     /// Add an element matrix (row-major 24×24) of element `el`.
     pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576]) {
         self.add_element_columns(values, 0, el, m, 0..24);
@@ -185,36 +205,79 @@ pub fn assemble_into(
             v.fill(0.0);
             (v, 0)
         });
-        for group in &model.groups {
-            let mut first = group.elements.start;
-            if values.is_none() {
-                // Forces only: four elements at a time where the kernel allows
-                // (the same bits per element as one by one; faster with SIMD).
-                while first + 4 <= group.elements.end {
-                    let e4 = four_elements(model, q, first);
-                    let mut q4 = [[0.0; 4]; 24];
-                    let Some(u) = group.integration.forces_x4(&e4, &mut q4) else {
-                        break;
-                    };
-                    for k in 0..4 {
-                        energy[first + k] = u[k];
-                        let base = NODE_DOFS * (first + k);
-                        for i in 0..24 {
-                            force[base + i] += q4[i][k];
-                        }
-                    }
-                    first += 4;
-                }
-            }
-            for el in first..group.elements.end {
-                let part = Part::Whole;
-                energy[el] = add_element(model, pattern, q, el, part, force, values.as_mut());
-            }
-        }
+        let all = 0..model.n_elements;
+        add_whole_elements(model, pattern, q, all, 0, force, energy, values.as_mut());
     } else {
         assemble_chunks(model, pattern, q, force, energy, jacobian);
     }
     energy.iter().sum()
+}
+
+/// The elements `els` whole — force and, with `values`, Jacobian columns —
+/// into a force window that starts at node `node0`, their energies into
+/// `energy` (from `els.start` on). Four at a time where the kernel allows
+/// ([`crate::element::ElementIntegration::forces_x4`], `jacobians_x4`):
+/// the same bits per element as one by one, added in the same order, and
+/// faster with SIMD.
+#[allow(clippy::too_many_arguments)]
+fn add_whole_elements(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    els: Range<usize>,
+    node0: usize,
+    force: &mut [f64],
+    energy: &mut [f64],
+    mut values: Option<&mut (&mut [f64], usize)>,
+) {
+    let e0 = els.start;
+    for group in &model.groups {
+        let end = group.elements.end.min(els.end);
+        let mut first = group.elements.start.max(els.start);
+        while first + 4 <= end {
+            let e4 = four_elements(model, q, first);
+            let mut q4 = [[0.0; 4]; 24];
+            let u = match values.as_mut() {
+                Some((v, offset)) => {
+                    let mut k4 = [[0.0; 4]; 576];
+                    let Some(u) = group.integration.jacobians_x4(&e4, &mut q4, &mut k4) else {
+                        break;
+                    };
+                    for k in 0..4 {
+                        pattern.add_lane_columns(v, *offset, first + k, &k4, k);
+                    }
+                    u
+                }
+                None => {
+                    let Some(u) = group.integration.forces_x4(&e4, &mut q4) else {
+                        break;
+                    };
+                    u
+                }
+            };
+            for k in 0..4 {
+                energy[first + k - e0] = u[k];
+                let base = NODE_DOFS * (first + k - node0);
+                for i in 0..24 {
+                    force[base + i] += q4[i][k];
+                }
+            }
+            first += 4;
+        }
+        for el in first..end {
+            let part = Part::Whole;
+            energy[el - e0] = add_element_window(
+                model,
+                pattern,
+                q,
+                el,
+                part,
+                node0,
+                force,
+                values.as_deref_mut(),
+            );
+        }
+    }
 }
 
 /// Coordinate i of elements `first`..`first + 4` as lanes: `[i][k]`.
@@ -394,18 +457,15 @@ fn assemble_chunks(
             v.fill(0.0);
         }
         let (node0, el0) = (c.nodes.start, c.interior.start);
-        let mut add = |el: usize, part: Part| {
-            // Window-relative: force rows from our first node on.
-            add_element_window(model, pattern, q, el, part, node0, f, v.as_mut())
-        };
+        // Window-relative: force rows from our first node on.
         if let Some(b) = c.lead {
-            add(b, Part::SecondNode);
+            add_element_window(model, pattern, q, b, Part::SecondNode, node0, f, v.as_mut());
         }
-        for el in c.interior.clone() {
-            e[el - el0] = add(el, Part::Whole);
-        }
+        let interior = c.interior.clone();
+        add_whole_elements(model, pattern, q, interior, node0, f, e, v.as_mut());
         if let Some(b) = c.trail {
-            e[b - el0] = add(b, Part::FirstNode);
+            let part = Part::FirstNode;
+            e[b - el0] = add_element_window(model, pattern, q, b, part, node0, f, v.as_mut());
         }
     });
 }
@@ -419,21 +479,8 @@ type ChunkTask<'c, 'w> = (
 );
 
 /// Evaluate element `el` at `q` and add the `part` of its force and
-/// Jacobian columns to `force` (full coordinates) and `values` (slots from
-/// the given offset on); returns its strain energy.
-fn add_element(
-    model: &Model,
-    pattern: &Pattern,
-    q: &[f64],
-    el: usize,
-    part: Part,
-    force: &mut [f64],
-    values: Option<&mut (&mut [f64], usize)>,
-) -> f64 {
-    add_element_window(model, pattern, q, el, part, 0, force, values)
-}
-
-/// [`add_element`] into a force window that starts at node `node0`.
+/// Jacobian columns to a force window that starts at node `node0` and to
+/// `values` (slots from the given offset on); returns its strain energy.
 #[allow(clippy::too_many_arguments)]
 fn add_element_window(
     model: &Model,
@@ -751,8 +798,9 @@ mod tests {
             let mut all = (&mut k_serial[..], 0);
             for el in 0..n {
                 let f = &mut f_serial;
+                let whole = Part::Whole;
                 u_serial[el] =
-                    add_element(&model, &pattern, &q, el, Part::Whole, f, Some(&mut all));
+                    add_element_window(&model, &pattern, &q, el, whole, 0, f, Some(&mut all));
             }
             let same =
                 |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());

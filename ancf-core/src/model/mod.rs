@@ -115,6 +115,9 @@ pub struct Model {
     /// Reference coordinates, 12 per node.
     pub reference: Vec<f64>,
     /// For each coordinate, its unknown index, or `None` when eliminated.
+    /// Unknowns are numbered in coordinate order (0, 1, 2, … over the
+    /// coordinates not held): the assembly pattern, `scatter_add` and the
+    /// residual rely on it.
     pub dof_map: Vec<Option<usize>>,
     /// Number of unknowns (coordinates not held).
     pub n_unknowns: usize,
@@ -811,9 +814,12 @@ impl Model {
 
     /// Add `scale · x` (unknowns) into a full vector.
     pub fn scatter_add(&self, x: &[f64], scale: f64, full: &mut [f64]) {
-        for (c, m) in self.dof_map.iter().enumerate() {
-            if let Some(u) = m {
-                full[c] += scale * x[*u];
+        // Unknowns are numbered in coordinate order: x is read front to
+        // back (no indexing, no bounds checks in the Newton update).
+        let mut unknowns = x.iter();
+        for (f, m) in full.iter_mut().zip(&self.dof_map) {
+            if m.is_some() {
+                *f += scale * unknowns.next().expect("one value per unknown");
             }
         }
     }

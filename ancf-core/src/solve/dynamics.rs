@@ -698,16 +698,20 @@ impl Integrator {
         let (q, ext) = (self.forces.internal(), self.forces.external());
         model.mass_times_into(&w.am, &mut w.ma);
         let ma = &w.ma;
-        // R, ‖M a‖ and ‖Q‖ on the unknowns in one pass (no gathered copies).
-        let mut r = vec![0.0; model.n_unknowns];
+        // R, ‖M a‖ and ‖Q‖ on the unknowns in one pass (no gathered copies;
+        // unknowns are numbered in coordinate order, `Model::dof_map`, so R
+        // is filled front to back without indexing).
+        let mut r = Vec::with_capacity(model.n_unknowns);
         let (mut ma2, mut q2) = (0.0, 0.0);
-        for (c, u) in model.dof_map.iter().enumerate() {
-            if let Some(u) = *u {
-                r[u] = ma[c] + q[c] - ext[c];
-                ma2 += ma[c] * ma[c];
-                q2 += q[c] * q[c];
+        let coordinates = model.dof_map.iter().zip(ma).zip(q).zip(ext);
+        for (((u, &ma), &q), &ext) in coordinates {
+            if u.is_some() {
+                r.push(ma + q - ext);
+                ma2 += ma * ma;
+                q2 += q * q;
             }
         }
+        debug_assert_eq!(r.len(), model.n_unknowns);
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         if let Some((qd, power)) = self.forces.damping() {
             r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);

@@ -401,4 +401,3 @@ mod tests {
         assert!(lu.factorize(&[0.0; 4]).is_err());
     }
 }
-

@@ -675,7 +675,14 @@ impl Integrator {
         let pairs = match model.contact() {
             Some(c) => {
                 let margin = CANDIDATE_MARGIN * c.wire_radius;
-                if w.contact_pairs_at != s.q {
+                // Bit for bit (integer compares vectorize; `!=` on f64
+                // branches on NaN per entry).
+                let same_start = w.contact_pairs_at.len() == s.q.len()
+                    && w.contact_pairs_at
+                        .iter()
+                        .zip(&s.q)
+                        .all(|(a, b)| a.to_bits() == b.to_bits());
+                if !same_start {
                     contact_candidates(model, c, &s.q, margin, &mut w.contact_pairs);
                     w.contact_pairs_at.clone_from(&s.q);
                 }
@@ -701,17 +708,19 @@ impl Integrator {
         // R, ‖M a‖ and ‖Q‖ on the unknowns in one pass (no gathered copies;
         // unknowns are numbered in coordinate order, `Model::dof_map`, so R
         // is filled front to back without indexing).
-        let mut r = Vec::with_capacity(model.n_unknowns);
+        // (Into slots, not `push`: a push may call the allocator, and the
+        // sums then lived on the stack, a store and a load per coordinate.)
+        let mut r = vec![0.0; model.n_unknowns];
+        let mut slots = r.iter_mut();
         let (mut ma2, mut q2) = (0.0, 0.0);
         let coordinates = model.dof_map.iter().zip(ma).zip(q).zip(ext);
         for (((u, &ma), &q), &ext) in coordinates {
             if u.is_some() {
-                r.push(ma + q - ext);
+                *slots.next().expect("one slot per unknown") = ma + q - ext;
                 ma2 += ma * ma;
                 q2 += q * q;
             }
         }
-        debug_assert_eq!(r.len(), model.n_unknowns);
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         if let Some((qd, power)) = self.forces.damping() {
             r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);

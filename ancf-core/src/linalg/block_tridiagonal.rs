@@ -39,11 +39,9 @@ pub struct BlockTridiagonalLu {
     /// factorization with a (value, place, block, row, column) list).
     slots: Vec<(u32, u32)>,
     /// The matrix by blocks: Dₖ at k, Uₖ at m + k, Lₖ at 2m − 1 + k.
+    /// Only the slots and the padding's identity are ever written here;
+    /// every other entry stays the zero it was built with.
     input: Vec<Block>,
-    /// The blocks of `input` that the slots do not fill entirely (a node
-    /// with fewer than 12 unknowns): zeroed, their padding set to the
-    /// identity, before each factorization; the others are overwritten.
-    partial: Vec<usize>,
     /// Sₖ⁻¹ and Gₖ after `factorize`.
     inverse: Vec<Block>,
     gain: Vec<Block>,
@@ -102,15 +100,9 @@ impl BlockTridiagonalLu {
             let flat = block * B * B + lr * B + lc;
             slots.push((u32::try_from(v).ok()?, u32::try_from(flat).ok()?));
         }
-        let mut filled = vec![0usize; 3 * m - 2];
-        for &(_, flat) in &slots {
-            filled[flat as usize / (B * B)] += 1;
-        }
-        let partial = (0..3 * m - 2).filter(|&b| filled[b] < B * B).collect();
         Some(BlockTridiagonalLu {
             starts,
             slots,
-            partial,
             input: vec![ZERO; 3 * m - 2],
             inverse: vec![ZERO; m],
             gain: vec![ZERO; m.saturating_sub(1)],
@@ -263,9 +255,8 @@ fn factorize_with<F: Arith>(
     values: &[f64],
 ) -> Result<(), SingularBlock> {
     let m = lu.inverse.len();
-    for &b in &lu.partial {
-        lu.input[b] = ZERO;
-    }
+    // No clearing: the slots overwrite every entry of the pattern, and the
+    // entries outside it are never written (zero since `new`).
     for k in 0..m {
         // The padding of a node with fewer than 12 unknowns: the identity.
         for r in lu.starts[k + 1] - lu.starts[k]..B {
@@ -383,6 +374,53 @@ mod tests {
             .map(|(p, q)| (p - q).abs())
             .fold(0.0, f64::max);
         assert!(diff < 1e-13, "{diff:e}");
+    }
+
+    /// A refactorization keeps nothing of the previous matrix (the blocks
+    /// are not cleared in between): a factorization of B after one of A
+    /// equals a fresh one of B bit for bit, padded nodes included.
+    #[test]
+    fn refactorization_keeps_nothing_of_the_previous_matrix() {
+        let sizes = [9usize, 12, 12, 10, 12];
+        let n: usize = sizes.iter().sum();
+        let mut node = Vec::new();
+        for (k, s) in sizes.iter().enumerate() {
+            node.extend(std::iter::repeat_n(k, *s));
+        }
+        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
+        let matrix = |seed: usize| {
+            let mut dense = vec![0.0; n * n];
+            for r in 0..n {
+                for c in (0..n).filter(|&c| coupled(r, c)) {
+                    dense[r * n + c] = if r == c {
+                        30.0 + seed as f64
+                    } else {
+                        ((r * 13 + c * 7 + seed * 5) % 17) as f64 / 17.0 - 0.5
+                    };
+                }
+            }
+            crate::linalg::band_cholesky::tests::TestMatrix::new(n, dense, coupled)
+        };
+        let (a, b) = (matrix(1), matrix(4));
+        let mut reused = BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).unwrap();
+        reused.factorize(&a.values).unwrap();
+        reused.factorize(&b.values).unwrap();
+        let mut fresh = BlockTridiagonalLu::new(n, &b.col_ptr, &b.row_idx).unwrap();
+        fresh.factorize(&b.values).unwrap();
+        let bits = |lu: &BlockTridiagonalLu| {
+            let blocks = lu.inverse.iter().chain(&lu.gain);
+            blocks
+                .flatten()
+                .flatten()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&reused), bits(&fresh));
+        let rhs: Vec<f64> = (0..n).map(|i| (i as f64).cos()).collect();
+        let (mut x1, mut x2) = (rhs.clone(), rhs);
+        reused.solve_in_place(&mut x1);
+        fresh.solve_in_place(&mut x2);
+        assert_eq!(x1, x2);
     }
 
     #[test]

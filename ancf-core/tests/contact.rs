@@ -244,7 +244,8 @@ fn kelvin_voigt_jacobians_match_finite_differences() {
 /// its start, with a margin; its Newton iterates visit only them while their
 /// centerline stays within the margin. Within it the contact must be the
 /// same, bit for bit, as with every pair visited — also for iterates that
-/// moved almost the whole margin toward the rod.
+/// moved almost the whole margin toward the rod; and so is the contact
+/// energy the energy guard reads at the step's end.
 #[test]
 fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
     use ancf_core::forces::assembly::{
@@ -302,6 +303,8 @@ fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
         );
         assert_eq!(all.force, some.force);
         assert_eq!(all.rod_forces, some.rod_forces);
+        // The energy guard sums the step end's contact energy over them too.
+        assert_eq!(all.total.energy.to_bits(), some.total.energy.to_bits());
         compared += 1;
         if all.total.active > 0
             && assemble_contact(&model, c, &pattern, &q0, &v, None, None)

@@ -20,8 +20,8 @@
 //! (overwritten), ∂(Q + Q_d)/∂v added to `kv`.
 
 use super::assembly::{
-    ContactForces, Pattern, assemble, assemble_contact, assemble_contact_reusing, assemble_into,
-    mass_values, strain_energy,
+    ContactForces, Pattern, assemble, assemble_contact_reusing, assemble_into, mass_values,
+    strain_energy,
 };
 use super::damping::{Damping, kelvin_voigt_force};
 use crate::model::Model;
@@ -264,12 +264,38 @@ impl ForceSum {
     /// The effects' potential energies at (q, v) (contact outside any
     /// event). Leaves the last evaluation's buffers alone.
     pub fn potentials(&self, model: &Model, q: &[f64], v: &[f64]) -> Potentials {
+        self.potentials_visiting(model, q, v, None)
+    }
+
+    /// [`ForceSum::potentials`] with the contact energy summed over the
+    /// (element, rod) pairs `pairs` only (see
+    /// [`crate::forces::assembly::contact_candidates`]; `None`: all pairs).
+    /// With candidates that hold at `q`, the same sum: a pair outside them
+    /// cannot touch and adds nothing.
+    pub fn potentials_visiting(
+        &self,
+        model: &Model,
+        q: &[f64],
+        v: &[f64],
+        pairs: Option<&[usize]>,
+    ) -> Potentials {
         let strain = strain_energy(model, q);
         let (gravity, loads) = model.external_potential(q);
         let contact = model.contact().map_or(0.0, |c| {
-            assemble_contact(model, c, &self.pattern, q, v, None, None)
-                .total
-                .energy
+            let none = Vec::new();
+            let cf = assemble_contact_reusing(
+                model,
+                c,
+                &self.pattern,
+                q,
+                v,
+                &[],
+                pairs,
+                None,
+                None,
+                none,
+            );
+            cf.total.energy
         });
         Potentials {
             strain,

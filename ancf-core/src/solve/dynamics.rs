@@ -414,6 +414,12 @@ struct Workspace {
     contact_pairs_at: Vec<f64>,
 }
 
+/// Whether two vectors are equal bit for bit (integer compares vectorize;
+/// `==` on f64 branches on NaN at every entry).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 /// How far (wire radii) the centerline may move within a step before its
 /// Newton iterations stop trusting the step's candidate contact pairs and
 /// run the whole broad phase: a step moves a falling wire by millimetres,
@@ -552,7 +558,15 @@ impl Integrator {
 
     /// Energies of a state.
     pub fn energies(&self, s: &State) -> Energies {
-        let p = self.forces.potentials(&self.model, &s.q, &s.v);
+        self.energies_visiting(s, None)
+    }
+
+    /// [`Integrator::energies`] with the contact energy over `pairs` only
+    /// (see [`ForceSum::potentials_visiting`]).
+    fn energies_visiting(&self, s: &State, pairs: Option<&[usize]>) -> Energies {
+        let p = self
+            .forces
+            .potentials_visiting(&self.model, &s.q, &s.v, pairs);
         let mv = self.model.mass_times(&s.v);
         let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
         Energies {
@@ -596,7 +610,14 @@ impl Integrator {
             // step can also create energy away from any rod (a released end
             // whipping with 5 cm elements at h = 1 ms gained 6e13 J within 47
             // steps once the check was skipped outside contact).
-            let e1 = self.energies(&next);
+            // The step's contact candidates hold at its end too when the
+            // centerline moved less than their margin (the energy then has
+            // the same bits as over every pair, at a fraction of the
+            // broad phase: it ran over all pairs twice a step).
+            let w = &self.work;
+            let candidates = same_bits(&w.contact_pairs_at, &s.q)
+                && centerline_shift(&self.model, &s.q, &next.q) <= CANDIDATE_MARGIN * c.wire_radius;
+            let e1 = self.energies_visiting(&next, candidates.then_some(&w.contact_pairs[..]));
             let scale = self.energy_scale.max(e1.in_play());
             let gain = (e1.total() + e1.dissipated) - self.energy_start;
             if gain > 0.01 * scale + self.energy_floor {
@@ -675,14 +696,7 @@ impl Integrator {
         let pairs = match model.contact() {
             Some(c) => {
                 let margin = CANDIDATE_MARGIN * c.wire_radius;
-                // Bit for bit (integer compares vectorize; `!=` on f64
-                // branches on NaN per entry).
-                let same_start = w.contact_pairs_at.len() == s.q.len()
-                    && w.contact_pairs_at
-                        .iter()
-                        .zip(&s.q)
-                        .all(|(a, b)| a.to_bits() == b.to_bits());
-                if !same_start {
+                if !same_bits(&w.contact_pairs_at, &s.q) {
                     contact_candidates(model, c, &s.q, margin, &mut w.contact_pairs);
                     w.contact_pairs_at.clone_from(&s.q);
                 }

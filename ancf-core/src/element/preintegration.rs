@@ -1039,6 +1039,9 @@ crate::simd_dispatch! {
 }
 
 crate::simd_dispatch! {
+    // The path plus the lane kernel's arguments: the kernel's data as it
+    // comes, as forces_1 takes it.
+    #[allow(clippy::too_many_arguments)]
     fn jacobians_1(
         pre: &PreIntegrated,
         nodes: &[f64],
@@ -1055,6 +1058,7 @@ crate::simd_dispatch! {
     /// entry-major with the elements as lanes) of four elements given by
     /// lanes: each element's bits as it gets them alone from
     /// [`PreIntegrated::evaluate`] (into a zero matrix).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn jacobians_4(
         pre: &PreIntegrated,
         nodes: &[f64],

@@ -1,7 +1,7 @@
 //! Procedural macros that generate ancf's unrolled element kernels.
 //!
 //! The crate is thin on purpose: `lib.rs` only parses and forwards; the
-//! logic lives in [`kernel`] as functions on `proc_macro2` types, unit-tested
+//! logic lives in `kernel` as functions on `proc_macro2` types, unit-tested
 //! without a compiler round-trip (the nalgebra-macros pattern).
 
 use proc_macro::TokenStream;

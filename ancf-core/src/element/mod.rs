@@ -5,7 +5,7 @@
 //! * the **generated** kernel ([`point_kernel`], written by
 //!   `ancf_macros::structured_point_kernel!` from the sparsity of ∇s, with
 //!   the axial loop specialised by `build.rs` for the compiled orders);
-//! * the **generic** kernel ([`point_kernel_generic`]), the textbook
+//! * the **generic** kernel (`point_kernel_generic`), the textbook
 //!   B-matrix form with runtime loops, for any other order and as the
 //!   reference the generated one is tested against.
 //!

@@ -1089,37 +1089,50 @@ mod tests {
     use crate::math::simd::SimdPath;
     use crate::model::WireBuilder;
 
+    /// The Gauss–Legendre rule of order 3 on [0, 1].
+    const RULE_NODES: [f64; 3] = [0.1127016653792583, 0.5, 0.8872983346207417];
+    const RULE_WEIGHTS: [f64; 3] = [5.0 / 18.0, 4.0 / 9.0, 5.0 / 18.0];
+
+    /// The impact scene's two-layer conductor (ν = 0.3 in the cover, so
+    /// that every block of M is filled), 8 elements.
+    fn two_layer_wire() -> crate::model::Model {
+        let core = Material::st_venant_kirchhoff(5990.0, 1.54e11, 0.0, 0.1);
+        let cover = Material::st_venant_kirchhoff(2026.0, 5.17e10, 0.3, 0.1);
+        WireBuilder::new(2.0, 8)
+            .layer(core, 0.0052)
+            .layer(cover, 0.01407)
+            .build()
+            .unwrap()
+    }
+
+    /// The wire's pre-integrated section and element length (m).
+    fn preintegrated(model: &crate::model::Model) -> (&PreIntegrated, f64) {
+        let element = model.element(0);
+        let pre = element.plan.preintegrated.as_ref();
+        (pre.expect("SVK is pre-integrated"), element.length)
+    }
+
+    /// Four of its elements, each perturbed differently (a deformed state).
+    fn perturbed_elements(model: &crate::model::Model) -> [ElementVector; 4] {
+        std::array::from_fn(|k| {
+            let mut e = model.element_coordinates(&model.reference, k);
+            for (i, v) in e.iter_mut().enumerate() {
+                *v += 0.02 * (((i * 7919 + 31 * k) % 23) as f64 / 23.0 - 0.5);
+            }
+            e
+        })
+    }
+
     /// The lane kernel against the scalar station (the Jacobian path's): on
     /// the baseline path bit for bit, on the fused paths to round-off; and
     /// four elements at once give each element the bits it gets alone, on
     /// every path this CPU runs.
     #[test]
     fn lane_kernel_equals_the_scalar_station_on_every_path() {
-        let core = Material::st_venant_kirchhoff(5990.0, 1.54e11, 0.0, 0.1);
-        let cover = Material::st_venant_kirchhoff(2026.0, 5.17e10, 0.3, 0.1);
-        let model = WireBuilder::new(2.0, 8)
-            .layer(core, 0.0052)
-            .layer(cover, 0.01407)
-            .build()
-            .unwrap();
-        let pre = model
-            .element(0)
-            .plan
-            .preintegrated
-            .as_ref()
-            .expect("SVK is pre-integrated");
-        let l = model.element(0).length;
-        let (nodes, weights) = (
-            &[0.1127016653792583, 0.5, 0.8872983346207417],
-            &[5.0 / 18.0, 4.0 / 9.0, 5.0 / 18.0],
-        );
-        let elements: [ElementVector; 4] = std::array::from_fn(|k| {
-            let mut e = model.element_coordinates(&model.reference, k);
-            for (i, v) in e.iter_mut().enumerate() {
-                *v += 0.02 * (((i * 7919 + 31 * k) % 23) as f64 / 23.0 - 0.5);
-            }
-            e
-        });
+        let model = two_layer_wire();
+        let (pre, l) = preintegrated(&model);
+        let (nodes, weights) = (&RULE_NODES, &RULE_WEIGHTS);
+        let elements = perturbed_elements(&model);
         for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
             let mut lanes_in = [[0.0; 4]; 24];
             for (k, e) in elements.iter().enumerate() {
@@ -1181,26 +1194,10 @@ mod tests {
     /// and the force of a Jacobian evaluation is the force-only kernel's.
     #[test]
     fn jacobian_lane_kernel_equals_the_scalar_form_on_every_path() {
-        let core = Material::st_venant_kirchhoff(5990.0, 1.54e11, 0.0, 0.1);
-        let cover = Material::st_venant_kirchhoff(2026.0, 5.17e10, 0.3, 0.1);
-        let model = WireBuilder::new(2.0, 8)
-            .layer(core, 0.0052)
-            .layer(cover, 0.01407)
-            .build()
-            .unwrap();
-        let pre = model.element(0).plan.preintegrated.as_ref().unwrap();
-        let l = model.element(0).length;
-        let (nodes, weights) = (
-            &[0.1127016653792583, 0.5, 0.8872983346207417],
-            &[5.0 / 18.0, 4.0 / 9.0, 5.0 / 18.0],
-        );
-        let elements: [ElementVector; 4] = std::array::from_fn(|k| {
-            let mut e = model.element_coordinates(&model.reference, k);
-            for (i, v) in e.iter_mut().enumerate() {
-                *v += 0.02 * (((i * 7919 + 31 * k) % 23) as f64 / 23.0 - 0.5);
-            }
-            e
-        });
+        let model = two_layer_wire();
+        let (pre, l) = preintegrated(&model);
+        let (nodes, weights) = (&RULE_NODES, &RULE_WEIGHTS);
+        let elements = perturbed_elements(&model);
         let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
             let lanes_in: [[f64; 4]; 24] =

@@ -215,10 +215,11 @@ pub fn assemble_into(
 
 /// The elements `els` whole — force and, with `values`, Jacobian columns —
 /// into a force window that starts at node `node0`, their energies into
-/// `energy` (from `els.start` on). Four at a time where the kernel allows
-/// ([`crate::element::ElementIntegration::forces_x4`], `jacobians_x4`):
-/// the same bits per element as one by one, added in the same order, and
-/// faster with SIMD.
+/// `energy` (from `els.start` on). Several at a time where the kernel
+/// allows: forces eight and then four at a time
+/// ([`crate::element::ElementIntegration::forces_x8`], `forces_x4`),
+/// Jacobians four at a time (`jacobians_x4`); the same bits per element as
+/// one by one, added in the same order, and faster with SIMD.
 #[allow(clippy::too_many_arguments)]
 fn add_whole_elements(
     model: &Model,
@@ -234,8 +235,19 @@ fn add_whole_elements(
     for group in &model.groups {
         let end = group.elements.end.min(els.end);
         let mut first = group.elements.start.max(els.start);
+        while values.is_none() && first + 8 <= end {
+            let mut q8 = [[0.0; 8]; 24];
+            let Some(u) = group
+                .integration
+                .forces_x8(&lanes(model, q, first), &mut q8)
+            else {
+                break;
+            };
+            add_lanes(&u, &q8, first - e0, first - node0, force, energy);
+            first += 8;
+        }
         while first + 4 <= end {
-            let e4 = four_elements(model, q, first);
+            let e4 = lanes(model, q, first);
             let mut q4 = [[0.0; 4]; 24];
             let u = match values.as_mut() {
                 Some((v, offset)) => {
@@ -255,13 +267,7 @@ fn add_whole_elements(
                     u
                 }
             };
-            for k in 0..4 {
-                energy[first + k - e0] = u[k];
-                let base = NODE_DOFS * (first + k - node0);
-                for i in 0..24 {
-                    force[base + i] += q4[i][k];
-                }
-            }
+            add_lanes(&u, &q4, first - e0, first - node0, force, energy);
             first += 4;
         }
         for el in first..end {
@@ -280,24 +286,48 @@ fn add_whole_elements(
     }
 }
 
-/// Coordinate i of elements `first`..`first + 4` as lanes: `[i][k]`.
-fn four_elements(model: &Model, q: &[f64], first: usize) -> [[f64; 4]; 24] {
-    let e: [ElementVector; 4] = std::array::from_fn(|k| model.element_coordinates(q, first + k));
+/// Coordinate i of elements `first`..`first + W` as lanes: `[i][k]`.
+fn lanes<const W: usize>(model: &Model, q: &[f64], first: usize) -> [[f64; W]; 24] {
+    let e: [ElementVector; W] = std::array::from_fn(|k| model.element_coordinates(q, first + k));
     std::array::from_fn(|i| std::array::from_fn(|k| e[k][i]))
 }
 
+/// A batch's energies into `energy` from index `at` and its forces
+/// (`q[i][k]`: coordinate i of the k-th element) into `force` from node
+/// `node`, element after element.
+fn add_lanes<const W: usize>(
+    u: &[f64; W],
+    q: &[[f64; W]; 24],
+    at: usize,
+    node: usize,
+    force: &mut [f64],
+    energy: &mut [f64],
+) {
+    for k in 0..W {
+        energy[at + k] = u[k];
+        let base = NODE_DOFS * (node + k);
+        for i in 0..24 {
+            force[base + i] += q[i][k];
+        }
+    }
+}
+
 /// The strain energy (J) at `q` without the forces (what the energy
-/// balance needs): the elements four at a time where [`assemble_into`]
-/// takes them so, at half the work, summed in the same order — its bits.
+/// balance needs): the elements eight and four at a time where
+/// [`assemble_into`] takes them so, at half the work, summed in the same order — its bits.
 pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
     let mut energy = vec![0.0; model.n_elements];
     for group in &model.groups {
-        let mut first = group.elements.start;
-        while first + 4 <= group.elements.end {
-            let Some(u) = group
-                .integration
-                .energies_x4(&four_elements(model, q, first))
-            else {
+        let (mut first, end) = (group.elements.start, group.elements.end);
+        while first + 8 <= end {
+            let Some(u) = group.integration.energies_x8(&lanes(model, q, first)) else {
+                break;
+            };
+            energy[first..first + 8].copy_from_slice(&u);
+            first += 8;
+        }
+        while first + 4 <= end {
+            let Some(u) = group.integration.energies_x4(&lanes(model, q, first)) else {
                 break;
             };
             energy[first..first + 4].copy_from_slice(&u);

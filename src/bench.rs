@@ -161,19 +161,20 @@ pub fn deformed_element(l: f64) -> [f64; 24] {
 /// counts 2), times 3 stations.
 pub const FORCE_FLOPS: f64 = 3.0 * 582.0;
 
-/// Force time (µs per element) of 32 elements evaluated four at a time, as
-/// the force-only assembly does (`ElementIntegration::forces_x4`); `NaN`
+/// Force time (µs per element) of 32 elements evaluated eight at a time, as
+/// the force-only assembly does (`ElementIntegration::forces_x8`); `NaN`
 /// when the element has no batched kernel.
 pub fn batched_force_us(el: &ElementIntegration) -> f64 {
     let e = deformed_element(el.length);
-    let lanes: [[f64; 4]; 24] = std::array::from_fn(|i| [e[i], e[i] * 1.0001, e[i] * 0.9999, e[i]]);
-    if el.forces_x4(&lanes, &mut [[0.0; 4]; 24]).is_none() {
+    let scale = [1.0, 1.0001, 0.9999, 1.0, 1.0002, 0.9998, 1.0003, 0.9997];
+    let lanes: [[f64; 8]; 24] = std::array::from_fn(|i| scale.map(|s| e[i] * s));
+    if el.forces_x8(&lanes, &mut [[0.0; 8]; 24]).is_none() {
         return f64::NAN;
     }
     time_us(|| {
-        for _ in 0..8 {
-            let mut q = [[0.0; 4]; 24];
-            std::hint::black_box(el.forces_x4(std::hint::black_box(&lanes), &mut q));
+        for _ in 0..4 {
+            let mut q = [[0.0; 8]; 24];
+            std::hint::black_box(el.forces_x8(std::hint::black_box(&lanes), &mut q));
         }
     }) / 32.0
 }
@@ -210,10 +211,11 @@ pub fn batched_jacobian_us(el: &ElementIntegration) -> f64 {
 }
 
 /// The core's multiply-add peak on the chosen path (GFLOP/s): 12
-/// independent chains of 4-lane (256-bit: the kernels' width) fused
-/// multiply-adds on the AVX paths, of 2-lane multiplies and adds on the
-/// baseline; written with intrinsics so that the compiler cannot serialize
-/// them (an auto-vectorized loop came out scalar).
+/// independent chains of fused multiply-adds of the path's full width
+/// (8 lanes on AVX-512, where the force kernel runs eight elements a
+/// register; 4 on AVX2), of 2-lane multiplies and adds on the baseline;
+/// written with intrinsics so that the compiler cannot serialize them (an
+/// auto-vectorized loop came out scalar).
 pub fn fma_peak_gflops() -> f64 {
     #[cfg(target_arch = "x86_64")]
     {
@@ -238,6 +240,21 @@ pub fn fma_peak_gflops() -> f64 {
             unsafe { _mm256_storeu_pd(out.as_mut_ptr(), sum) };
             out.iter().sum()
         }
+        #[target_feature(enable = "avx512f")]
+        fn fused512(n: usize) -> f64 {
+            let a = _mm512_set1_pd(std::hint::black_box(0.999_999_9));
+            let b = _mm512_set1_pd(std::hint::black_box(1e-7));
+            let mut acc = [_mm512_set1_pd(1.0); CHAINS];
+            for _ in 0..n {
+                for x in acc.iter_mut() {
+                    *x = _mm512_fmadd_pd(*x, a, b);
+                }
+            }
+            let sum = acc
+                .iter()
+                .fold(_mm512_setzero_pd(), |s, x| _mm512_add_pd(s, *x));
+            _mm512_reduce_add_pd(sum)
+        }
         #[target_feature(enable = "sse2")]
         fn plain(n: usize) -> f64 {
             let a = _mm_set1_pd(std::hint::black_box(0.999_999_9));
@@ -258,17 +275,22 @@ pub fn fma_peak_gflops() -> f64 {
         let p = path();
         let us = time_us(|| {
             let n = std::hint::black_box(n);
-            // SAFETY: `path` is a path the CPU supports (AVX2 + FMA for both AVX paths).
+            // SAFETY: `path` is a path the CPU supports (AVX2 + FMA on the
+            // AVX2 path, AVX-512 F on the AVX-512 one).
             let r = unsafe {
-                if p == SimdPath::Baseline {
-                    plain(n)
-                } else {
-                    fused(n)
+                match p {
+                    SimdPath::Baseline => plain(n),
+                    SimdPath::Avx2 => fused(n),
+                    SimdPath::Avx512 => fused512(n),
                 }
             };
             std::hint::black_box(r);
         });
-        let lanes = if p == SimdPath::Baseline { 2.0 } else { 4.0 };
+        let lanes = match p {
+            SimdPath::Baseline => 2.0,
+            SimdPath::Avx2 => 4.0,
+            SimdPath::Avx512 => 8.0,
+        };
         n as f64 * CHAINS as f64 * lanes * 2.0 / us / 1e3
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -313,7 +335,7 @@ pub struct BenchReport {
     /// Circular two-layer SVK section, 3 axial points, ring rule n = 3: one
     /// element at a time.
     pub force_us: f64,
-    /// The same force, four elements at a time as the assembly evaluates
+    /// The same force, eight elements at a time as the assembly evaluates
     /// them (µs per element).
     pub force_batch_us: f64,
     /// Floating-point operations of that force ([`FORCE_FLOPS`]), the rate
@@ -333,7 +355,7 @@ pub struct BenchReport {
     pub jacobian_peak_fraction: f64,
     /// Rectangle 3 axial × 2×2 SVK (Chrono's ChElementBeamANCF_3243 case).
     pub rect_force_us: f64,
-    /// The rectangle's force four elements at a time (µs per element).
+    /// The rectangle's force eight elements at a time (µs per element).
     pub rect_force_batch_us: f64,
     pub rect_jacobian_us: f64,
     /// The rectangle's force + Jacobian four elements at a time (µs per element).
@@ -533,8 +555,8 @@ pub fn table(r: &BenchReport) -> String {
         r.rect_force_us, r.rect_jacobian_us
     );
     s += &format!(
-        "  four at a time (assembly): circle force {:.3}, rectangle force {:.3}; \
-         circle Jacobian {:.3}, rectangle Jacobian {:.3}\n",
+        "  batched as the assembly runs them (forces 8, Jacobians 4 at a time): \
+         circle force {:.3}, rectangle force {:.3}; circle Jacobian {:.3}, rectangle Jacobian {:.3}\n",
         r.force_batch_us, r.rect_force_batch_us, r.jacobian_batch_us, r.rect_jacobian_batch_us
     );
     s += &format!(

@@ -483,12 +483,10 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         time_step: Some(if contact { h_min / 2.0 } else { h_min / 4.0 }),
         spectral_radius: Some(1.0),
         // Modified Newton: the tolerance, not the Newton kind, sets how
-        // close the reference is to its converged solution. On the impact
-        // scene's reference (256 el, axial 5, h = 1.25e-5 s, 1e-10) full and
-        // modified Newton agree to 1.1e-6 relative on every rod number and
-        // 5e-7 m on the tip trajectory, far under the errors the study
-        // measures; modified Newton took 58 s instead of 170 s
-        // (BENCHMARKS.md, tenth session).
+        // close the reference is to its converged solution (on the impact
+        // scene's reference the two kinds agree to 1.1e-6 relative, far
+        // under the errors the study measures, and modified Newton costs a
+        // third; BENCHMARKS.md).
         full_newton: Some(false),
         tolerance: Some(NEWTON_TOLERANCE_FLOOR),
         stations: stations_for(&base, length, 2 * n_max).map(|s| (2 * s).min(64)),

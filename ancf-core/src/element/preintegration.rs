@@ -1004,10 +1004,9 @@ fn forces_4_with<F: Arith>(
 }
 
 /// Eight elements' forces at once: on the AVX-512 path one 512-bit
-/// register a lane operation, 1.5× the rate of four lanes (Intel Xeon,
-/// tenth session: 0.084 against 0.124 µs per element); on the other paths
-/// as fast as four or a little faster. Each lane has the bits it has in
-/// any other batch.
+/// register a lane operation, faster than four lanes; on the other paths
+/// no slower (BENCHMARKS.md). Each lane has the bits it has in any other
+/// batch.
 #[inline(always)]
 fn forces_8_with<F: Arith>(
     pre: &PreIntegrated,

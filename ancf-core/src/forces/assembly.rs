@@ -352,9 +352,8 @@ pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
 pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
     let element = model.element(0);
     let points = (element.axial.nodes.len() * element.plan.points()) as f64;
-    // µs per element (BENCHMARKS.md): pre-integrated SVK 0.75 four at a
-    // time (tenth session, Xeon; it was 1.2 one by one on the EPYC), plus
-    // ≈ 0.3 per section point.
+    // µs of force + Jacobian per element (BENCHMARKS.md): pre-integrated
+    // SVK 0.75 four at a time, plus ≈ 0.3 per section point.
     let per_element = 0.75 + 0.3 * points;
     with_jacobian
         && model.n_elements >= 2 * CHUNK_ELEMENTS

@@ -707,6 +707,8 @@ fn forces_lanes<F: Arith, const W: usize, const FORCE: bool>(
 struct LaneStation<const W: usize> {
     energy: Lanes<W>,
     u: [[Lanes<W>; 3]; 5],
+    /// S (S_ii = 2σ_ii, S_ij = σ_ij); an energy-only station stops before
+    /// S and leaves σ here, which no caller reads.
     s: [Lanes<W>; 15],
 }
 

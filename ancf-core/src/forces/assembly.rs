@@ -122,18 +122,12 @@ impl Pattern {
         cols: Range<usize>,
     ) {
         let slots = &self.slots[el * 576..(el + 1) * 576];
-        let add = |values: &mut [f64], slots: &[u32], m: &[f64]| {
-            for (s, v) in slots.iter().zip(m) {
-                if *s != NO_SLOT {
-                    values[*s as usize - offset] += v;
-                }
-            }
-        };
         if cols == (0..24) {
-            add(values, slots, m);
+            add_to_slots(values, offset, slots, m.iter().copied());
         } else {
             for (row_slots, row) in slots.chunks_exact(24).zip(m.chunks_exact(24)) {
-                add(values, &row_slots[cols.clone()], &row[cols.clone()]);
+                let row = row[cols.clone()].iter().copied();
+                add_to_slots(values, offset, &row_slots[cols.clone()], row);
             }
         }
     }
@@ -151,16 +145,23 @@ impl Pattern {
         lane: usize,
     ) {
         let slots = &self.slots[el * 576..(el + 1) * 576];
-        for (s, v) in slots.iter().zip(m) {
-            if *s != NO_SLOT {
-                values[*s as usize - offset] += v[lane];
-            }
-        }
+        add_to_slots(values, offset, slots, m.iter().map(|v| v[lane]));
     }
 
     /// Add an element matrix (row-major 24×24) of element `el`.
     pub fn add_element(&self, values: &mut [f64], el: usize, m: &[f64; 576]) {
         self.add_element_columns(values, 0, el, m, 0..24);
+    }
+}
+
+/// Add element entries to their value slots (`NO_SLOT`: an entry on an
+/// eliminated coordinate, skipped) in a window of the values that starts
+/// at slot `offset`.
+fn add_to_slots(values: &mut [f64], offset: usize, slots: &[u32], m: impl Iterator<Item = f64>) {
+    for (s, v) in slots.iter().zip(m) {
+        if *s != NO_SLOT {
+            values[*s as usize - offset] += v;
+        }
     }
 }
 

@@ -282,18 +282,18 @@ impl ForceSum {
         let strain = strain_energy(model, q);
         let (gravity, loads) = model.external_potential(q);
         let contact = model.contact().map_or(0.0, |c| {
-            let none = Vec::new();
+            let (events, force) = (&[], Vec::new());
             let cf = assemble_contact_reusing(
                 model,
                 c,
                 &self.pattern,
                 q,
                 v,
-                &[],
+                events,
                 pairs,
                 None,
                 None,
-                none,
+                force,
             );
             cf.total.energy
         });

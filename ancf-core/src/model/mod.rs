@@ -11,6 +11,7 @@ pub use mesh::{ElementGroup, Segment};
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
 use crate::math::vec3::{cross, dot, sub, unit};
 use crate::section::Section;
+use std::ops::Range;
 
 /// Coordinates per node: r, r_x, r_y, r_z.
 pub const NODE_DOFS: usize = 12;
@@ -119,6 +120,10 @@ pub struct Model {
     /// coordinates not held): the assembly pattern, `scatter_add` and the
     /// residual rely on it.
     pub dof_map: Vec<Option<usize>>,
+    /// The coordinates not held, as runs of consecutive coordinates (from
+    /// `dof_map`): the Newton loop's vector operations run over contiguous
+    /// slices, which vectorize, instead of testing every coordinate.
+    free: Vec<Range<usize>>,
     /// Number of unknowns (coordinates not held).
     pub n_unknowns: usize,
     /// The supports, in the scene's order.
@@ -257,6 +262,20 @@ fn eliminate(
         }
     }
     Ok((dof_map, n_unknowns))
+}
+
+/// The runs of consecutive coordinates that are unknowns.
+fn free_runs(dof_map: &[Option<usize>]) -> Vec<Range<usize>> {
+    let mut runs: Vec<Range<usize>> = Vec::new();
+    for (c, u) in dof_map.iter().enumerate() {
+        if u.is_some() {
+            match runs.last_mut() {
+                Some(run) if run.end == c => run.end = c + 1,
+                _ => runs.push(c..c + 1),
+            }
+        }
+    }
+    runs
 }
 
 /// Rotate v by the smallest rotation taking unit `from` to unit `to` (Rodrigues).
@@ -434,6 +453,7 @@ impl Model {
             group_of,
             n_elements,
             reference,
+            free: free_runs(&dof_map),
             dof_map,
             n_unknowns,
             supports,
@@ -505,6 +525,7 @@ impl Model {
         })
         .expect("supports were validated when the model was built");
         Model {
+            free: free_runs(&dof_map),
             dof_map,
             n_unknowns,
             ..self.clone()
@@ -814,14 +835,23 @@ impl Model {
 
     /// Add `scale · x` (unknowns) into a full vector.
     pub fn scatter_add(&self, x: &[f64], scale: f64, full: &mut [f64]) {
-        // Unknowns are numbered in coordinate order: x is read front to
-        // back (no indexing, no bounds checks in the Newton update).
-        let mut unknowns = x.iter();
-        for (f, m) in full.iter_mut().zip(&self.dof_map) {
-            if m.is_some() {
-                *f += scale * unknowns.next().expect("one value per unknown");
+        let mut x = x;
+        for run in self.free_coordinates() {
+            let (part, rest) = x.split_at(run.len());
+            x = rest;
+            for (f, x) in full[run.clone()].iter_mut().zip(part) {
+                *f += scale * x;
             }
         }
+    }
+
+    /// The coordinates not held, as runs of consecutive coordinates in
+    /// order. Unknowns are numbered in coordinate order, so a vector over
+    /// the unknowns holds the runs one after another: loops over the runs
+    /// and the matching slices of such a vector are contiguous and
+    /// vectorize (testing `dof_map` at every coordinate does not).
+    pub fn free_coordinates(&self) -> &[Range<usize>] {
+        &self.free
     }
 
     /// Position of node `n` in a full coordinate vector.

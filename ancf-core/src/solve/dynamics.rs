@@ -187,9 +187,10 @@ pub fn predict(model: &Model, s: &State, h: f64, spectral_radius: f64) -> Vec<f6
         .as_ref()
         .filter(|p| p.h == h && p.a.len() == a1.len() && rho > 0.0)
     {
-        for (c, u) in model.dof_map.iter().enumerate() {
-            if u.is_some() {
-                a1[c] = (1.0 - rho) * s.a[c] + rho * prev.a[c];
+        for run in model.free_coordinates() {
+            let (a0, am1) = (&s.a[run.clone()], &prev.a[run.clone()]);
+            for ((a1, a0), am1) in a1[run.clone()].iter_mut().zip(a0).zip(am1) {
+                *a1 = (1.0 - rho) * a0 + rho * am1;
             }
         }
     }
@@ -447,11 +448,37 @@ fn clear_velocity_jacobian(kv: &mut [f64], velocity_jacobian: bool) {
 }
 
 fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+    sum_of_squares(v).sqrt()
 }
 
+/// Σ vᵢ² in eight interleaved partial sums: one running sum waits on
+/// each addition's latency at every entry, eight independent ones fill
+/// the vector units (only the norms' last bits depend on the order).
+fn sum_of_squares(v: &[f64]) -> f64 {
+    const LANES: usize = 8;
+    let mut acc = [0.0; LANES];
+    let chunks = v.chunks_exact(LANES);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for (a, x) in acc.iter_mut().zip(c) {
+            *a += x * x;
+        }
+    }
+    acc.iter().sum::<f64>() + tail.iter().map(|x| x * x).sum::<f64>()
+}
+
+/// max |vᵢ| in eight interleaved partial maxima (exact in any order).
 fn norm_inf(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+    const LANES: usize = 8;
+    let mut acc = [0.0f64; LANES];
+    let chunks = v.chunks_exact(LANES);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for (a, x) in acc.iter_mut().zip(c) {
+            *a = a.max(x.abs());
+        }
+    }
+    tail.iter().chain(&acc).fold(0.0, |m, x| m.max(x.abs()))
 }
 
 impl Integrator {
@@ -719,21 +746,16 @@ impl Integrator {
         let (q, ext) = (self.forces.internal(), self.forces.external());
         model.mass_times_into(&w.am, &mut w.ma);
         let ma = &w.ma;
-        // R, ‖M a‖ and ‖Q‖ on the unknowns in one pass (no gathered copies;
-        // unknowns are numbered in coordinate order, `Model::dof_map`, so R
-        // is filled front to back without indexing).
-        // (Into slots, not `push`: a push may call the allocator, and the
-        // sums then lived on the stack, a store and a load per coordinate.)
-        let mut r = vec![0.0; model.n_unknowns];
-        let mut slots = r.iter_mut();
+        // R, ‖M a‖ and ‖Q‖ on the unknowns, run of free coordinates after
+        // run (unknowns are numbered in coordinate order, `Model::dof_map`):
+        // contiguous slices, so the loops vectorize.
+        let mut r = Vec::with_capacity(model.n_unknowns);
         let (mut ma2, mut q2) = (0.0, 0.0);
-        let coordinates = model.dof_map.iter().zip(ma).zip(q).zip(ext);
-        for (((u, &ma), &q), &ext) in coordinates {
-            if u.is_some() {
-                *slots.next().expect("one slot per unknown") = ma + q - ext;
-                ma2 += ma * ma;
-                q2 += q * q;
-            }
+        for run in model.free_coordinates() {
+            let (ma, q, ext) = (&ma[run.clone()], &q[run.clone()], &ext[run.clone()]);
+            r.extend(ma.iter().zip(q).zip(ext).map(|((ma, q), ext)| ma + q - ext));
+            ma2 += sum_of_squares(ma);
+            q2 += sum_of_squares(q);
         }
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         if let Some((qd, power)) = self.forces.damping() {

@@ -100,6 +100,10 @@ impl BlockTridiagonalLu {
             let flat = block * B * B + lr * B + lc;
             slots.push((u32::try_from(v).ok()?, u32::try_from(flat).ok()?));
         }
+        // In the order of the blocks' entries: the stores then run through
+        // memory front to back, the loads jump (the pattern's order wrote
+        // a column of a row-major block, a cache line a value).
+        slots.sort_unstable_by_key(|&(_, flat)| flat);
         Some(BlockTridiagonalLu {
             starts,
             slots,
@@ -160,10 +164,9 @@ fn sub_product<F: Arith>(c: &mut Block, a: &Block, b: &Block) {
     }
 }
 
-/// a b (12 × 12 blocks).
+/// c = a b (12 × 12 blocks), written over c.
 #[inline(always)]
-fn product<F: Arith>(a: &Block, b: &Block) -> Block {
-    let mut c = ZERO;
+fn product<F: Arith>(a: &Block, b: &Block, c: &mut Block) {
     for i in 0..B {
         let mut row = [0.0; B];
         for k in 0..B {
@@ -174,7 +177,6 @@ fn product<F: Arith>(a: &Block, b: &Block) -> Block {
         }
         c[i] = row;
     }
-    c
 }
 
 /// a x from aᵀ (`at`), column by column: twelve lanes of multiply-adds in
@@ -195,23 +197,22 @@ fn matvec_t<F: Arith>(at: &Block, x: &[f64; B]) -> [f64; B] {
     lo
 }
 
-/// The transpose of a block.
+/// t = aᵀ, written over t.
 #[inline(always)]
-fn transpose(a: &Block) -> Block {
-    let mut t = ZERO;
+fn transpose(a: &Block, t: &mut Block) {
     for i in 0..B {
         for j in 0..B {
             t[j][i] = a[i][j];
         }
     }
-    t
 }
 
-/// The inverse of `s` by Gauss–Jordan elimination with partial pivoting,
-/// on the augmented rows [s | I] (one 24-wide row operation per
-/// elimination instead of two 12-wide ones; the same operations).
+/// The inverse of `s`, written over `inv`, by Gauss–Jordan elimination
+/// with partial pivoting, on the augmented rows [s | I] (one 24-wide row
+/// operation per elimination instead of two 12-wide ones; the same
+/// operations).
 #[inline(always)]
-fn invert<F: Arith>(s: &Block) -> Result<Block, SingularBlock> {
+fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), SingularBlock> {
     let mut m = [[0.0f64; 2 * B]; B];
     for (i, row) in m.iter_mut().enumerate() {
         row[..B].copy_from_slice(&s[i]);
@@ -226,7 +227,11 @@ fn invert<F: Arith>(s: &Block) -> Result<Block, SingularBlock> {
         if !pivot.is_finite() || pivot.abs() <= 1e-14 * scale {
             return Err(SingularBlock);
         }
-        m.swap(col, pivot_row);
+        // (Only when needed: a row swapped with itself was a 24-wide load
+        // and store that waited on the elimination's stores, perf.)
+        if pivot_row != col {
+            m.swap(col, pivot_row);
+        }
         let p = 1.0 / pivot;
         for x in m[col].iter_mut() {
             *x *= p;
@@ -241,11 +246,10 @@ fn invert<F: Arith>(s: &Block) -> Result<Block, SingularBlock> {
             }
         }
     }
-    let mut inv = ZERO;
     for (i, row) in inv.iter_mut().enumerate() {
         row.copy_from_slice(&m[i][B..]);
     }
-    Ok(inv)
+    Ok(())
 }
 
 #[inline(always)]
@@ -273,12 +277,14 @@ fn factorize_with<F: Arith>(
         if k > 0 {
             sub_product::<F>(&mut s, &lu.gain[k - 1], &upper[k - 1]);
         }
-        lu.inverse[k] = invert::<F>(&s)?;
-        lu.inverse_t[k] = transpose(&lu.inverse[k]);
+        // Results written in place: returned by value, each 1152-byte
+        // block was a memcpy more.
+        invert::<F>(&s, &mut lu.inverse[k])?;
+        transpose(&lu.inverse[k], &mut lu.inverse_t[k]);
         if k + 1 < m {
-            lu.gain[k] = product::<F>(&lower[k], &lu.inverse[k]);
-            lu.gain_t[k] = transpose(&lu.gain[k]);
-            lu.upper_t[k] = transpose(&upper[k]);
+            product::<F>(&lower[k], &lu.inverse[k], &mut lu.gain[k]);
+            transpose(&lu.gain[k], &mut lu.gain_t[k]);
+            transpose(&upper[k], &mut lu.upper_t[k]);
         }
     }
     Ok(())

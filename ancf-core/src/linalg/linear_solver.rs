@@ -212,7 +212,11 @@ impl SparseSolver {
         values: &[f64],
         symmetric: bool,
     ) -> Result<FactorKind, FactorError> {
-        if values.iter().any(|v| !v.is_finite()) {
+        // Eight at a time without an exit inside, so that it vectorizes.
+        let finite = values
+            .chunks(8)
+            .all(|c| c.iter().fold(true, |ok, v| ok & v.is_finite()));
+        if !finite {
             return Err(FactorError(
                 "the Newton matrix has non-finite entries".into(),
             ));

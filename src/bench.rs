@@ -99,6 +99,37 @@ pub fn assembly_us(model: &Model) -> f64 {
     })
 }
 
+/// Time (µs) to factor, and to solve with, the block-tridiagonal LU of the
+/// dynamic Newton matrix (1 − α_m) M + (1 − α_f) β h² K of `model` (ρ∞ = 1,
+/// h = 1e-4 s, K at the reference stretched by 1 %): what a modified-Newton
+/// refresh and each iteration of the impact scene's solver do.
+pub fn block_lu_us(model: &Model) -> (f64, f64) {
+    use ancf_core::forces::assembly::{Pattern, assemble, mass_values};
+    use ancf_core::linalg::block_tridiagonal::BlockTridiagonalLu;
+    let pattern = Pattern::new(model);
+    let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
+    let mut k = pattern.zeros();
+    assemble(model, &pattern, &q, Some(&mut k));
+    let c_k = 0.5 * 0.25 * 1e-8;
+    let a: Vec<f64> = (mass_values(model, &pattern).iter().zip(&k))
+        .map(|(m, k)| 0.5 * m + c_k * k)
+        .collect();
+    let sym = pattern.symbolic.as_ref();
+    let mut lu = BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
+        .expect("a wire's matrix has node blocks");
+    let factor = time_us(|| {
+        lu.factorize(std::hint::black_box(&a))
+            .expect("a mass-dominated matrix is regular");
+    });
+    let b: Vec<f64> = (0..model.n_unknowns).map(|i| (i as f64).sin()).collect();
+    let mut x = b.clone();
+    let solve = time_us(|| {
+        x.copy_from_slice(&b);
+        lu.solve_in_place(std::hint::black_box(&mut x));
+    });
+    (factor, solve)
+}
+
 /// Median time (µs) of `f` over repeated batches.
 fn time_us(mut f: impl FnMut()) -> f64 {
     let mut batch = 1usize;
@@ -363,6 +394,10 @@ pub struct BenchReport {
     /// Mooney–Rivlin Jacobian per section point (plain formulation).
     pub mooney_rivlin_jacobian_us_per_point: f64,
     pub step_ms_32_full_newton: f64,
+    /// The block-tridiagonal LU of the 64-element pendulum's dynamic Newton
+    /// matrix ([`block_lu_us`]): one factorization and one solve (µs).
+    pub block_lu_factor_us: f64,
+    pub block_lu_solve_us: f64,
     /// Modified Newton, ms per step, keyed by element count.
     pub step_ms: BTreeMap<String, f64>,
     /// Full Newton, ms per step, keyed by element count.
@@ -441,6 +476,7 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
             );
         }
     });
+    let block_lu = single.install(|| block_lu_us(&pendulum(64)));
     let n_par = if quick { 64 } else { 256 };
     let two_pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
@@ -517,6 +553,8 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         rect_jacobian_us,
         mooney_rivlin_jacobian_us_per_point: mr,
         step_ms_32_full_newton: step_full.get("32").copied().unwrap_or(f64::NAN),
+        block_lu_factor_us: block_lu.0,
+        block_lu_solve_us: block_lu.1,
         step_ms,
         step_ms_full_newton: step_full,
         parallel_speedup_256: parallel_assembly_speedup
@@ -575,6 +613,10 @@ pub fn table(r: &BenchReport) -> String {
     s += &format!(
         "  Mooney–Rivlin Jacobian per section point   {:8.3} µs\n",
         r.mooney_rivlin_jacobian_us_per_point
+    );
+    s += &format!(
+        "Block LU, 64-element dynamic Newton matrix: factorization {:.1} µs, solve {:.2} µs\n",
+        r.block_lu_factor_us, r.block_lu_solve_us
     );
     s += "Pendulum time step (single thread, ms per step)\n";
     s += "  elements   full Newton   modified Newton\n";

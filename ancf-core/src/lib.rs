@@ -58,7 +58,7 @@
 pub mod element;
 pub mod error;
 pub mod forces;
-pub(crate) mod linalg;
+pub mod linalg;
 pub mod loads;
 pub mod material;
 pub mod math;

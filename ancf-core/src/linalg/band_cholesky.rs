@@ -39,6 +39,7 @@ pub struct BandCholesky {
 /// definite (or is singular to round-off).
 #[derive(Clone, Copy, Debug)]
 pub struct NotPositiveDefinite {
+    /// The row whose pivot was not positive.
     pub row: usize,
 }
 

@@ -218,7 +218,15 @@ fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), SingularBlock> {
         row[..B].copy_from_slice(&s[i]);
         row[B + i] = 1.0;
     }
-    let scale = s.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    // max |s_ij| in twelve running maxima, one per column (the maximum is
+    // exact in any order; one running maximum waited on each compare).
+    let mut column_max = [0.0f64; B];
+    for row in s {
+        for (m, v) in column_max.iter_mut().zip(row) {
+            *m = m.max(v.abs());
+        }
+    }
+    let scale = column_max.iter().fold(0.0f64, |m, v| m.max(*v));
     for col in 0..B {
         let pivot_row = (col..B)
             .max_by(|&p, &q| m[p][col].abs().total_cmp(&m[q][col].abs()))

@@ -128,10 +128,15 @@ enum Factor {
 /// Which factorization the last `factorize` used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FactorKind {
+    /// LLᵀ (band, split band or faer's sparse).
     Cholesky,
+    /// LU (block tridiagonal, band, or faer's pivoting sparse LU).
     Lu,
 }
 
+/// The Newton matrix's factorization on a fixed pattern: the structure is
+/// analysed once (`new`), the values factored at every refresh
+/// (`factorize`) and solved with at every iteration (`solve_in_place`).
 pub struct SparseSolver {
     pattern: Pattern,
     llt: Cholesky,
@@ -168,6 +173,9 @@ impl std::fmt::Display for FactorError {
 impl std::error::Error for FactorError {}
 
 impl SparseSolver {
+    /// The solver for matrices on `pattern`: the factorization it can
+    /// take (band, split band, block tridiagonal, general sparse) is chosen
+    /// from the structure here.
     pub fn new(pattern: &Pattern) -> Result<Self, FactorError> {
         let sym = pattern.symbolic.as_ref();
         let p = BandCholesky::bandwidth(sym.col_ptr(), sym.row_idx());

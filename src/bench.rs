@@ -130,20 +130,50 @@ pub fn block_lu_us(model: &Model) -> (f64, f64) {
     (factor, solve)
 }
 
-/// Median time (µs) of `f` over repeated batches.
-fn time_us(mut f: impl FnMut()) -> f64 {
+/// How long a timing measures: batches of at least `batch_s` seconds (the
+/// batch size doubled until one lasts that long), the median of `samples`.
+#[derive(Clone, Copy, Debug)]
+pub struct Timing {
+    /// Shortest batch (s).
+    pub batch_s: f64,
+    /// Batches timed; the median is reported.
+    pub samples: usize,
+}
+
+impl Timing {
+    /// `ancf bench`'s: nine batches of ≥ 20 ms (0.2–0.4 s a timing).
+    pub const BENCH: Timing = Timing {
+        batch_s: 0.02,
+        samples: 9,
+    };
+    /// The study's table of element cost against quadrature order (64
+    /// timings): five batches of ≥ 4 ms, 0.03–0.05 s a timing (with
+    /// `BENCH` the table took 22 s, a quarter of the impact study).
+    pub const SURVEY: Timing = Timing {
+        batch_s: 0.004,
+        samples: 5,
+    };
+}
+
+/// Median time (µs) of `f` over repeated batches ([`Timing::BENCH`]).
+fn time_us(f: impl FnMut()) -> f64 {
+    time_us_with(Timing::BENCH, f)
+}
+
+/// Median time (µs) of `f` over repeated batches as `timing` says.
+fn time_us_with(timing: Timing, mut f: impl FnMut()) -> f64 {
     let mut batch = 1usize;
     loop {
         let t = Instant::now();
         for _ in 0..batch {
             f();
         }
-        if t.elapsed().as_secs_f64() > 0.02 {
+        if t.elapsed().as_secs_f64() > timing.batch_s {
             break;
         }
         batch *= 2;
     }
-    let mut samples: Vec<f64> = (0..9)
+    let mut samples: Vec<f64> = (0..timing.samples.max(1))
         .map(|_| {
             let t = Instant::now();
             for _ in 0..batch {
@@ -153,7 +183,7 @@ fn time_us(mut f: impl FnMut()) -> f64 {
         })
         .collect();
     samples.sort_by(f64::total_cmp);
-    samples[4]
+    samples[samples.len() / 2]
 }
 
 /// The benchmark's Mooney–Rivlin rubber (plain formulation, κ = 1e3).
@@ -343,13 +373,18 @@ pub fn cpu_model() -> String {
 
 /// Force and Jacobian time (µs) of one element.
 pub fn element_times(el: &ElementIntegration) -> (f64, f64) {
+    element_times_with(el, Timing::BENCH)
+}
+
+/// [`element_times`] measured as `timing` says.
+pub fn element_times_with(el: &ElementIntegration, timing: Timing) -> (f64, f64) {
     let e = deformed_element(el.length);
-    let force = time_us(|| {
+    let force = time_us_with(timing, || {
         let mut q = [0.0; 24];
         std::hint::black_box(el.evaluate(std::hint::black_box(&e), &mut q, None));
     });
     let mut k = [0.0; 576];
-    let jac = time_us(|| {
+    let jac = time_us_with(timing, || {
         let mut q = [0.0; 24];
         k.fill(0.0);
         std::hint::black_box(el.evaluate(std::hint::black_box(&e), &mut q, Some(&mut k)));

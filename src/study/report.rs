@@ -63,8 +63,9 @@ pub fn kernel_costs(scene: &Scene) -> Vec<KernelCost> {
                 let sec = section_with_order(&el.section, section);
                 let gen_el = ElementIntegration::new(el.length, axial, sec);
                 let generic = gen_el.clone().with_generic_kernel();
-                let (gf, gj) = crate::bench::element_times(&gen_el);
-                let (nf, nj) = crate::bench::element_times(&generic);
+                let survey = crate::bench::Timing::SURVEY;
+                let (gf, gj) = crate::bench::element_times_with(&gen_el, survey);
+                let (nf, nj) = crate::bench::element_times_with(&generic, survey);
                 out.push(KernelCost {
                     axial,
                     section,

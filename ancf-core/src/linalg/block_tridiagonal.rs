@@ -42,10 +42,10 @@ pub struct BlockTridiagonalLu {
     /// Only the slots and the padding's identity are ever written here;
     /// every other entry stays the zero it was built with.
     input: Vec<Block>,
-    /// Sₖ⁻¹ and Gₖ after `factorize`.
-    inverse: Vec<Block>,
-    gain: Vec<Block>,
-    /// Sₖ⁻¹, Gₖ and Uₖ transposed, for the solves' column-oriented products.
+    /// Sₖ⁻¹, Gₖ and Uₖ transposed after `factorize`, for the solves'
+    /// column-oriented products. (Sₖ⁻¹ and Gₖ themselves are needed only
+    /// for the next block: the factorization keeps them on the stack,
+    /// 2 · 1152 bytes a node less to write.)
     inverse_t: Vec<Block>,
     gain_t: Vec<Block>,
     upper_t: Vec<Block>,
@@ -108,8 +108,6 @@ impl BlockTridiagonalLu {
             starts,
             slots,
             input: vec![ZERO; 3 * m - 2],
-            inverse: vec![ZERO; m],
-            gain: vec![ZERO; m.saturating_sub(1)],
             inverse_t: vec![ZERO; m],
             gain_t: vec![ZERO; m.saturating_sub(1)],
             upper_t: vec![ZERO; m.saturating_sub(1)],
@@ -265,7 +263,7 @@ fn factorize_with<F: Arith>(
     lu: &mut BlockTridiagonalLu,
     values: &[f64],
 ) -> Result<(), SingularBlock> {
-    let m = lu.inverse.len();
+    let m = lu.inverse_t.len();
     // No clearing: the slots overwrite every entry of the pattern, and the
     // entries outside it are never written (zero since `new`).
     for k in 0..m {
@@ -280,18 +278,20 @@ fn factorize_with<F: Arith>(
     }
     let (diag, rest) = lu.input.split_at(m);
     let (upper, lower) = rest.split_at(m - 1);
+    let (mut inverse, mut gain) = (ZERO, ZERO);
     for k in 0..m {
         let mut s = diag[k];
         if k > 0 {
-            sub_product::<F>(&mut s, &lu.gain[k - 1], &upper[k - 1]);
+            // `gain` is Gₖ₋₁ here.
+            sub_product::<F>(&mut s, &gain, &upper[k - 1]);
         }
         // Results written in place: returned by value, each 1152-byte
         // block was a memcpy more.
-        invert::<F>(&s, &mut lu.inverse[k])?;
-        transpose(&lu.inverse[k], &mut lu.inverse_t[k]);
+        invert::<F>(&s, &mut inverse)?;
+        transpose(&inverse, &mut lu.inverse_t[k]);
         if k + 1 < m {
-            product::<F>(&lower[k], &lu.inverse[k], &mut lu.gain[k]);
-            transpose(&lu.gain[k], &mut lu.gain_t[k]);
+            product::<F>(&lower[k], &inverse, &mut gain);
+            transpose(&gain, &mut lu.gain_t[k]);
             transpose(&upper[k], &mut lu.upper_t[k]);
         }
     }
@@ -300,7 +300,7 @@ fn factorize_with<F: Arith>(
 
 #[inline(always)]
 fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
-    let m = lu.inverse.len();
+    let m = lu.inverse_t.len();
     let starts = &lu.starts;
     let y = &mut lu.work;
     // Full blocks copied as fixed-size arrays (a copy of a run-time length
@@ -429,7 +429,7 @@ mod tests {
         let mut fresh = BlockTridiagonalLu::new(n, &b.col_ptr, &b.row_idx).unwrap();
         fresh.factorize(&b.values).unwrap();
         let bits = |lu: &BlockTridiagonalLu| {
-            let blocks = lu.inverse.iter().chain(&lu.gain);
+            let blocks = lu.inverse_t.iter().chain(&lu.gain_t).chain(&lu.upper_t);
             blocks
                 .flatten()
                 .flatten()

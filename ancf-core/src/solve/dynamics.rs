@@ -458,6 +458,9 @@ crate::simd_dispatch! {
 /// registers. Zipped, without indices, so that the loop vectorizes
 /// (indexed, its bounds checks and spills made it ≈ 5 % of the span-break
 /// scene).
+// `F` unused: `simd_dispatch!` instantiates the loop per path, and this
+// one computes with plain arithmetic on every path.
+#[allow(clippy::extra_unused_type_parameters)]
 #[inline(always)]
 fn midpoint_with<F: Arith>(
     params: &AlphaParameters,
@@ -483,6 +486,7 @@ crate::simd_dispatch! {
 /// The Newton matrix's values A = c₀ M + c₁ Kq (+ c₂ Kv with a velocity
 /// Jacobian) over the pattern, in one pass. Plain multiplications and
 /// additions on every path, as in `midpoint_with`.
+#[allow(clippy::extra_unused_type_parameters)] // as in `midpoint_with`
 #[inline(always)]
 fn newton_matrix_with<F: Arith>(
     a: &mut [f64],

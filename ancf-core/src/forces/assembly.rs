@@ -805,6 +805,14 @@ mod tests {
     use crate::model::{Support, SupportKind};
     use crate::section::Section;
 
+    /// A straight wire of `n` elements of `length` (m) along x, clamped at
+    /// node 0 (eliminated rows and columns at the first element).
+    fn clamped_wire(section: Section, n: usize, length: f64) -> Model {
+        let element = ElementIntegration::new(length, 3, section);
+        let clamp = vec![Support::new(0, SupportKind::Clamp)];
+        Model::new(element, n, [0.0; 3], [1.0, 0.0, 0.0], clamp, None, vec![]).unwrap()
+    }
+
     /// The chunked assembly writes the same force, energy and Jacobian bits
     /// as one serial loop over all elements, for element counts that do and
     /// do not fill the last chunk, with a clamped end (eliminated columns)
@@ -837,16 +845,7 @@ mod tests {
             (97, steel.clone()),
         ] {
             let section = Section::circular(&[(0.0, 0.01, steel.clone()), (0.01, 0.02, cover)], 3);
-            let model = Model::new(
-                ElementIntegration::new(1.0 / n as f64, 3, section),
-                n,
-                [0.0; 3],
-                [1.0, 0.0, 0.0],
-                vec![Support::new(0, SupportKind::Clamp)],
-                None,
-                vec![],
-            )
-            .unwrap();
+            let model = clamped_wire(section, n, 1.0 / n as f64);
             let pattern = Pattern::new(&model);
             let q: Vec<f64> = model
                 .reference
@@ -896,16 +895,7 @@ mod tests {
     fn column_adds_equal_the_slot_map() {
         let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
         let section = Section::circular(&[(0.0, 0.01, steel)], 3);
-        let model = Model::new(
-            ElementIntegration::new(0.1, 3, section),
-            6,
-            [0.0; 3],
-            [1.0, 0.0, 0.0],
-            vec![Support::new(0, SupportKind::Clamp)],
-            None,
-            vec![],
-        )
-        .unwrap();
+        let model = clamped_wire(section, 6, 0.1);
         let pattern = Pattern::new(&model);
         assert!(pattern.columns[0].is_none());
         assert!(pattern.columns[1..].iter().all(|c| c.is_some()));

@@ -7,7 +7,7 @@
 //! only with r_y and r_z only with r_z. A node's twelve rows then take four
 //! twelve-wide multiply-adds per element node, of the tiles
 //! [r, r, r_y, r_z] and [r_x, r_x, 0, 0] (`paired`): a node's coordinates
-//! stay where they are in memory. Any other mass runs `lanes`, four elements
+//! stay where they are in memory. Any other mass runs `product`, four elements
 //! per vector register with the coordinates transposed into lanes (six
 //! times the instructions). Both sum every row over its non-zeros in
 //! ascending column order, the zero coefficients adding exact zeros, so
@@ -23,8 +23,8 @@ use crate::model::{ElementGroup, NODE_DOFS};
 pub(crate) fn mass_times_into(groups: &[ElementGroup], x: &[f64], out: &mut [f64]) {
     out.fill(0.0);
     for g in groups {
-        match PairedMass::new(&g.mass_nonzeros) {
-            Some(m) => paired(path(), &m, g.elements.clone(), x, out),
+        match &g.paired_mass {
+            Some(m) => paired(path(), m, g.elements.clone(), x, out),
             None => product(path(), &g.mass_nonzeros, g.elements.clone(), x, out),
         }
     }
@@ -45,6 +45,7 @@ type NodeVector = [f64; NODE_DOFS];
 /// per element node: `coefficients[a][s]` multiplies tile s (0: node 0's
 /// [r, r, r_y, r_z], 1: its [r_x, r_x, 0, 0], 2 and 3: node 1's) into node
 /// a's rows — the order of ascending columns for every row.
+#[derive(Clone, Debug)]
 pub(crate) struct PairedMass {
     coefficients: [[NodeVector; 4]; 2],
 }
@@ -52,7 +53,7 @@ pub(crate) struct PairedMass {
 impl PairedMass {
     /// The coefficients, or `None` when the mass couples anything else
     /// (r_y with r, r_y with r_z: a section off its centre).
-    fn new(nonzeros: &[(usize, usize, f64)]) -> Option<Self> {
+    pub(crate) fn new(nonzeros: &[(usize, usize, f64)]) -> Option<Self> {
         let mut coefficients = [[[0.0; NODE_DOFS]; 4]; 2];
         for &(i, j, m) in nonzeros {
             let (a, t) = (i / 4, i % 4);
@@ -204,12 +205,12 @@ mod tests {
         for model in models {
             let model = model.expect("valid wire");
             let g = &model.groups[0];
-            let paired_mass = PairedMass::new(&g.mass_nonzeros).expect("a symmetric section");
+            let paired_mass = g.paired_mass.as_ref().expect("a symmetric section");
             let n = model.reference.len();
             let x: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) as f64).sin() * 1e3).collect();
             for p in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
                 let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
-                paired(p, &paired_mass, g.elements.clone(), &x, &mut a);
+                paired(p, paired_mass, g.elements.clone(), &x, &mut a);
                 product(p, &g.mass_nonzeros, g.elements.clone(), &x, &mut b);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(&a), bits(&b), "{}", p.name());

@@ -7,6 +7,7 @@
 use std::ops::Range;
 
 use crate::element::{ElementIntegration, ElementMatrix};
+use crate::model::mass_product::PairedMass;
 
 /// Consecutive elements of one length.
 #[derive(Clone, Debug)]
@@ -22,6 +23,10 @@ pub struct ElementGroup {
     /// centre 40 of the 64 are exactly zero (∫y dA = 0 couples r_y with
     /// nothing but r_y), so M x skips them.
     pub(crate) mass_nonzeros: Vec<(usize, usize, f64)>,
+    /// The same as the node-tile product's coefficients, when the section
+    /// is symmetric about its centre (see `mass_product`), built once here
+    /// rather than at every product.
+    pub(crate) paired_mass: Option<PairedMass>,
     /// Arc length (m, reference configuration) from the wire's first node
     /// to the group's first node.
     pub start: f64,
@@ -30,15 +35,17 @@ pub struct ElementGroup {
 impl ElementGroup {
     pub(crate) fn new(integration: ElementIntegration, elements: Range<usize>, start: f64) -> Self {
         let mass = integration.mass_matrix();
-        let mass_nonzeros = (0..8)
+        let mass_nonzeros: Vec<_> = (0..8)
             .flat_map(|i| (0..8).map(move |j| (i, j)))
             .map(|(i, j)| (i, j, mass[(3 * i) * 24 + 3 * j]))
             .filter(|&(_, _, m)| m != 0.0)
             .collect();
+        let paired_mass = PairedMass::new(&mass_nonzeros);
         ElementGroup {
             elements,
             integration,
             mass,
+            paired_mass,
             mass_nonzeros,
             start,
         }

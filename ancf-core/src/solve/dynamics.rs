@@ -5,7 +5,7 @@ use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values}
 use crate::forces::contact::{ContactSample, DeepestPoint};
 use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::{FactorError, SparseSolver};
-use crate::math::simd::{Arith, path};
+use crate::math::simd::{Arith, Plain, dot, path};
 use crate::model::Model;
 use std::sync::Arc;
 
@@ -517,20 +517,11 @@ fn norm(v: &[f64]) -> f64 {
     sum_of_squares(v).sqrt()
 }
 
-/// Σ vᵢ² in eight interleaved partial sums: one running sum waits on
-/// each addition's latency at every entry, eight independent ones fill
-/// the vector units (only the norms' last bits depend on the order).
+/// Σ vᵢ² with `simd::dot`'s partial sums (one running sum waits on each
+/// addition's latency at every entry; only the norms' last bits depend on
+/// the order).
 fn sum_of_squares(v: &[f64]) -> f64 {
-    const LANES: usize = 8;
-    let mut acc = [0.0; LANES];
-    let chunks = v.chunks_exact(LANES);
-    let tail = chunks.remainder();
-    for c in chunks {
-        for (a, x) in acc.iter_mut().zip(c) {
-            *a += x * x;
-        }
-    }
-    acc.iter().sum::<f64>() + tail.iter().map(|x| x * x).sum::<f64>()
+    dot::<Plain>(v, v)
 }
 
 /// max |vᵢ| in eight interleaved partial maxima (exact in any order).

@@ -77,8 +77,13 @@ pub struct Summary {
     pub time: f64,
     /// Time steps (dynamic) or load steps (static) completed.
     pub steps: usize,
+    /// Newton iterations and factorizations, those of rejected attempts
+    /// included (the work the run cost).
     pub newton_iterations: usize,
     pub factorizations: usize,
+    /// Dynamic: step attempts rejected (Newton failed, the energy guard or
+    /// the penetration limit) and cut in halves.
+    pub step_cuts: usize,
     pub wall_time_s: f64,
     /// Which element kernel ran.
     pub kernel: String,

@@ -127,3 +127,124 @@ fn damped_contact_resumes_bit_for_bit_from_inside_an_event() {
     assert_eq!(resumed.state().v, sim.state().v);
     assert_eq!(resumed.rod_loads(), sim.rod_loads());
 }
+
+/// The impact scene on 8 elements with steps of 2 ms, a 1e-10 tolerance and
+/// three Newton iterations allowed: from the fourth step on a full step does
+/// not converge in time and is cut in halves.
+fn strained() -> (Scene, ancf_core::solve::dynamics::DynamicSettings) {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/wire_rod_impact.toml"
+    ))
+    .unwrap()
+    .replace("end_time = 1.0", "end_time = 0.06")
+    .replace("elements = 64", "elements = 8");
+    let scene = Scene::from_toml(&text).expect("valid scene");
+    let Analysis::Dynamic { settings, .. } = &scene.analysis else {
+        panic!("dynamic")
+    };
+    let mut settings = settings.clone();
+    settings.time_step = 2e-3;
+    settings.tolerance = 1e-10;
+    settings.max_iterations = 3;
+    (scene, settings)
+}
+
+/// A step whose attempt failed counts that attempt's work, and the next
+/// steps start at the size that worked instead of failing again.
+#[test]
+fn a_newton_failure_counts_its_work_and_subdivides_the_next_steps() {
+    let (scene, settings) = strained();
+    let max_iterations = settings.max_iterations;
+    let mut sim = Simulation::new(&scene.model, settings, Initial::Reference).unwrap();
+    let mut first_cut = None;
+    while !sim.is_finished() {
+        let info = sim.step().unwrap();
+        if info.rejected > 0 {
+            // The rejected attempt ran out of iterations; each sub-step took at least one.
+            assert!(
+                info.iterations >= max_iterations * info.rejected + info.substeps,
+                "{info:?}"
+            );
+            first_cut = Some(sim.steps().0);
+            break;
+        }
+        assert_eq!(info.substeps, 1);
+    }
+    let k = first_cut.expect("a step is cut");
+    assert_eq!(sim.progress().step_cuts, 1);
+    // The step after starts in halves: two sub-steps, none rejected.
+    let info = sim.step().unwrap();
+    assert_eq!((info.substeps, info.rejected), (2, 0), "step {}", k + 1);
+    // Iterations and factorizations are summed step by step, rejected work included.
+    let (iterations, factorizations) = (
+        sim.progress().newton_iterations,
+        sim.progress().factorizations,
+    );
+    let info = sim.step().unwrap();
+    assert_eq!(
+        sim.progress().newton_iterations,
+        iterations + info.iterations
+    );
+    assert_eq!(
+        sim.progress().factorizations,
+        factorizations + info.factorizations
+    );
+}
+
+/// Steps held at a subdivision try twice the size after SUBDIVISION_HOLD
+/// steps without a Newton failure, down to whole steps.
+#[test]
+fn a_subdivision_grows_back_after_steps_without_failure() {
+    use ancf_core::solve::dynamics::{Integrator, SUBDIVISION_HOLD, Subdivision};
+    let (scene, settings) = scene();
+    let model = std::sync::Arc::new(scene.model.clone());
+    let h = settings.time_step;
+    let mut integ = Integrator::new(model.clone(), settings).unwrap();
+    let mut s = integ
+        .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
+        .unwrap();
+    integ.restore_subdivision(Subdivision { depth: 2, held: 0 });
+    let mut substeps = Vec::new();
+    for _ in 0..2 * SUBDIVISION_HOLD + 1 {
+        let (next, info) = integ.step(&s, h).unwrap();
+        assert_eq!(info.rejected, 0, "free flight at 1e-4 s needs no cut");
+        substeps.push(info.substeps);
+        s = next;
+    }
+    let expected: Vec<usize> = (0..2 * SUBDIVISION_HOLD + 1)
+        .map(|k| 4 >> (k / SUBDIVISION_HOLD))
+        .collect();
+    assert_eq!(substeps, expected);
+    assert_eq!(integ.subdivision(), Subdivision::default());
+}
+
+/// A snapshot taken while steps start subdivided resumes bit for bit.
+#[test]
+fn a_subdivided_run_resumes_bit_for_bit() {
+    let (scene, settings) = strained();
+    let mut sim = Simulation::new(&scene.model, settings.clone(), Initial::Reference).unwrap();
+    let mut snapshot = None;
+    while !sim.is_finished() {
+        sim.step().unwrap();
+        if snapshot.is_none() && sim.progress().step_cuts > 0 {
+            snapshot = Some(sim.checkpoint());
+        }
+    }
+    let snapshot = snapshot.expect("a step is cut");
+    assert!(
+        snapshot.subdivision.depth > 0,
+        "the snapshot holds the subdivision"
+    );
+    let mut resumed = Simulation::resume(&scene.model, settings, snapshot).unwrap();
+    while !resumed.is_finished() {
+        resumed.step().unwrap();
+    }
+    assert_eq!(resumed.state().q, sim.state().q);
+    assert_eq!(resumed.state().v, sim.state().v);
+    assert_eq!(resumed.progress().step_cuts, sim.progress().step_cuts);
+    assert_eq!(
+        resumed.progress().newton_iterations,
+        sim.progress().newton_iterations
+    );
+}

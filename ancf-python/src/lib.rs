@@ -715,7 +715,7 @@ impl Simulation {
     /// The run so far with summary.json's keys, as far as a simulation in
     /// progress knows them: status ("running" or "completed"), analysis,
     /// elements, unknowns, time, steps, newton_iterations, factorizations,
-    /// kernel, simd (the instruction-set path), tip {position,
+    /// step_cuts, kernel, simd (the instruction-set path), tip {position,
     /// displacement}, energy {…, total, dissipated}
     /// and, with rods, contact {first_time, max_normal_force,
     /// max_penetration, rods: [law, contact_stiffness,
@@ -741,6 +741,7 @@ impl Simulation {
         d.set_item("steps", p.step)?;
         d.set_item("newton_iterations", p.newton_iterations)?;
         d.set_item("factorizations", p.factorizations)?;
+        d.set_item("step_cuts", p.step_cuts)?;
         d.set_item("kernel", model.element(0).kernel_path().to_string())?;
         d.set_item("simd", ancf_core::math::simd::path().name())?;
         let tip = PyDict::new(py);

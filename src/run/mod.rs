@@ -405,6 +405,13 @@ fn run_dynamic(
     summary.steps = progress.step;
     summary.newton_iterations = progress.newton_iterations;
     summary.factorizations = progress.factorizations;
+    summary.step_cuts = progress.step_cuts;
+    if progress.step_cuts > 0 && summary.status == "completed" {
+        summary.message.push_str(&format!(
+            "; {} step attempt(s) rejected and cut in halves",
+            progress.step_cuts
+        ));
+    }
     summary.time = progress.state.time;
     summary.energy = Some(EnergySummary {
         last: p.last,

@@ -228,6 +228,29 @@ impl Energies {
     }
 }
 
+/// Steps without a Newton failure after which [`Integrator::step`] tries
+/// twice the sub-step size again.
+pub const SUBDIVISION_HOLD: usize = 8;
+
+/// How finely the integrator starts its steps: `depth` halvings (2^depth
+/// sub-steps), held for `held` steps without a Newton failure so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Subdivision {
+    /// Halvings each step starts with.
+    pub depth: usize,
+    /// Steps completed at this depth without a Newton failure.
+    pub held: usize,
+}
+
+/// What the cuts of one step found (see [`Integrator::step`]).
+struct CutLog {
+    /// The smallest depth an attempt was accepted at.
+    shallowest: usize,
+    /// Whether Newton failed on an attempt (rather than a guard rejecting
+    /// a converged one).
+    newton_failed: bool,
+}
+
 /// Statistics of one completed step.
 #[derive(Clone, Debug, Default)]
 pub struct StepInfo {
@@ -237,6 +260,9 @@ pub struct StepInfo {
     pub factorizations: usize,
     /// Sub-steps used (1 when no cut was needed).
     pub substeps: usize,
+    /// Attempts rejected and cut in halves (their Newton iterations and
+    /// factorizations are counted above: the work the step cost).
+    pub rejected: usize,
     /// Contact at the step's generalized-α midpoint (last sub-step).
     pub contact: ContactSample,
     /// Deepest penetrating point: (element, point).
@@ -380,6 +406,8 @@ pub struct Integrator {
     solver: SparseSolver,
     /// Step size of the current factorization, if it is valid for reuse.
     factored_for: Option<f64>,
+    /// How finely steps start, after the last cuts (see [`Integrator::step`]).
+    subdivision: Subdivision,
     /// The external force's norm on the unknowns (N; a residual scale,
     /// constant, so computed once).
     ext_norm: f64,
@@ -556,6 +584,7 @@ impl Integrator {
             mass,
             solver,
             factored_for: None,
+            subdivision: Subdivision::default(),
             ext_norm: norm(&model.gather(forces.external())),
             roundoff: model.roundoff_force(),
             energy_start: 0.0,
@@ -664,19 +693,71 @@ impl Integrator {
     }
 
     /// Advance by one step of size `h`, cutting it in halves on failure.
+    ///
+    /// When Newton failed on an attempt (no convergence, a non-finite
+    /// residual, or a converged state holding more new energy than the
+    /// whole run has in play: a wrong root, measured 5.7 kJ on a 17 J
+    /// swing), the next steps start at the sub-step size that worked
+    /// instead of failing again at the full size, and try twice that size
+    /// after [`SUBDIVISION_HOLD`] steps without such a failure. Other rejections
+    /// (the energy guard's 1 % budget, the penetration limit) leave the
+    /// next step's start alone: trying the full size first is what lets a
+    /// run on the budget find a step that keeps it (holding the sub-steps
+    /// there made the stiff-contact runs fail, BENCHMARKS.md). A run without
+    /// cuts never subdivides.
     pub fn step(&mut self, s: &State, h: f64) -> Result<(State, StepInfo), StepError> {
-        self.step_cut(s, h, 0)
+        let mut info = StepInfo::default();
+        let mut log = CutLog {
+            shallowest: usize::MAX,
+            newton_failed: false,
+        };
+        let next = self.step_cut(s, h, 0, &mut info, &mut log)?;
+        let sub = &mut self.subdivision;
+        if log.newton_failed {
+            *sub = Subdivision {
+                depth: log.shallowest.max(sub.depth),
+                held: 0,
+            };
+        } else if sub.depth > 0 {
+            sub.held += 1;
+            if sub.held >= SUBDIVISION_HOLD {
+                *sub = Subdivision {
+                    depth: sub.depth - 1,
+                    held: 0,
+                };
+            }
+        }
+        Ok((next, info))
     }
 
+    /// How finely steps start now (see [`Integrator::step`]), for checkpoints.
+    pub fn subdivision(&self) -> Subdivision {
+        self.subdivision
+    }
+
+    /// Restore the step subdivision from a checkpoint.
+    pub fn restore_subdivision(&mut self, subdivision: Subdivision) {
+        self.subdivision = subdivision;
+    }
+
+    /// One attempt at `h` (`depth` halvings below the step), or its two
+    /// halves if it fails or if steps start finer than `depth`. The work
+    /// of rejected attempts is counted in `info`.
     fn step_cut(
         &mut self,
         s: &State,
         h: f64,
         depth: usize,
-    ) -> Result<(State, StepInfo), StepError> {
-        let attempt = self.try_step(s, h).and_then(|(next, info)| {
+        info: &mut StepInfo,
+        log: &mut CutLog,
+    ) -> Result<State, StepError> {
+        if depth < self.subdivision.depth {
+            let mid = self.step_cut(s, 0.5 * h, depth + 1, info, log)?;
+            return self.step_cut(&mid, 0.5 * h, depth + 1, info, log);
+        }
+        let attempt = self.try_step(s, h, info).and_then(|next| {
             let Some(c) = self.model.contact() else {
-                return Ok((next, info));
+                return Ok(next);
             };
             // A converged step that drove the wire deep into a rod was too coarse for the contact.
             if info.contact.max_penetration > c.settings.max_penetration * c.wire_radius {
@@ -708,31 +789,24 @@ impl Integrator {
                 return Err(StepError::EnergyGain { gain });
             }
             self.energy_scale = scale;
-            Ok((next, info))
+            Ok(next)
         });
         match attempt {
-            Ok((next, mut info)) => {
-                info.substeps = 1;
-                Ok((next, info))
+            Ok(next) => {
+                info.substeps += 1;
+                log.shallowest = log.shallowest.min(depth);
+                Ok(next)
             }
             Err(e) if depth < self.settings.max_cuts => {
-                let _ = e;
+                log.newton_failed |= match e {
+                    StepError::NotConverged { .. } | StepError::NonFinite => true,
+                    StepError::EnergyGain { gain } => gain > self.energy_scale,
+                    _ => false,
+                };
+                info.rejected += 1;
                 self.factored_for = None;
-                let (mid, i1) = self.step_cut(s, 0.5 * h, depth + 1)?;
-                let (end, i2) = self.step_cut(&mid, 0.5 * h, depth + 1)?;
-                Ok((
-                    end,
-                    StepInfo {
-                        iterations: i1.iterations + i2.iterations,
-                        factorizations: i1.factorizations + i2.factorizations,
-                        substeps: i1.substeps + i2.substeps,
-                        // Forces and powers: those of the last sub-step.
-                        contact: i2.contact,
-                        deepest: i2.deepest,
-                        rod_forces: i2.rod_forces,
-                        damping_power: i2.damping_power,
-                    },
-                ))
+                let mid = self.step_cut(s, 0.5 * h, depth + 1, info, log)?;
+                self.step_cut(&mid, 0.5 * h, depth + 1, info, log)
             }
             Err(e) => Err(StepError::Halved {
                 cuts: depth,
@@ -826,12 +900,11 @@ impl Integrator {
     /// regularized Coulomb law saturates, and undamped Newton cycles across
     /// stick (measured on the impact scene: ‖R‖ alternating 1.074e3 ↔
     /// 1.075e3 N for 25 iterations at h = 8e-6 s).
-    fn try_step(&mut self, s: &State, h: f64) -> Result<(State, StepInfo), StepError> {
-        let mut info = StepInfo::default();
+    fn try_step(&mut self, s: &State, h: f64, info: &mut StepInfo) -> Result<State, StepError> {
         let (mut kq, mut kv) = (std::mem::take(&mut self.kq), std::mem::take(&mut self.kv));
-        let result = self.newton(s, h, &mut kq, &mut kv, &mut info);
+        let result = self.newton(s, h, &mut kq, &mut kv, info);
         (self.kq, self.kv) = (kq, kv);
-        result.map(|state| (state, info))
+        result
     }
 
     /// The Newton loop of `try_step`, with the Jacobian workspaces.
@@ -888,7 +961,6 @@ impl Integrator {
                 && rn.is_finite()
                 && (rn <= self.settings.tolerance * scale || norm_inf(&r) <= self.roundoff)
             {
-                info.iterations = iterations;
                 if self.settings.newton == NewtonKind::Modified && iterations > 6 {
                     self.factored_for = None;
                 }
@@ -979,6 +1051,7 @@ impl Integrator {
             alpha = 1.0;
             model.scatter_add(&da, -1.0, &mut a1);
             iterations += 1;
+            info.iterations += 1;
         }
         self.factored_for = None;
         Err(StepError::NotConverged {

@@ -30,7 +30,9 @@
 use crate::loads::contact_record::ContactRecord;
 use crate::loads::rod_load::LoadHistory;
 use crate::model::Model;
-use crate::solve::dynamics::{DynamicSettings, Energies, Integrator, State, StepError, StepInfo};
+use crate::solve::dynamics::{
+    DynamicSettings, Energies, Integrator, State, StepError, StepInfo, Subdivision,
+};
 use crate::solve::statics::{StaticError, StaticSettings, solve_static};
 use std::ops::ControlFlow;
 use std::sync::Arc;
@@ -113,10 +115,18 @@ pub struct Snapshot {
     pub state: State,
     /// The energy guard's reference (see [`Integrator::energy_reference`]).
     pub energy_reference: (f64, f64),
+    /// How finely steps start (see [`Integrator::step`]; absent in
+    /// checkpoints written before it existed: none).
+    #[serde(default)]
+    pub subdivision: Subdivision,
     /// Newton iterations so far.
     pub newton_iterations: usize,
     /// Factorizations so far.
     pub factorizations: usize,
+    /// Step attempts rejected so far (each cut in halves; their work is in
+    /// the two counts above).
+    #[serde(default)]
+    pub step_cuts: usize,
     /// Support releases done.
     pub released: usize,
     /// The force on each rod at every step.
@@ -180,9 +190,11 @@ impl Simulation {
                 step: 0,
                 phase: 0,
                 energy_reference: integrator.energy_reference(),
+                subdivision: integrator.subdivision(),
                 state,
                 newton_iterations: 0,
                 factorizations: 0,
+                step_cuts: 0,
                 released: 0,
                 rod_loads: vec![LoadHistory::default(); rods],
                 contact: model.contact().map(|_| ContactRecord::default()),
@@ -223,6 +235,7 @@ impl Simulation {
             }
         })?;
         integrator.restore_energy_reference(snapshot.energy_reference);
+        integrator.restore_subdivision(snapshot.subdivision);
         Ok(Simulation {
             static_iterations: Vec::new(),
             steps: Self::step_count(&settings),
@@ -303,6 +316,7 @@ impl Simulation {
         p.step = k;
         p.newton_iterations += info.iterations;
         p.factorizations += info.factorizations;
+        p.step_cuts += info.rejected;
         for (history, force) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
             history.push(p.state.time, *force);
         }
@@ -383,6 +397,7 @@ impl Simulation {
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
             energy_reference: self.integrator.energy_reference(),
+            subdivision: self.integrator.subdivision(),
             ..self.progress.clone()
         }
     }

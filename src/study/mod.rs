@@ -72,8 +72,11 @@ pub struct Outcome {
     /// Contact runs: impulse over all rods in the first
     /// [`CONTACT_WINDOW`] after first contact (N s).
     pub window_impulse: Option<f64>,
-    /// Newton iterations per step (dynamic) or per load step (static).
+    /// Newton iterations per step (dynamic) or per load step (static),
+    /// rejected attempts' included.
     pub iterations_per_step: f64,
+    /// Dynamic runs: step attempts rejected and cut in halves.
+    pub step_cuts: usize,
     /// Contact runs: each rod's loads, in the scene's rod order.
     pub rods: Vec<RodOutcome>,
 }
@@ -173,6 +176,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         first_contact: contact.and_then(|c| c.first_time),
         window_impulse,
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
+        step_cuts: summary.step_cuts,
         rods: contact
             .map(|c| {
                 c.rods
@@ -189,6 +193,32 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
     }
 }
 
+/// The distinct settings of `plan`'s families (and its reference, slot
+/// (families, 0), when run), each with the (family, index) slots it fills:
+/// a setting that several families share runs once.
+fn distinct_settings(plan: &Plan, with_reference: bool) -> Vec<(&Setting, Vec<(usize, usize)>)> {
+    let mut jobs: Vec<(&Setting, Vec<(usize, usize)>)> = Vec::new();
+    let reference = (plan.families.len(), 0);
+    let all = plan
+        .families
+        .iter()
+        .enumerate()
+        .flat_map(|(fi, f)| {
+            f.settings
+                .iter()
+                .enumerate()
+                .map(move |(si, s)| ((fi, si), s))
+        })
+        .chain(with_reference.then_some((reference, &plan.reference)));
+    for (slot, s) in all {
+        match jobs.iter_mut().find(|(t, _)| *t == s) {
+            Some((_, slots)) => slots.push(slot),
+            None => jobs.push((s, vec![slot])),
+        }
+    }
+    jobs
+}
+
 /// Run every setting of `plan` and the reference, `jobs` at a time.
 /// Returns the outcomes per family (in the plan's order) and the reference's.
 fn execute(
@@ -197,20 +227,12 @@ fn execute(
     need_reference_run: bool,
     opts: &StudyOptions,
 ) -> (Vec<Vec<Outcome>>, Option<Outcome>) {
-    let mut jobs: Vec<(usize, usize, &Setting)> = Vec::new();
-    for (fi, fam) in plan.families.iter().enumerate() {
-        for (si, s) in fam.settings.iter().enumerate() {
-            jobs.push((fi, si, s));
-        }
-    }
     let reference_index = plan.families.len();
-    if need_reference_run {
-        jobs.push((reference_index, 0, &plan.reference));
-    }
+    let mut jobs = distinct_settings(plan, need_reference_run);
     // Longest first (a rough cost model: elements × steps), so the reference
     // run does not start last.
     let cost = |s: &Setting| s.elements as f64 / s.time_step.unwrap_or(1.0) * s.axial as f64;
-    jobs.sort_by(|a, b| cost(b.2).total_cmp(&cost(a.2)));
+    jobs.sort_by(|a, b| cost(b.0).total_cmp(&cost(a.0)));
     // Worker threads pull jobs from a shared counter. Each worker runs its
     // jobs inside its own one-thread rayon pool, so a run's assembly stays
     // serial and exactly `jobs` runs share the cores. (A rayon `par_iter`
@@ -229,7 +251,7 @@ fn execute(
                     .expect("a one-thread pool");
                 loop {
                     let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(&(fi, si, s)) = jobs.get(k) else {
+                    let Some((s, slots)) = jobs.get(k) else {
                         break;
                     };
                     let o = pool.install(|| run_setting(file, s, plan.sample_interval));
@@ -245,7 +267,7 @@ fn execute(
                     results
                         .lock()
                         .expect("no panics while held")
-                        .push(((fi, si), o));
+                        .push((slots, o));
                 }
             });
         }
@@ -257,11 +279,13 @@ fn execute(
         .map(|f| vec![Outcome::default(); f.settings.len()])
         .collect();
     let mut reference = None;
-    for ((fi, si), o) in results {
-        if fi == reference_index {
-            reference = Some(o);
-        } else {
-            families[fi][si] = o;
+    for (slots, o) in results {
+        for &(fi, si) in slots {
+            if fi == reference_index {
+                reference = Some(o.clone());
+            } else {
+                families[fi][si] = o.clone();
+            }
         }
     }
     (families, reference)
@@ -308,4 +332,52 @@ pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
         study_wall_s: start.elapsed().as_secs_f64(),
     };
     report::write(&input, &opts.out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The impact study's plan repeats the scene's own setting in three
+    /// families: it runs once and fills every slot.
+    #[test]
+    fn a_setting_shared_by_families_runs_once() {
+        let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
+        let file = SceneFile::from_toml(&text).unwrap();
+        let scene = Scene::from_file(&file).unwrap();
+        let plan = plan::plan(&file, &scene, Level::Standard);
+        let slots: usize = plan.families.iter().map(|f| f.settings.len()).sum();
+        let jobs = distinct_settings(&plan, true);
+        let filled: Vec<(usize, usize)> = jobs.iter().flat_map(|(_, s)| s.clone()).collect();
+        assert_eq!(
+            filled.len(),
+            slots + 1,
+            "every slot and the reference, once"
+        );
+        let mut unique = filled.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), filled.len());
+        for (s, slots) in &jobs {
+            for &(fi, si) in slots {
+                let planned = plan
+                    .families
+                    .get(fi)
+                    .map_or(&plan.reference, |f| &f.settings[si]);
+                assert_eq!(planned, *s);
+            }
+        }
+        let shared = jobs.iter().filter(|(_, slots)| slots.len() > 1).count();
+        assert!(
+            shared >= 1,
+            "the scene's own setting is in several families"
+        );
+        assert!(jobs.len() < slots + 1);
+        // Without the reference run, no job fills its slot.
+        assert!(
+            distinct_settings(&plan, false)
+                .iter()
+                .all(|(_, s)| s.iter().all(|&(fi, _)| fi < plan.families.len()))
+        );
+    }
 }

@@ -380,4 +380,24 @@ mod tests {
                 .all(|(_, s)| s.iter().all(|&(fi, _)| fi < plan.families.len()))
         );
     }
+
+    /// The reference integrates axially with three points when every law is
+    /// pre-integrated (the impact scene), with five when one is not.
+    #[test]
+    fn the_reference_axial_order_follows_the_laws() {
+        let svk = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
+        let rubber = svk.replace(
+            "name = \"aluminium-strands\"\nmodel = \"st-venant-kirchhoff\"\ndensity = 2026.0\nyoungs_modulus = 51.7e9\npoisson_ratio = 0.0\nbending_factor = 0.1",
+            "name = \"aluminium-strands\"\nmodel = \"mooney-rivlin\"\ndensity = 2026.0\nmu10 = 5e5\nmu01 = 1e5\npenalty = 1e3",
+        );
+        assert_ne!(rubber, svk, "the outer layer became Mooney–Rivlin");
+        for (text, axial) in [(svk, 3), (rubber, 5)] {
+            let file = SceneFile::from_toml(&text).unwrap();
+            let scene = Scene::from_file(&file).unwrap();
+            assert_eq!(
+                plan::plan(&file, &scene, Level::Standard).reference.axial,
+                axial
+            );
+        }
+    }
 }

@@ -475,7 +475,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     }
     let reference = Setting {
         elements: 2 * n_max,
-        axial: base.axial.max(5),
+        axial: reference_axial(scene, &base),
         section: base.section,
         // Contact runs: h_min/2 (a contact reference at h_min/4 and twice
         // the elements takes ten minutes; the contact errors are far larger
@@ -499,6 +499,20 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         reference,
         sample_interval: Some(h_max),
     }
+}
+
+/// The axial order of a dynamic scene's reference run. Five points
+/// integrate a St. Venant–Kirchhoff element exactly (its energy density is
+/// of degree 8 in ξ); when every law of the section is pre-integrated, three
+/// (or the scene's own, if higher) moved the impact study's reference by
+/// 5e-8 of the tip excursion, 1e-8 of the filtered peak and 6e-8 of the
+/// impulse at 256 elements — 1/2000 of the finest threshold the study
+/// reports — at 3/4 of its cost (BENCHMARKS.md). Other laws keep five.
+fn reference_axial(scene: &Scene, base: &Setting) -> usize {
+    let plan = &scene.model.element(0).plan;
+    let all_preintegrated =
+        plan.is_preintegrated() && plan.groups.is_empty() && plan.centerline.is_empty();
+    base.axial.max(if all_preintegrated { 3 } else { 5 })
 }
 
 /// `base` at time step `h` (s) on `n` elements, with the surface-law

@@ -225,6 +225,12 @@ fn main() -> ExitCode {
                         summary.wall_time_s,
                         out.display()
                     );
+                    // A completed run can still have been held together by
+                    // rejected steps: say so where the user looks.
+                    if let Some(note) = ancf::run::step_cuts_note(summary.step_cuts, summary.steps)
+                    {
+                        eprintln!("note: {note}");
+                    }
                     ExitCode::SUCCESS
                 }
                 Ok(summary) => {

@@ -109,6 +109,8 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
     for key in ["unknowns", "newton_iterations", "wall_time_s", "message"] {
         assert!(!summary[key].is_null(), "summary lacks {key}");
     }
+    assert_eq!(summary["step_cuts"], 0);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("note:"));
     assert_eq!(summary["tip"]["position"].as_array().unwrap().len(), 3);
     assert_eq!(summary["tip"]["displacement"].as_array().unwrap().len(), 3);
     for key in ["kinetic", "strain", "gravity", "total", "max_drift"] {
@@ -123,6 +125,40 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
     );
     assert!(out_dir.join("energy.png").metadata().unwrap().len() > 1000);
     assert!(out_dir.join("final_nodes.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run whose steps Newton cannot finish in the iterations allowed is cut
+/// into halves: summary.json counts the cuts and the terminal says so.
+#[test]
+fn a_run_with_step_cuts_says_so() {
+    let dir = tmp("cuts");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.06")
+        .replace("elements = 64", "elements = 8")
+        .replace("time_step = 1e-4", "time_step = 2e-3")
+        .replace("tolerance = 1e-4", "tolerance = 1e-10\nmax_iterations = 3");
+    let path = dir.join("strained.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out_dir = dir.join("out");
+    let out = run_quiet(&path, &out_dir).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let summary = summary(&out_dir);
+    let cuts = summary["step_cuts"].as_u64().unwrap();
+    assert!(cuts > 0, "{summary}");
+    let note = format!("note: {cuts} step attempt(s) rejected and cut in halves (so many");
+    assert!(stderr.contains(&note), "{stderr}");
+    assert!(
+        summary["message"]
+            .as_str()
+            .unwrap()
+            .contains("reduce analysis.time_step")
+    );
+    // The rejected attempts' iterations are counted: more than the steps' own.
+    assert!(summary["newton_iterations"].as_u64().unwrap() > 3 * 30);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

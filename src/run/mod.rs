@@ -101,6 +101,22 @@ pub fn run_in_memory(scene: &Scene) -> RunRecord {
     execute(scene, None, true, None).expect("a run without files has no I/O to fail")
 }
 
+/// What a completed run's message says of its step cuts (`None` without
+/// any): one step in a hundred or more cut means the guards, not the time
+/// step, set the path (docs/scene.md).
+pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
+    (step_cuts > 0).then(|| {
+        let mut note = format!("{step_cuts} step attempt(s) rejected and cut in halves");
+        if 100 * step_cuts >= steps {
+            note.push_str(
+                " (so many that the loads depend on which sub-steps passed: reduce \
+                 analysis.time_step until the cuts stop)",
+            );
+        }
+        note
+    })
+}
+
 /// Continue the run checkpointed in `dir` (`ancf run --resume DIR`): the
 /// outputs are cut back to the checkpoint and continued; the result equals
 /// an uninterrupted run bit for bit.
@@ -406,11 +422,10 @@ fn run_dynamic(
     summary.newton_iterations = progress.newton_iterations;
     summary.factorizations = progress.factorizations;
     summary.step_cuts = progress.step_cuts;
-    if progress.step_cuts > 0 && summary.status == "completed" {
-        summary.message.push_str(&format!(
-            "; {} step attempt(s) rejected and cut in halves",
-            progress.step_cuts
-        ));
+    if let Some(note) = step_cuts_note(progress.step_cuts, progress.step)
+        && summary.status == "completed"
+    {
+        summary.message.push_str(&format!("; {note}"));
     }
     summary.time = progress.state.time;
     summary.energy = Some(EnergySummary {

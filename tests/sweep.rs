@@ -118,6 +118,7 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
         column(&header, "status"),
     );
     let tip = column(&header, "tip_dz");
+    let cuts = column(&header, "step_cuts");
     let expected = [
         ("1.0", "0.001"),
         ("1.0", "0.0005"),
@@ -127,6 +128,7 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
     for (k, row) in rows.iter().enumerate() {
         assert_eq!(row[id], format!("v{k:03}"));
         assert_eq!(row[st], "completed");
+        assert_eq!(row[cuts], "0", "a pendulum needs no cut");
         assert_eq!(
             row[len].parse::<f64>().unwrap(),
             expected[k].0.parse::<f64>().unwrap()

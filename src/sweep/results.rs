@@ -36,6 +36,8 @@ pub struct Row {
     /// Tip displacement components and length, m.
     pub tip: Option<[f64; 4]>,
     pub max_drift: Option<f64>,
+    /// Step attempts rejected and cut in halves (summary.json `step_cuts`).
+    pub step_cuts: Option<u64>,
 }
 
 fn number(v: &Value) -> Option<f64> {
@@ -78,6 +80,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             rods: Vec::new(),
             tip: None,
             max_drift: None,
+            step_cuts: None,
         };
     };
     let mut status = s["status"].as_str().unwrap_or("unknown").to_string();
@@ -108,6 +111,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         rods,
         tip,
         max_drift: number(&s["energy"]["max_drift"]),
+        step_cuts: s["step_cuts"].as_u64(),
     }
 }
 
@@ -150,6 +154,7 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
             "tip_dz",
             "tip_displacement",
             "energy_max_drift",
+            "step_cuts",
         ]
         .map(String::from),
     );
@@ -174,6 +179,7 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
             None => cells.extend((0..4).map(|_| String::new())),
         }
         cells.push(opt(r.max_drift));
+        cells.push(r.step_cuts.map_or(String::new(), |n| n.to_string()));
         s += &(cells.join(",") + "\n");
     }
     s

@@ -6,23 +6,29 @@
 use ancf_core::scene::{Analysis, Scene};
 use ancf_core::solve::simulation::{Initial, Simulation};
 
-/// The impact scene shortened to 0.4 s on 16 elements, with a pinned second
-/// support at the free end released at 0.05 s.
-fn scene() -> (Scene, ancf_core::solve::dynamics::DynamicSettings) {
+/// The impact scene with `edit` applied to its text, and its settings.
+fn impact(edit: impl Fn(String) -> String) -> (Scene, ancf_core::solve::dynamics::DynamicSettings) {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../scenes/wire_rod_impact.toml"
     ))
-    .unwrap()
-    .replace("end_time = 1.0", "end_time = 0.4")
-    .replace("elements = 64", "elements = 16")
-        + "\n[[support]]\nnode = \"last\"\nkind = \"pin\"\nrelease_time = 0.05\n";
-    let scene = Scene::from_toml(&text).expect("valid scene");
+    .unwrap();
+    let scene = Scene::from_toml(&edit(text)).expect("valid scene");
     let Analysis::Dynamic { settings, .. } = &scene.analysis else {
         panic!("dynamic")
     };
     let settings = settings.clone();
     (scene, settings)
+}
+
+/// The impact scene shortened to 0.4 s on 16 elements, with a pinned second
+/// support at the free end released at 0.05 s.
+fn scene() -> (Scene, ancf_core::solve::dynamics::DynamicSettings) {
+    impact(|text| {
+        text.replace("end_time = 1.0", "end_time = 0.4")
+            .replace("elements = 64", "elements = 16")
+            + "\n[[support]]\nnode = \"last\"\nkind = \"pin\"\nrelease_time = 0.05\n"
+    })
 }
 
 #[test]
@@ -132,18 +138,10 @@ fn damped_contact_resumes_bit_for_bit_from_inside_an_event() {
 /// three Newton iterations allowed: from the fourth step on a full step does
 /// not converge in time and is cut in halves.
 fn strained() -> (Scene, ancf_core::solve::dynamics::DynamicSettings) {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../scenes/wire_rod_impact.toml"
-    ))
-    .unwrap()
-    .replace("end_time = 1.0", "end_time = 0.06")
-    .replace("elements = 64", "elements = 8");
-    let scene = Scene::from_toml(&text).expect("valid scene");
-    let Analysis::Dynamic { settings, .. } = &scene.analysis else {
-        panic!("dynamic")
-    };
-    let mut settings = settings.clone();
+    let (scene, mut settings) = impact(|text| {
+        text.replace("end_time = 1.0", "end_time = 0.06")
+            .replace("elements = 64", "elements = 8")
+    });
     settings.time_step = 2e-3;
     settings.tolerance = 1e-10;
     settings.max_iterations = 3;

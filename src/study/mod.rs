@@ -219,14 +219,18 @@ fn distinct_settings(plan: &Plan, with_reference: bool) -> Vec<(&Setting, Vec<(u
     jobs
 }
 
-/// Run every setting of `plan` and the reference, `jobs` at a time.
-/// Returns the outcomes per family (in the plan's order) and the reference's.
-fn execute(
+/// Run every setting of `plan` and the reference, `jobs` at a time, and
+/// `tail` on the first worker that finds no run left (while the others
+/// finish theirs: the element-cost table, which had left a core idle for
+/// its 3 s after the runs). Returns the outcomes per family (in the plan's
+/// order), the reference's, and `tail`'s result.
+fn execute<T: Send>(
     file: &SceneFile,
     plan: &Plan,
     need_reference_run: bool,
     opts: &StudyOptions,
-) -> (Vec<Vec<Outcome>>, Option<Outcome>) {
+    tail: impl FnOnce() -> T + Send,
+) -> (Vec<Vec<Outcome>>, Option<Outcome>, T) {
     let reference_index = plan.families.len();
     let mut jobs = distinct_settings(plan, need_reference_run);
     // Longest first (a rough cost model: elements × steps), so the reference
@@ -242,6 +246,8 @@ fn execute(
     let done = std::sync::atomic::AtomicUsize::new(0);
     let total = jobs.len();
     let results = std::sync::Mutex::new(Vec::with_capacity(total));
+    let tail = std::sync::Mutex::new(Some(tail));
+    let tail_out = std::sync::Mutex::new(None);
     std::thread::scope(|scope| {
         for _ in 0..opts.jobs.max(1).min(total.max(1)) {
             scope.spawn(|| {
@@ -252,6 +258,10 @@ fn execute(
                 loop {
                     let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some((s, slots)) = jobs.get(k) else {
+                        let task = tail.lock().expect("no panics while held").take();
+                        if let Some(task) = task {
+                            *tail_out.lock().expect("no panics while held") = Some(task());
+                        }
                         break;
                     };
                     let o = pool.install(|| run_setting(file, s, plan.sample_interval));
@@ -288,7 +298,11 @@ fn execute(
             }
         }
     }
-    (families, reference)
+    let tail_out = tail_out
+        .into_inner()
+        .expect("workers finished")
+        .expect("the first idle worker ran the tail");
+    (families, reference, tail_out)
 }
 
 /// Run the study of the scene in `path` and write its report into `opts.out`.
@@ -314,11 +328,13 @@ pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
         );
     }
     let start = std::time::Instant::now();
-    let (outcomes, reference_run) = execute(&file, &plan, analytic.is_none(), opts);
-    let kernels = match opts.level {
-        Level::Standard => Some(report::kernel_costs(&scene)),
-        Level::Quick | Level::Refinement => None,
-    };
+    let (outcomes, reference_run, kernels) =
+        execute(&file, &plan, analytic.is_none(), opts, || {
+            match opts.level {
+                Level::Standard => Some(report::kernel_costs(&scene)),
+                Level::Quick | Level::Refinement => None,
+            }
+        });
     let input = report::ReportInput {
         scene_path: path,
         scene: &scene,

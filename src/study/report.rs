@@ -1033,7 +1033,7 @@ fn kernel_section(md: &mut String, k: &[KernelCost]) {
         md,
         "## Element cost against quadrature order\n\n\
          One element of this scene's section, force alone and force with Jacobian, µs per evaluation \
-         (single thread, medians). *Generated*: the kernel `build.rs` unrolls for the axial order (St. \
+         (single thread, medians; timed while the study's last runs finish on the other cores). *Generated*: the kernel `build.rs` unrolls for the axial order (St. \
          Venant–Kirchhoff layers pre-integrated over the section, so independent of the section order); \
          *generic*: the loop over every quadrature point.\n\n\
          | axial | section | points per station (generated) | pre-integrated | generated force | generated Jacobian | generic force | generic Jacobian | Jacobian speed-up |\n\

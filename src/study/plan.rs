@@ -509,9 +509,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
 /// impulse at 256 elements — 1/2000 of the finest threshold the study
 /// reports — at 3/4 of its cost (BENCHMARKS.md). Other laws keep five.
 fn reference_axial(scene: &Scene, base: &Setting) -> usize {
-    let plan = &scene.model.element(0).plan;
-    let all_preintegrated =
-        plan.is_preintegrated() && plan.groups.is_empty() && plan.centerline.is_empty();
+    let all_preintegrated = scene.model.element(0).plan.is_preintegrated_only();
     base.axial.max(if all_preintegrated { 3 } else { 5 })
 }
 

@@ -327,6 +327,12 @@ impl IntegrationPlan {
         self.preintegrated.is_some()
     }
 
+    /// Whether every law is pre-integrated (no section or centerline
+    /// points left): what the lane kernels need.
+    pub fn is_preintegrated_only(&self) -> bool {
+        self.is_preintegrated() && self.points() == 0
+    }
+
     /// Points per axial station.
     pub fn points(&self) -> usize {
         self.groups.iter().map(|g| g.points.len()).sum::<usize>() + self.centerline.len()
@@ -466,10 +472,10 @@ impl ElementIntegration {
         &'static [f64],
         &'static [f64],
     )> {
-        let pre = self.plan.preintegrated.as_ref()?;
-        if self.kernel.is_none() || self.plan.points() > 0 {
+        if self.kernel.is_none() || !self.plan.is_preintegrated_only() {
             return None;
         }
+        let pre = self.plan.preintegrated.as_ref()?;
         let (nodes, weights) = generated::axial_rule_for(self.axial.nodes.len())?;
         Some((pre, nodes, weights))
     }

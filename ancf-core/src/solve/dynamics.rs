@@ -714,8 +714,9 @@ impl Integrator {
         let next = self.step_cut(s, h, 0, &mut info, &mut log)?;
         let sub = &mut self.subdivision;
         if log.newton_failed {
+            // Attempts start at `sub.depth` or deeper, so this never coarsens.
             *sub = Subdivision {
-                depth: log.shallowest.max(sub.depth),
+                depth: log.shallowest,
                 held: 0,
             };
         } else if sub.depth > 0 {

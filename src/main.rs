@@ -172,6 +172,9 @@ fn main() -> ExitCode {
                     s.model.n_unknowns,
                     s.model.element(0).kernel_path()
                 );
+                for w in s.warnings() {
+                    eprintln!("warning: {w}");
+                }
                 ExitCode::SUCCESS
             }
             Err(code) => code,
@@ -202,6 +205,10 @@ fn main() -> ExitCode {
                             scene.display(),
                             s.model.element(0).kernel_path()
                         );
+                    }
+                    // Before the work starts, whether quiet or not.
+                    for w in s.warnings() {
+                        eprintln!("warning: {w}");
                     }
                     (
                         run_scene(

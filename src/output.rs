@@ -96,6 +96,11 @@ pub struct Summary {
     pub effects: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSummary>,
+    /// What the scene will likely do badly, known before the run
+    /// ([`ancf_core::scene::Scene::warnings`]); absent when there is
+    /// nothing to say.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 impl Summary {

@@ -162,6 +162,47 @@ fn a_run_with_step_cuts_says_so() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A time step that does not resolve a rod's contact is named before the
+/// run: by `check` and by `run` on the terminal (quiet or not) and in
+/// summary.json; the shipped scene says nothing.
+#[test]
+fn an_unresolved_contact_is_named_before_the_run() {
+    let dir = tmp("unresolved");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.01")
+        .replace("contact_stiffness = 5e7", "contact_stiffness = 5e9");
+    let path = dir.join("stiff.toml");
+    std::fs::write(&path, scene).unwrap();
+    let warning = "warning: analysis.time_step = 1e-4 s does not resolve rod 0's line contact";
+    let check = ancf().arg("check").arg(&path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&check.stderr);
+    assert!(
+        check.status.success() && stderr.contains(warning),
+        "{stderr}"
+    );
+    let out_dir = dir.join("out");
+    let run = run_quiet(&path, &out_dir).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success() && stderr.contains(warning), "{stderr}");
+    let warnings = summary(&out_dir)["warnings"].clone();
+    assert_eq!(warnings.as_array().map(Vec::len), Some(1), "{warnings}");
+    assert!(
+        warnings[0]
+            .as_str()
+            .unwrap()
+            .contains("a time step ≤ 5.36e-5 s resolves it")
+    );
+    let shipped = ancf()
+        .arg("check")
+        .arg("scenes/wire_rod_impact.toml")
+        .output()
+        .unwrap();
+    assert!(!String::from_utf8_lossy(&shipped.stderr).contains("warning"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn static_run_reports_the_tip() {
     let dir = tmp("static");

@@ -231,3 +231,89 @@ fn frictionless_impact_energy_error_falls_as_h_squared() {
         assert!(r > 3.0 && r < 5.5, "second order: ratio {r} ({drifts:?})");
     }
 }
+
+/// The contact resolution check (forces::contact::resolution): ω_c =
+/// √(ε_L / ρA) of each line-law rod against the time step, named before a
+/// run; the shipped scene is resolved, ε_L × 100 at its step is not, and
+/// the surface law is not judged.
+#[test]
+fn a_time_step_beyond_three_over_the_contact_frequency_is_named_before_the_run() {
+    use ancf_core::forces::contact::RESOLVED_STEP_FREQUENCY;
+    let shipped = scene(|t| t);
+    assert!(shipped.warnings().is_empty(), "{:?}", shipped.warnings());
+    let stiff = scene(|t| t.replace("contact_stiffness = 5e7", "contact_stiffness = 5e9"));
+    let rho_a = stiff.model.section().mass_per_length();
+    let omega = (5e9 / rho_a).sqrt();
+    let limit = RESOLVED_STEP_FREQUENCY / omega;
+    assert!(stiff.model.unresolved_contacts(0.99 * limit).is_empty());
+    let found = stiff.model.unresolved_contacts(1.01 * limit);
+    assert_eq!(found.len(), 1);
+    assert_eq!((found[0].rod, found[0].stiffness), (0, 5e9));
+    assert!((found[0].frequency / omega - 1.0).abs() < 1e-14);
+    assert!((found[0].resolving_step() / limit - 1.0).abs() < 1e-14);
+    let warnings = stiff.warnings();
+    assert_eq!(warnings.len(), 1);
+    for part in [
+        "analysis.time_step = 1e-4 s",
+        "rod 0's line contact",
+        "h ω_c = 5.6",
+        "≤ 5.36e-5 s",
+    ] {
+        assert!(
+            warnings[0].contains(part),
+            "{part:?} not in {:?}",
+            warnings[0]
+        );
+    }
+    let hertz = scene(|t| {
+        t.replace("contact_law = \"line\"", "contact_law = \"hertz\"")
+            .replace("contact_stiffness = 5e7     # N/m²", "")
+    });
+    assert!(
+        hertz.warnings()[0].contains("rod 0's hertz contact"),
+        "{:?}",
+        hertz.warnings()
+    );
+    let surface = scene(|t| {
+        t.replace("contact_law = \"line\"", "contact_law = \"surface\"")
+            .replace("contact_stiffness = 5e7", "contact_stiffness = 1e16")
+    });
+    assert!(surface.warnings().is_empty());
+}
+
+/// What the resolution check's threshold stands for: ε_L × 100 on the
+/// impact scene (h ω_c = 5.6 at 0.1 ms) rejects steps within 0.1 s of the
+/// first contact, and at half the step (2.8, under the threshold) it does
+/// not.
+#[test]
+fn the_stiff_contact_cuts_steps_above_the_threshold_and_not_below() {
+    let cuts = |h: &str| {
+        let s = scene(|t| {
+            t.replace("contact_stiffness = 5e7", "contact_stiffness = 5e9")
+                .replace("end_time = 1.0 ", "end_time = 0.37 ")
+                .replace("time_step = 1e-4 ", &format!("time_step = {h} "))
+        });
+        let Analysis::Dynamic { settings, .. } = &s.analysis else {
+            panic!("dynamic scene")
+        };
+        let model = std::sync::Arc::new(s.model.clone());
+        let mut integ = Integrator::new(model.clone(), settings.clone()).unwrap();
+        let mut state = integ
+            .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
+            .unwrap();
+        let steps = (settings.end_time / settings.time_step).round() as usize;
+        let mut rejected = 0;
+        for _ in 0..steps {
+            let (next, info) = integ.step(&state, settings.time_step).unwrap();
+            rejected += info.rejected;
+            state = next;
+        }
+        (rejected, s.warnings().len())
+    };
+    let (coarse, warned) = cuts("1e-4");
+    assert!(
+        coarse > 0 && warned == 1,
+        "h = 1e-4: {coarse} cuts, {warned} warnings"
+    );
+    assert_eq!(cuts("5e-5"), (0, 0));
+}

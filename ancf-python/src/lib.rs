@@ -163,6 +163,14 @@ impl Scene {
         &self.inner.source
     }
 
+    /// What the scene will likely do badly, said before it runs: each rod
+    /// whose line-law contact the time step does not resolve, with the
+    /// step that would (the CLI prints these as warnings).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings()
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "ancf.Scene({} analysis, {} elements, {} unknowns)",

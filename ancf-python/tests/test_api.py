@@ -37,6 +37,14 @@ def test_scene_from_file_toml_and_dict_agree():
     assert "4 elements" in repr(c)
 
 
+def test_scene_warns_of_a_contact_its_time_step_does_not_resolve():
+    assert ancf.Scene.from_file(IMPACT).warnings == []
+    stiff = IMPACT.read_text().replace("contact_stiffness = 5e7", "contact_stiffness = 5e9")
+    (w,) = ancf.Scene.from_toml(stiff).warnings
+    assert "analysis.time_step = 1e-4 s does not resolve rod 0's line contact" in w
+    assert ancf.Scene.from_dict(BASE).warnings == []
+
+
 @pytest.mark.parametrize(
     "edit, field",
     [

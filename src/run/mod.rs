@@ -247,6 +247,7 @@ fn new_summary(scene: &Scene) -> Summary {
         kernel: model.element(0).kernel_path().to_string(),
         simd: ancf_core::math::simd::path().name().into(),
         effects: effect_names(model),
+        warnings: scene.warnings(),
         ..Default::default()
     }
 }

@@ -497,6 +497,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
         }
     );
     step_cuts_note(&mut md, input);
+    unresolved_contact_note(&mut md, input);
     let mut csv = String::from(
         "family,elements,axial,section,time_step,spectral_radius,full_newton,stations,stiffness_factor,status,wall_s,\
          iterations_per_step,tip_error,divergence_time,energy_error,peak_force,peak_force_error,peak_time,peak_time_error,\
@@ -981,6 +982,38 @@ fn step_cuts_note(md: &mut String, input: &ReportInput) {
         cut.len(),
         most.label(),
         worst.step_cuts,
+    );
+}
+
+/// Which runs' time step does not resolve their contact (h √(ε_L / ρA) > 3,
+/// known before they ran), with the step that would.
+fn unresolved_contact_note(md: &mut String, input: &ReportInput) {
+    let mut runs: Vec<(String, f64)> = input
+        .plan
+        .families
+        .iter()
+        .zip(input.outcomes.iter())
+        .flat_map(|(f, o)| f.settings.iter().zip(o))
+        .filter_map(|(s, o)| o.resolving_step.map(|h| (s.label(), h)))
+        .collect();
+    // A setting several families share is listed once.
+    runs.sort_by(|a, b| a.0.cmp(&b.0));
+    runs.dedup_by(|a, b| a.0 == b.0);
+    if runs.is_empty() {
+        return;
+    }
+    let list: Vec<String> = runs
+        .iter()
+        .map(|(label, h)| format!("{label} (h ≤ {h:.2e} s would)"))
+        .collect();
+    let _ = writeln!(
+        md,
+        "**Unresolved contact**: the time step of {} run(s) does not resolve their contact — h √(ε_L / ρA) > {} \
+         for a rod, the wire's frequency on the rod's penalty (ancf warns of it before a run): {}. Their loads \
+         are not converged samples of the law or stiffness they stand for; compare them at the step named.\n",
+        runs.len(),
+        ancf_core::forces::contact::RESOLVED_STEP_FREQUENCY,
+        list.join("; "),
     );
 }
 

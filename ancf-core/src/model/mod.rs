@@ -722,6 +722,16 @@ impl Model {
         })
     }
 
+    /// The rods whose line-law contact a time step of `h` s does not
+    /// resolve on this wire (h √(ε_L / ρA) above
+    /// [`crate::forces::contact::RESOLVED_STEP_FREQUENCY`]); empty without
+    /// contact.
+    pub fn unresolved_contacts(&self, h: f64) -> Vec<crate::forces::contact::UnresolvedContact> {
+        self.contact().map_or_else(Vec::new, |c| {
+            crate::forces::contact::unresolved_contacts(c, self.section().mass_per_length(), h)
+        })
+    }
+
     /// The damping effect, when the scene names one.
     pub fn damping(&self) -> Option<&crate::forces::damping::Damping> {
         self.effects.iter().find_map(|e| match e {

@@ -485,6 +485,21 @@ impl Scene {
         Ok(scene)
     }
 
+    /// What a valid scene will likely do badly, said before it runs: each
+    /// rod whose line-law contact `analysis.time_step` does not resolve
+    /// ([`Model::unresolved_contacts`]), with the step that would.
+    pub fn warnings(&self) -> Vec<String> {
+        match &self.analysis {
+            Analysis::Dynamic { settings, .. } => self
+                .model
+                .unresolved_contacts(settings.time_step)
+                .iter()
+                .map(ToString::to_string)
+                .collect(),
+            Analysis::Static { .. } => Vec::new(),
+        }
+    }
+
     /// Read, parse and validate a scene file.
     pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
         let text = std::fs::read_to_string(path)

@@ -31,6 +31,10 @@ class Scene:
     def kind(self) -> str: ...
     @property
     def source(self) -> str: ...
+    @property
+    def warnings(self) -> list[str]:
+        """Each rod whose line-law contact the time step does not resolve, with the step that would."""
+        ...
 
 class Material:
     """A layer material (SI units)."""

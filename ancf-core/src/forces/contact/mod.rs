@@ -8,17 +8,20 @@
 //! * `Surface`: fixed test points on the outer surface (surface.rs), the
 //!   paper's method.
 //!
-//! Both apply the same point kernel (point.rs). The normal force derives
+//! Both apply the same point kernel (point.rs). Whether a time step resolves
+//! a line-law contact is known from ε_L and the wire's ρA (resolution.rs). The normal force derives
 //! from a potential, so a frictionless impact conserves energy; the broad
 //! phase skips elements whose centerline is far from every rod.
 
 mod hertz;
 mod line;
 mod point;
+pub mod resolution;
 mod surface;
 pub mod zone;
 
 pub use hertz::hertz_line_stiffness;
+pub use resolution::{RESOLVED_STEP_FREQUENCY, UnresolvedContact, unresolved_contacts};
 pub use surface::TestPoint;
 
 use crate::element::{ElementMatrix, ElementVector, shape_functions};

@@ -1,0 +1,92 @@
+//! Whether a time step resolves a rod's line-law contact, known before a
+//! run starts.
+//!
+//! Where the wire lies on a rod, the line law (and hertz, the line law with
+//! ε_L from E*) is an elastic foundation of ε_L N/m² under a beam of ρA
+//! kg/m: the wire vibrates against it at no less than ω_c = √(ε_L / ρA).
+//! On the impact scene (ρA = 1.597 kg/m, BENCHMARKS.md, twelfth and
+//! thirteenth sessions) every run with h ω_c ≤ 2.9 went without a step
+//! cut (the scene's own 0.56, ×10 stiffness 1.77, ×100 at h = 50 µs 2.8,
+//! hertz at 25 µs 2.9; the span break, 1.77, has none either) and every
+//! run above went on by rejecting steps (×100 at 0.1 ms 5.6: 1 582 cuts;
+//! hertz at 0.1 ms 11.4: 1 356; hertz at 50 µs 5.7 failed), its loads then
+//! set by which sub-steps passed. Resolving the contact is necessary, not
+//! sufficient: hertz at 12.5 µs (1.4) with the scene's Newton tolerance
+//! 1e-4 was cut and failed when the tolerance's energy error over 64 000
+//! steps used up the energy guard, and a contact too soft for the blow
+//! meets the penetration limit whatever the step. The surface law's ε_N
+//! (N/m³) has no foundation stiffness per length; it is not judged.
+
+use super::{Contact, ContactLaw};
+
+/// The largest h ω_c at which a line-law contact is resolved (see the
+/// module's measurements).
+pub const RESOLVED_STEP_FREQUENCY: f64 = 3.0;
+
+/// A rod whose line-law contact a time step does not resolve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnresolvedContact {
+    /// The rod's index in the scene's order.
+    pub rod: usize,
+    /// Its law.
+    pub law: ContactLaw,
+    /// Its penalty ε_L, N/m².
+    pub stiffness: f64,
+    /// The wire's mass per length ρA, kg/m.
+    pub mass_per_length: f64,
+    /// ω_c = √(ε_L / ρA), rad/s.
+    pub frequency: f64,
+    /// The time step judged, s.
+    pub time_step: f64,
+}
+
+impl UnresolvedContact {
+    /// The largest time step that resolves the contact, s.
+    pub fn resolving_step(&self) -> f64 {
+        RESOLVED_STEP_FREQUENCY / self.frequency
+    }
+}
+
+impl std::fmt::Display for UnresolvedContact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "analysis.time_step = {:e} s does not resolve rod {}'s {} contact: h ω_c = {:.1} > {} \
+             (ω_c = √(ε_L / ρA) = {:.3e} rad/s, ε_L = {:.3e} N/m² on {:.4} kg/m); expect step cuts \
+             and loads that depend on them; a time step ≤ {:.2e} s resolves it",
+            self.time_step,
+            self.rod,
+            self.law.name(),
+            self.time_step * self.frequency,
+            RESOLVED_STEP_FREQUENCY,
+            self.frequency,
+            self.stiffness,
+            self.mass_per_length,
+            self.resolving_step(),
+        )
+    }
+}
+
+/// The rods of `contact` whose line-law contact a step of `time_step` s
+/// does not resolve on a wire of `mass_per_length` kg/m, in rod order.
+pub fn unresolved_contacts(
+    contact: &Contact,
+    mass_per_length: f64,
+    time_step: f64,
+) -> Vec<UnresolvedContact> {
+    contact
+        .rods
+        .iter()
+        .enumerate()
+        .filter(|(_, rod)| rod.law != ContactLaw::Surface)
+        .map(|(i, rod)| UnresolvedContact {
+            rod: i,
+            law: rod.law,
+            stiffness: rod.contact_stiffness,
+            mass_per_length,
+            frequency: (rod.contact_stiffness / mass_per_length).sqrt(),
+            time_step,
+        })
+        .filter(|u| u.time_step * u.frequency > RESOLVED_STEP_FREQUENCY)
+        .collect()
+}

@@ -430,4 +430,39 @@ mod tests {
             );
         }
     }
+
+    /// The stiffness and law families run each contact at a step that
+    /// resolves it: on the impact scene (h = 0.1 ms) ×100 at 50 µs and hertz
+    /// at 25 µs, everything else at the scene's step.
+    #[test]
+    fn contact_settings_run_at_a_step_that_resolves_them() {
+        let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
+        let file = SceneFile::from_toml(&text).unwrap();
+        let scene = Scene::from_file(&file).unwrap();
+        let plan = plan::plan(&file, &scene, Level::Standard);
+        let mut checked = 0;
+        for fam in plan
+            .families
+            .iter()
+            .filter(|f| f.name.starts_with("Contact"))
+        {
+            for s in &fam.settings {
+                let expected = match (s.stiffness_factor, s.law) {
+                    (_, Some(ancf_core::forces::contact::ContactLaw::Hertz)) => 2.5e-5,
+                    (Some(k), _) if k > 10.0 => 5e-5,
+                    _ => 1e-4,
+                };
+                assert_eq!(s.time_step, Some(expected), "{}", s.label());
+                let run = Scene::from_file(&s.apply(&file, None)).unwrap();
+                assert!(
+                    run.warnings().is_empty(),
+                    "{}: {:?}",
+                    s.label(),
+                    run.warnings()
+                );
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 18, "15 stiffness × zone-point settings and 3 laws");
+    }
 }

@@ -582,7 +582,10 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
             let _ = writeln!(
                 md,
                 "\nThe reference uses the scene's contact stiffness: for other values the error includes the \
-                 change of the penalty model itself; the penetration column shows how close each is to rigid contact."
+                 change of the penalty model itself; the penetration column shows how close each is to rigid contact. \
+                 A stiffness or law whose contact the scene's time step does not resolve (h √(ε_L / ρA) > 3, ρA the \
+                 wire's mass per length) runs at the largest h/2ᵏ that does: its label gives the step, and its wall \
+                 time includes the extra steps."
             );
         }
         if fam.kind == FamilyKind::Dynamic {

@@ -183,6 +183,46 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
 
 /// One bad variant refuses the sweep before anything runs, naming the
 /// variant, its values and the field.
+/// A variant whose time step does not resolve its rod's contact is named
+/// before the sweep runs (stderr, even quiet), and results.csv and
+/// report.md carry the warning; the resolved variant has none.
+#[test]
+fn a_variant_with_an_unresolved_contact_is_warned_of() {
+    let dir = tmp("unresolved");
+    let impact = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/wire_rod_impact.toml"
+    ))
+    .unwrap()
+    .replace("end_time = 1.0", "end_time = 0.002")
+    .replace("elements = 64", "elements = 8")
+    .replace("every = 50", "every = 10\nvtk = false\nplots = false");
+    std::fs::write(dir.join("impact.toml"), impact).unwrap();
+    let sweep = dir.join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        "scene = \"impact.toml\"\n[parameters]\n\"rod[0].contact_stiffness\" = [5e7, 5e9]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = sweep_cmd(&sweep, &out, &["--jobs", "2"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let warning = "analysis.time_step = 1e-4 s does not resolve rod 0's line contact";
+    assert!(
+        stderr.contains(&format!("warning: v001: {warning}")),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("v000:"), "{stderr}");
+    let (header, rows) = results(&out);
+    let w = column(&header, "warnings");
+    assert_eq!(rows[0][w], "");
+    assert!(rows[1][w].contains(warning), "{:?}", rows[1]);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains(&format!("* v001: {warning}")), "{report}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_bad_variant_refuses_the_sweep_before_any_work() {
     let dir = tmp("bad");

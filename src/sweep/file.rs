@@ -64,6 +64,9 @@ pub struct Variant {
     pub values: Vec<toml::Value>,
     /// The complete scene file of this variant.
     pub scene_text: String,
+    /// What its scene will likely do badly ([`Scene::warnings`]): said
+    /// before the sweep runs.
+    pub warnings: Vec<String>,
 }
 
 /// A sweep-file error, naming where it is.
@@ -331,11 +334,13 @@ pub fn expand(
         }
         let scene_text =
             toml::to_string(&table).map_err(|e| SweepError(format!("{}: {e}", describe())))?;
-        Scene::from_toml(&scene_text).map_err(|e| SweepError(format!("{}: {e}", describe())))?;
+        let scene = Scene::from_toml(&scene_text)
+            .map_err(|e| SweepError(format!("{}: {e}", describe())))?;
         variants.push(Variant {
             id,
             values,
             scene_text,
+            warnings: scene.warnings(),
         });
     }
     Ok(Sweep {

@@ -196,6 +196,12 @@ pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
             }
         );
     }
+    // Before the work starts, whether quiet or not.
+    for v in sweep.variants.iter().filter(|v| todo.contains(&v.id)) {
+        for w in &v.warnings {
+            eprintln!("warning: {}: {w}", v.id);
+        }
+    }
     let interrupted = match opts.executor {
         Executor::Local => local::run(&out, &todo, opts.jobs, opts.quiet)?,
         Executor::Slurm => {

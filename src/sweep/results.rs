@@ -38,6 +38,8 @@ pub struct Row {
     pub max_drift: Option<f64>,
     /// Step attempts rejected and cut in halves (summary.json `step_cuts`).
     pub step_cuts: Option<u64>,
+    /// What the run was warned of before it started (summary.json `warnings`).
+    pub warnings: Vec<String>,
 }
 
 fn number(v: &Value) -> Option<f64> {
@@ -81,6 +83,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             tip: None,
             max_drift: None,
             step_cuts: None,
+            warnings: Vec::new(),
         };
     };
     let mut status = s["status"].as_str().unwrap_or("unknown").to_string();
@@ -112,6 +115,14 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         tip,
         max_drift: number(&s["energy"]["max_drift"]),
         step_cuts: s["step_cuts"].as_u64(),
+        warnings: s["warnings"]
+            .as_array()
+            .map(|w| {
+                w.iter()
+                    .filter_map(|x| x.as_str().map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default(),
     }
 }
 
@@ -155,6 +166,7 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
             "tip_displacement",
             "energy_max_drift",
             "step_cuts",
+            "warnings",
         ]
         .map(String::from),
     );
@@ -180,6 +192,7 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
         }
         cells.push(opt(r.max_drift));
         cells.push(r.step_cuts.map_or(String::new(), |n| n.to_string()));
+        cells.push(field(&r.warnings.join("; ")));
         s += &(cells.join(",") + "\n");
     }
     s
@@ -327,6 +340,17 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
         let _ = writeln!(md, "| {} |", cells.join(" | "));
     }
     md.push_str(&spread_table(&numbers, rows));
+    let warned: Vec<String> = rows
+        .iter()
+        .flat_map(|r| r.warnings.iter().map(move |w| format!("* {}: {w}", r.id)))
+        .collect();
+    if !warned.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nWarned before they ran (their numbers depend on what the warning says):\n\n{}\n",
+            warned.join("\n")
+        );
+    }
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| format!("{}: {e}", plots.display()))?;
     for (p, name) in m.parameters.iter().enumerate() {

@@ -12,7 +12,7 @@ pub mod reference;
 pub mod report;
 
 use crate::run::{RunRecord, run_in_memory};
-use ancf_core::scene::{Analysis, Scene, SceneFile};
+use ancf_core::scene::{Scene, SceneFile};
 use plan::{Level, Plan, Setting};
 use std::path::{Path, PathBuf};
 
@@ -79,7 +79,7 @@ pub struct Outcome {
     pub step_cuts: usize,
     /// Dynamic contact runs whose time step does not resolve a rod's
     /// line-law contact (known before they run,
-    /// [`ancf_core::model::Model::unresolved_contacts`]): the largest step
+    /// [`ancf_core::scene::Scene::unresolved_contacts`]): the largest step
     /// that would, s.
     pub resolving_step: Option<f64>,
     /// Contact runs: each rod's loads, in the scene's rod order.
@@ -182,15 +182,11 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         window_impulse,
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
         step_cuts: summary.step_cuts,
-        resolving_step: match &scene.analysis {
-            Analysis::Dynamic { settings, .. } => scene
-                .model
-                .unresolved_contacts(settings.time_step)
-                .iter()
-                .map(|u| u.resolving_step())
-                .reduce(f64::min),
-            Analysis::Static { .. } => None,
-        },
+        resolving_step: scene
+            .unresolved_contacts()
+            .iter()
+            .map(|u| u.resolving_step())
+            .reduce(f64::min),
         rods: contact
             .map(|c| {
                 c.rods

@@ -4,7 +4,7 @@
 
 use ancf_core::forces::contact::ContactLaw;
 use ancf_core::scene::{
-    Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
+    AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
     station_spacing,
 };
 
@@ -271,7 +271,6 @@ fn stations_for(base: &Setting, length: f64, elements: usize) -> Option<usize> {
     )
 }
 
-/// The sweeps for `scene` (whose file is `file`).
 /// `s` at the largest of h, h/2, h/4, … that resolves every rod's
 /// line-law contact (h √(ε_L / ρA) ≤ 3,
 /// [`ancf_core::forces::contact::RESOLVED_STEP_FREQUENCY`]): the stiffness
@@ -285,21 +284,15 @@ fn resolved(file: &SceneFile, mut s: Setting) -> Setting {
         let Ok(scene) = Scene::from_file(&s.apply(file, None)) else {
             return s;
         };
-        let Analysis::Dynamic { settings, .. } = &scene.analysis else {
-            return s;
-        };
-        if scene
-            .model
-            .unresolved_contacts(settings.time_step)
-            .is_empty()
-        {
-            return s;
+        match scene.unresolved_contacts().first() {
+            Some(u) => s.time_step = Some(u.time_step / 2.0),
+            None => return s,
         }
-        s.time_step = Some(settings.time_step / 2.0);
     }
     s
 }
 
+/// The sweeps for `scene` (whose file is `file`).
 pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
     let base = Setting::of_scene(scene);
     let length = file.wire.length;

@@ -485,19 +485,25 @@ impl Scene {
         Ok(scene)
     }
 
-    /// What a valid scene will likely do badly, said before it runs: each
-    /// rod whose line-law contact `analysis.time_step` does not resolve
-    /// ([`Model::unresolved_contacts`]), with the step that would.
-    pub fn warnings(&self) -> Vec<String> {
+    /// The rods whose line-law contact `analysis.time_step` does not
+    /// resolve ([`Model::unresolved_contacts`]); none for a static analysis.
+    pub fn unresolved_contacts(&self) -> Vec<crate::forces::contact::UnresolvedContact> {
         match &self.analysis {
-            Analysis::Dynamic { settings, .. } => self
-                .model
-                .unresolved_contacts(settings.time_step)
-                .iter()
-                .map(ToString::to_string)
-                .collect(),
+            Analysis::Dynamic { settings, .. } => {
+                self.model.unresolved_contacts(settings.time_step)
+            }
             Analysis::Static { .. } => Vec::new(),
         }
+    }
+
+    /// What a valid scene will likely do badly, said before it runs: each
+    /// rod whose line-law contact the time step does not resolve, with the
+    /// step that would.
+    pub fn warnings(&self) -> Vec<String> {
+        self.unresolved_contacts()
+            .iter()
+            .map(ToString::to_string)
+            .collect()
     }
 
     /// Read, parse and validate a scene file.

@@ -348,7 +348,11 @@ impl StepError {
                  contact_stiffness or reduce analysis.time_step"
             }
             StepError::EnergyGain { .. } => {
-                "a time step too coarse for the contact; reduce analysis.time_step"
+                "a time step too coarse for the contact (for a line or hertz rod `ancf check` warns when \
+                 h √(ε_L / ρA) > 3): reduce analysis.time_step; or, with the contact resolved, the energy \
+                 error each step's Newton tolerance leaves, added up over many steps: tighten \
+                 analysis.tolerance (the impact scene with the hertz law at 12.5 µs failed at 0.8 s with \
+                 1e-4 and completed with 1e-8)"
             }
             StepError::Factorization { .. } => {
                 "a singular matrix: too few supports (a free rigid motion) or an element turned inside out"
@@ -375,7 +379,8 @@ impl std::fmt::Display for StepError {
             ),
             StepError::EnergyGain { gain } => write!(
                 f,
-                "the step would raise the energy {gain:.3e} J above its start (contact not resolved)"
+                "the step would raise the energy {gain:.3e} J above its start, past the energy guard's 1 % of \
+                 the energy in play"
             ),
             StepError::Factorization { matrix, error } => match *matrix {
                 "mass" => write!(f, "mass matrix: {error}"),

@@ -295,6 +295,8 @@ fn add_whole_elements(
             let mut q4 = [[0.0; 4]; 24];
             let u = match values.as_mut() {
                 Some((v, offset)) => {
+                    // Lazy on purpose: `get_or_insert` would zero 18 KB at every batch.
+                    #[allow(clippy::unnecessary_lazy_evaluations)]
                     let k4 = k4.get_or_insert_with(|| [[0.0; 4]; 576]);
                     let Some(u) = group.integration.jacobians_x4(&e4, &mut q4, k4) else {
                         break;

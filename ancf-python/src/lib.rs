@@ -782,6 +782,11 @@ impl Simulation {
             contact.set_item("rods", rods)?;
             d.set_item("contact", contact)?;
         }
+        // As summary.json: present only when there is something to say.
+        let warnings = self.scene.warnings();
+        if !warnings.is_empty() {
+            d.set_item("warnings", warnings)?;
+        }
         Ok(d)
     }
 

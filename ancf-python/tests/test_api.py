@@ -43,6 +43,9 @@ def test_scene_warns_of_a_contact_its_time_step_does_not_resolve():
     (w,) = ancf.Scene.from_toml(stiff).warnings
     assert "analysis.time_step = 1e-4 s does not resolve rod 0's line contact" in w
     assert ancf.Scene.from_dict(BASE).warnings == []
+    # The simulation's summary carries them as summary.json does (absent when none).
+    assert ancf.Simulation(ancf.Scene.from_toml(stiff)).summary()["warnings"] == [w]
+    assert "warnings" not in ancf.Simulation(ancf.Scene.from_file(IMPACT)).summary()
 
 
 @pytest.mark.parametrize(

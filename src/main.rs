@@ -148,6 +148,14 @@ fn load(path: &std::path::Path) -> Result<Scene, ExitCode> {
     })
 }
 
+/// What a valid scene will likely do badly ([`Scene::warnings`]), on
+/// stderr.
+fn print_warnings(scene: &ancf_core::scene::Scene) {
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let forced = match cli.simd {
@@ -172,9 +180,7 @@ fn main() -> ExitCode {
                     s.model.n_unknowns,
                     s.model.element(0).kernel_path()
                 );
-                for w in s.warnings() {
-                    eprintln!("warning: {w}");
-                }
+                print_warnings(&s);
                 ExitCode::SUCCESS
             }
             Err(code) => code,
@@ -207,9 +213,7 @@ fn main() -> ExitCode {
                         );
                     }
                     // Before the work starts, whether quiet or not.
-                    for w in s.warnings() {
-                        eprintln!("warning: {w}");
-                    }
+                    print_warnings(&s);
                     (
                         run_scene(
                             &s,

@@ -181,8 +181,6 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// One bad variant refuses the sweep before anything runs, naming the
-/// variant, its values and the field.
 /// A variant whose time step does not resolve its rod's contact is named
 /// before the sweep runs (stderr, even quiet), and results.csv and
 /// report.md carry the warning; the resolved variant has none.
@@ -223,6 +221,8 @@ fn a_variant_with_an_unresolved_contact_is_warned_of() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// One bad variant refuses the sweep before anything runs, naming the
+/// variant, its values and the field.
 #[test]
 fn a_bad_variant_refuses_the_sweep_before_any_work() {
     let dir = tmp("bad");

@@ -79,7 +79,7 @@ pub struct Outcome {
     pub step_cuts: usize,
     /// Dynamic contact runs whose time step does not resolve a rod's
     /// line-law contact (known before they run,
-    /// [`ancf_core::scene::Scene::unresolved_contacts`]): the largest step
+    /// [`ancf_core::scene::Scene::resolving_step`]): the largest step
     /// that would, s.
     pub resolving_step: Option<f64>,
     /// Contact runs: each rod's loads, in the scene's rod order.
@@ -182,11 +182,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         window_impulse,
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
         step_cuts: summary.step_cuts,
-        resolving_step: scene
-            .unresolved_contacts()
-            .iter()
-            .map(|u| u.resolving_step())
-            .reduce(f64::min),
+        resolving_step: scene.resolving_step(),
         rods: contact
             .map(|c| {
                 c.rods

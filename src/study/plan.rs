@@ -4,7 +4,7 @@
 
 use ancf_core::forces::contact::ContactLaw;
 use ancf_core::scene::{
-    AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
+    Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
     station_spacing,
 };
 
@@ -280,14 +280,17 @@ fn stations_for(base: &Setting, length: f64, elements: usize) -> Option<usize> {
 /// at 50 µs and 25 µs they have no cut and cost no more, BENCHMARKS.md).
 /// A setting the scene check refuses is left as is (its run says why).
 fn resolved(file: &SceneFile, mut s: Setting) -> Setting {
-    for _ in 0..8 {
-        let Ok(scene) = Scene::from_file(&s.apply(file, None)) else {
-            return s;
-        };
-        match scene.unresolved_contacts().first() {
-            Some(u) => s.time_step = Some(u.time_step / 2.0),
-            None => return s,
+    let Ok(scene) = Scene::from_file(&s.apply(file, None)) else {
+        return s;
+    };
+    if let (Some(limit), Analysis::Dynamic { settings, .. }) =
+        (scene.resolving_step(), &scene.analysis)
+    {
+        let mut h = settings.time_step;
+        while h > limit {
+            h /= 2.0;
         }
+        s.time_step = Some(h);
     }
     s
 }

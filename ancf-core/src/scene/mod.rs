@@ -496,6 +496,16 @@ impl Scene {
         }
     }
 
+    /// The largest time step (s) that resolves every rod's line-law contact
+    /// ([`crate::forces::contact::UnresolvedContact::resolving_step`]), when
+    /// `analysis.time_step` does not; `None` when it does.
+    pub fn resolving_step(&self) -> Option<f64> {
+        self.unresolved_contacts()
+            .iter()
+            .map(|u| u.resolving_step())
+            .reduce(f64::min)
+    }
+
     /// What a valid scene will likely do badly, said before it runs: each
     /// rod whose line-law contact the time step does not resolve, with the
     /// step that would.

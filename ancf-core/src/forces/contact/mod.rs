@@ -8,10 +8,11 @@
 //! * `Surface`: fixed test points on the outer surface (surface.rs), the
 //!   paper's method.
 //!
-//! Both apply the same point kernel (point.rs). Whether a time step resolves
-//! a line-law contact is known from ε_L and the wire's ρA (resolution.rs). The normal force derives
+//! Both apply the same point kernel (point.rs). The normal force derives
 //! from a potential, so a frictionless impact conserves energy; the broad
-//! phase skips elements whose centerline is far from every rod.
+//! phase skips elements whose centerline is far from every rod. Whether a
+//! time step resolves a line-law contact is known before a run from ε_L and
+//! the wire's ρA (resolution.rs).
 
 mod hertz;
 mod line;

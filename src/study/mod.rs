@@ -360,14 +360,20 @@ pub fn study(path: &Path, opts: &StudyOptions) -> Result<PathBuf, String> {
 mod tests {
     use super::*;
 
-    /// The impact study's plan repeats the scene's own setting in three
-    /// families: it runs once and fills every slot.
-    #[test]
-    fn a_setting_shared_by_families_runs_once() {
+    /// The impact scene's file and its standard-level plan.
+    fn impact_plan() -> (SceneFile, Plan) {
         let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
         let file = SceneFile::from_toml(&text).unwrap();
         let scene = Scene::from_file(&file).unwrap();
         let plan = plan::plan(&file, &scene, Level::Standard);
+        (file, plan)
+    }
+
+    /// The impact study's plan repeats the scene's own setting in three
+    /// families: it runs once and fills every slot.
+    #[test]
+    fn a_setting_shared_by_families_runs_once() {
+        let (_, plan) = impact_plan();
         let slots: usize = plan.families.iter().map(|f| f.settings.len()).sum();
         let jobs = distinct_settings(&plan, true);
         let filled: Vec<(usize, usize)> = jobs.iter().flat_map(|(_, s)| s.clone()).collect();
@@ -428,10 +434,7 @@ mod tests {
     /// at 25 µs, everything else at the scene's step.
     #[test]
     fn contact_settings_run_at_a_step_that_resolves_them() {
-        let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").unwrap();
-        let file = SceneFile::from_toml(&text).unwrap();
-        let scene = Scene::from_file(&file).unwrap();
-        let plan = plan::plan(&file, &scene, Level::Standard);
+        let (file, plan) = impact_plan();
         let mut checked = 0;
         for fam in plan
             .families

@@ -93,7 +93,7 @@ pub fn pendulum_step(model: &Model, newton: NewtonKind, steps: usize) -> (f64, f
 /// values) at a deformed state (the reference stretched by 1 %), as a
 /// Newton iteration does, on the current rayon pool.
 pub fn assembly_us(model: &Model) -> f64 {
-    let pattern = ancf_core::forces::assembly::Pattern::new(model);
+    let pattern = ancf_core::forces::assembly::pattern(model);
     let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
     let mut k = pattern.zeros();
     time_us(|| {
@@ -111,9 +111,9 @@ pub fn assembly_us(model: &Model) -> f64 {
 /// h = 1e-4 s, K at the reference stretched by 1 %): what a modified-Newton
 /// refresh and each iteration of the impact scene's solver do.
 pub fn block_lu_us(model: &Model) -> (f64, f64) {
-    use ancf_core::forces::assembly::{Pattern, assemble, mass_values};
+    use ancf_core::forces::assembly::{assemble, mass_values, pattern};
     use ancf_core::linalg::block_tridiagonal::BlockTridiagonalLu;
-    let pattern = Pattern::new(model);
+    let pattern = pattern(model);
     let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
     let mut k = pattern.zeros();
     assemble(model, &pattern, &q, Some(&mut k));

@@ -16,8 +16,8 @@
 //! future-incompatibility warnings (CRATES.md), for a format this small.
 
 use ancf_core::element::{deformation_gradient, green_lagrange, shape_functions, shape_gradients};
-use ancf_core::forces::contact::Rod;
 use ancf_core::model::Model;
+use ancf_core::model::contact::Rod;
 use std::fmt::Write as _;
 use std::path::Path;
 

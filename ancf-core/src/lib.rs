@@ -73,9 +73,9 @@ pub use error::Error;
 /// What most programs need: `use ancf_core::prelude::*;`.
 pub mod prelude {
     pub use crate::error::Error;
-    pub use crate::forces::contact::{ContactLaw, RestitutionModel, Rod};
     pub use crate::material::Material;
     pub use crate::math::simd::SimdPath;
+    pub use crate::model::contact::{ContactLaw, RestitutionModel, Rod};
     pub use crate::model::{Model, SupportKind, WireBuilder};
     #[cfg(feature = "scene")]
     pub use crate::scene::{Analysis, Scene, SceneError};

@@ -16,7 +16,7 @@
 //! element, independent of ω).
 
 mod common;
-use ancf_core::forces::contact::{ContactLaw, ContactSettings, Rod};
+use ancf_core::model::contact::{ContactLaw, ContactSettings, Rod};
 use ancf_core::model::{Model, PointLoad};
 use ancf_core::section::Section;
 use ancf_core::solve::dynamics::{DynamicSettings, Integrator};

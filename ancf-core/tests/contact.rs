@@ -4,7 +4,8 @@
 //! surface test points (away from the contact boundary) and for the line law.
 
 mod common;
-use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, RestitutionModel, Rod};
+use ancf_core::forces::contact::ContactEvaluator;
+use ancf_core::model::contact::{Contact, ContactLaw, ContactSettings, RestitutionModel, Rod};
 use common::*;
 
 const L: f64 = 0.25;
@@ -30,7 +31,7 @@ fn rod(law: ContactLaw, friction: f64) -> Rod {
     }
 }
 
-fn setup(law: ContactLaw, friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
+fn setup(law: ContactLaw, friction: f64) -> (ContactEvaluator, [f64; 24], [f64; 24]) {
     let c = Contact::new(
         vec![rod(law, friction)],
         ContactSettings {
@@ -45,8 +46,8 @@ fn setup(law: ContactLaw, friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
             ..Default::default()
         },
         RW,
-        &[L],
     );
+    let c = ContactEvaluator::new(&c, &[L]);
     let mut rng = Rng::new(21);
     let mut e = reference(L);
     for v in e.iter_mut() {
@@ -56,14 +57,18 @@ fn setup(law: ContactLaw, friction: f64) -> (Contact, [f64; 24], [f64; 24]) {
     (c, e, v)
 }
 
-fn eval(c: &Contact, e: &[f64; 24], v: &[f64; 24]) -> ([f64; 24], [f64; 576], [f64; 576], f64) {
+fn eval(
+    c: &ContactEvaluator,
+    e: &[f64; 24],
+    v: &[f64; 24],
+) -> ([f64; 24], [f64; 576], [f64; 576], f64) {
     let (mut q, mut kq, mut kv) = ([0.0; 24], [0.0; 576], [0.0; 576]);
     let (s, _) = c.element(0, e, v, &mut q, Some(&mut kq), Some(&mut kv));
     (q, kq, kv, s.energy)
 }
 
 /// No test point within `margin` of the rod surface, so FD does not cross the kink at g = 0.
-fn away_from_boundary(c: &Contact, e: &[f64; 24], margin: f64) -> bool {
+fn away_from_boundary(c: &ContactEvaluator, e: &[f64; 24], margin: f64) -> bool {
     let r = &c.rods[0];
     c.geometry[0].points.iter().all(|tp| {
         let p: [f64; 3] = std::array::from_fn(|k| (0..8).map(|i| tp.s[i] * e[3 * i + k]).sum());
@@ -145,7 +150,7 @@ fn jacobians_match_finite_differences_with_and_without_friction() {
 /// Force and Jacobians of the only rod within a contact event that began
 /// at `impact_speed` (m/s).
 fn eval_event(
-    c: &Contact,
+    c: &ContactEvaluator,
     e: &[f64; 24],
     v: &[f64; 24],
     impact_speed: f64,
@@ -249,7 +254,7 @@ fn kelvin_voigt_jacobians_match_finite_differences() {
 #[test]
 fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
     use ancf_core::forces::assembly::{
-        Pattern, assemble_contact, assemble_contact_reusing, centerline_shift, contact_candidates,
+        assemble_contact, assemble_contact_reusing, centerline_shift, contact_candidates, pattern,
     };
     use ancf_core::material::Material;
     use ancf_core::model::WireBuilder;
@@ -260,8 +265,9 @@ fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
         .rod(Rod::line([1.6, 0.0, -0.12], [0.3, 1.0, 0.2], 0.03, 5e8).with_length(0.5))
         .build()
         .unwrap();
-    let c = model.contact().unwrap();
-    let pattern = Pattern::new(&model);
+    let c = ContactEvaluator::new(model.contact().unwrap(), &model.element_lengths());
+    let c = &c;
+    let pattern = pattern(&model);
     let margin = 4.0 * RW;
     let mut rng = Rng::new(7);
     let mut pairs = Vec::new();

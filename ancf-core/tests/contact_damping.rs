@@ -12,8 +12,8 @@
 
 use std::sync::Arc;
 
-use ancf_core::forces::contact::{ContactDamping, RestitutionModel, Rod, hunt_crossley_rebound};
 use ancf_core::material::Material;
+use ancf_core::model::contact::{ContactDamping, RestitutionModel, Rod, hunt_crossley_rebound};
 use ancf_core::model::{Model, WireBuilder};
 use ancf_core::solve::dynamics::{DynamicSettings, Integrator, State};
 

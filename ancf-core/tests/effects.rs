@@ -3,8 +3,9 @@
 //! μ > 0, the centerline term only for layers with ω < 1, and the
 //! Mooney–Rivlin law only in layers that use it.
 
-use ancf_core::forces::contact::ContactSettings;
+use ancf_core::forces::contact::ContactEvaluator;
 use ancf_core::model::Effect;
+use ancf_core::model::contact::ContactSettings;
 use ancf_core::scene::Scene;
 
 fn load(path: &str, edit: impl Fn(String) -> String) -> Scene {
@@ -66,7 +67,10 @@ fn rods_bring_contact_and_friction_only_when_named() {
     });
     assert!(!frictionless.model.contact().unwrap().has_friction());
     // Velocity Jacobian of frictionless contact stays exactly zero (no friction code ran).
-    let c = frictionless.model.contact().unwrap();
+    let c = ContactEvaluator::new(
+        frictionless.model.contact().unwrap(),
+        &frictionless.model.element_lengths(),
+    );
     // The element starting at mid-span, above the rod (x = 1 m).
     let mid = frictionless.model.n_elements / 2;
     let mut e = frictionless

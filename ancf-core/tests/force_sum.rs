@@ -5,8 +5,9 @@
 //! alone.
 
 use ancf_core::forces::assembly::assemble;
-use ancf_core::forces::damping::{Damping, kelvin_voigt_force};
+use ancf_core::forces::damping::kelvin_voigt_force;
 use ancf_core::forces::sum::{At, ForceSum};
+use ancf_core::model::damping::Damping;
 use ancf_core::prelude::*;
 
 /// A 1 m two-element wire of radius 1 cm lying along x at z = 0, pressed

@@ -6,8 +6,9 @@
 //! exact while a crossing slides over the junction of two element lengths.
 
 use ancf_core::element::reference_coordinates;
-use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, Rod};
+use ancf_core::forces::contact::ContactEvaluator;
 use ancf_core::material::Material;
+use ancf_core::model::contact::{Contact, ContactLaw, ContactSettings, Rod};
 use ancf_core::model::{NODE_DOFS, Segment, WireBuilder};
 use ancf_core::scene::{Analysis, Scene};
 use ancf_core::solve::simulation::{Initial, Simulation};
@@ -121,7 +122,10 @@ fn a_crossing_slides_over_a_change_of_element_length_with_the_exact_force() {
             friction: 0.0,
             damping: None,
         };
-        let c = Contact::new(vec![rod], ContactSettings::default(), RW, &[l0, l1]);
+        let c = ContactEvaluator::new(
+            &Contact::new(vec![rod], ContactSettings::default(), RW),
+            &[l0, l1],
+        );
         let elements = [
             (0, 0.0, l0),
             (0, l0, l0),
@@ -166,7 +170,7 @@ fn a_uniformly_stretched_graded_wire_carries_one_stress() {
         q[NODE_DOFS * n] *= lambda;
         q[NODE_DOFS * n + 3] *= lambda;
     }
-    let pattern = ancf_core::forces::assembly::Pattern::new(&model);
+    let pattern = ancf_core::forces::assembly::pattern(&model);
     let (force, energy) = ancf_core::forces::assembly::assemble(&model, &pattern, &q, None);
     let exx = 0.5 * (lambda * lambda - 1.0);
     let area = std::f64::consts::PI * radius * radius;

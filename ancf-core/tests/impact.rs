@@ -232,13 +232,13 @@ fn frictionless_impact_energy_error_falls_as_h_squared() {
     }
 }
 
-/// The contact resolution check (forces::contact::resolution): ω_c =
+/// The contact resolution check (model::contact::resolution): ω_c =
 /// √(ε_L / ρA) of each line-law rod against the time step, named before a
 /// run; the shipped scene is resolved, ε_L × 100 at its step is not, and
 /// the surface law is not judged.
 #[test]
 fn a_time_step_beyond_three_over_the_contact_frequency_is_named_before_the_run() {
-    use ancf_core::forces::contact::RESOLVED_STEP_FREQUENCY;
+    use ancf_core::model::contact::RESOLVED_STEP_FREQUENCY;
     let shipped = scene(|t| t);
     assert!(shipped.warnings().is_empty(), "{:?}", shipped.warnings());
     let stiff = scene(|t| t.replace("contact_stiffness = 5e7", "contact_stiffness = 5e9"));

@@ -6,7 +6,8 @@
 
 mod common;
 use ancf_core::element::reference_coordinates;
-use ancf_core::forces::contact::{Contact, ContactLaw, ContactSettings, Rod};
+use ancf_core::forces::contact::ContactEvaluator;
+use ancf_core::model::contact::{Contact, ContactLaw, ContactSettings, Rod};
 
 const L: f64 = 0.125; // element length, m
 const RW: f64 = 0.01407; // wire radius, m
@@ -33,7 +34,7 @@ fn rod(law: ContactLaw, x: f64, depth: f64) -> Rod {
 /// The force (N) a straight wire of `n` elements along x from the origin
 /// receives from `rod`, summed over elements.
 fn force_on_straight_wire(rod: Rod, n: usize, settings: ContactSettings) -> [f64; 3] {
-    let c = Contact::new(vec![rod], settings, RW, &[L]);
+    let c = ContactEvaluator::new(&Contact::new(vec![rod], settings, RW), &[L]);
     let v = [0.0; 24];
     let mut total = [0.0; 3];
     for el in 0..n {
@@ -125,15 +126,11 @@ fn a_wrap_at_constant_gap_carries_a_uniform_line_load() {
     let n = 16;
     let dtheta = std::f64::consts::FRAC_PI_2 / n as f64;
     let l = rho * dtheta;
-    let c = Contact::new(
-        vec![Rod {
-            center: [0.0; 3],
-            ..rod(ContactLaw::Line, 0.0, 0.0)
-        }],
-        ContactSettings::default(),
-        RW,
-        &[l],
-    );
+    let rods = vec![Rod {
+        center: [0.0; 3],
+        ..rod(ContactLaw::Line, 0.0, 0.0)
+    }];
+    let c = ContactEvaluator::new(&Contact::new(rods, ContactSettings::default(), RW), &[l]);
     let node = |k: usize| {
         let th = std::f64::consts::PI - k as f64 * dtheta; // from −x over the top toward +z … +x side
         let (s, co) = th.sin_cos();

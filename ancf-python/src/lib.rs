@@ -391,7 +391,7 @@ impl Wire {
         restitution: Option<f64>,
         restitution_model: &str,
     ) -> PyResult<Wire> {
-        use ancf_core::forces::contact::RestitutionModel;
+        use ancf_core::model::contact::RestitutionModel;
         let model = RestitutionModel::from_name(restitution_model)
             .map_err(|message| PyValueError::new_err(format!("restitution_model: {message}")))?;
         if let Some(e) = restitution
@@ -413,7 +413,7 @@ impl Wire {
             return Err(PyValueError::new_err("axis: must not be the zero vector"));
         }
         let mut rod =
-            ancf_core::forces::contact::Rod::line(vec3("center", center)?, axis, radius, stiffness)
+            ancf_core::model::contact::Rod::line(vec3("center", center)?, axis, radius, stiffness)
                 .with_friction(friction);
         if let Some(l) = length {
             rod = rod.with_length(positive("length", l)?);

@@ -458,7 +458,7 @@ fn run_dynamic(
 }
 
 /// A rod's entry in the summary: its law and stiffness, and its load.
-fn rod_summary(rod: &ancf_core::forces::contact::Rod, load: RodLoad) -> crate::output::RodSummary {
+fn rod_summary(rod: &ancf_core::model::contact::Rod, load: RodLoad) -> crate::output::RodSummary {
     crate::output::RodSummary {
         law: rod.law.name().into(),
         contact_stiffness: rod.contact_stiffness,

@@ -443,7 +443,7 @@ mod tests {
         {
             for s in &fam.settings {
                 let expected = match (s.stiffness_factor, s.law) {
-                    (_, Some(ancf_core::forces::contact::ContactLaw::Hertz)) => 2.5e-5,
+                    (_, Some(ancf_core::model::contact::ContactLaw::Hertz)) => 2.5e-5,
                     (Some(k), _) if k > 10.0 => 5e-5,
                     _ => 1e-4,
                 };

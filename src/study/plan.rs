@@ -2,7 +2,7 @@
 //! makes — elements, quadrature orders, time step, ρ∞, Newton kind, contact
 //! stations and stiffness — each as a [`Setting`] applied to the scene file.
 
-use ancf_core::forces::contact::ContactLaw;
+use ancf_core::model::contact::ContactLaw;
 use ancf_core::scene::{
     Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
     station_spacing,
@@ -273,7 +273,7 @@ fn stations_for(base: &Setting, length: f64, elements: usize) -> Option<usize> {
 
 /// `s` at the largest of h, h/2, h/4, … that resolves every rod's
 /// line-law contact (h √(ε_L / ρA) ≤ 3,
-/// [`ancf_core::forces::contact::RESOLVED_STEP_FREQUENCY`]): the stiffness
+/// [`ancf_core::model::contact::RESOLVED_STEP_FREQUENCY`]): the stiffness
 /// and law families compare penalties and laws, which a step too coarse
 /// for them does not (at the impact scene's 0.1 ms the ×100 and hertz rows
 /// went on by rejecting steps, their loads set by which sub-steps passed;

@@ -1015,7 +1015,7 @@ fn unresolved_contact_note(md: &mut String, input: &ReportInput) {
          for a rod, the wire's frequency on the rod's penalty (ancf warns of it before a run): {}. Their loads \
          are not converged samples of the law or stiffness they stand for; compare them at the step named.\n",
         runs.len(),
-        ancf_core::forces::contact::RESOLVED_STEP_FREQUENCY,
+        ancf_core::model::contact::RESOLVED_STEP_FREQUENCY,
         list.join("; "),
     );
 }

@@ -10,30 +10,13 @@
 //!
 //! The dissipated power Q_d · v ≥ 0 is integrated into the energy balance.
 
-use super::assembly::Pattern;
 use crate::element::{
     ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, strain_matrix,
 };
+use crate::linalg::pattern::Pattern;
 use crate::material::{Law, tensor_from_stress};
 use crate::model::{Model, NODE_DOFS};
 use nalgebra::{SMatrix, Vector6};
-
-/// Damping named by a scene.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Damping {
-    /// Q_d = (mass · M + stiffness · K₀) v; `mass` in 1/s, `stiffness` in s.
-    Rayleigh {
-        /// Mass-proportional factor (1/s).
-        mass: f64,
-        /// Stiffness-proportional factor (s).
-        stiffness: f64,
-    },
-    /// σ_v = c D₀ Ė; `coefficient` c in s.
-    KelvinVoigt {
-        /// c (s).
-        coefficient: f64,
-    },
-}
 
 /// One point of the Kelvin–Voigt force: adds w Bᵀσ_v to `q`, ∂/∂q to `kq`,
 /// ∂/∂v to `kv`; returns the dissipated power w σ_v · Ė (W).

@@ -20,11 +20,14 @@
 //! (overwritten), ∂(Q + Q_d)/∂v added to `kv`.
 
 use super::assembly::{
-    ContactForces, Pattern, assemble, assemble_contact_reusing, assemble_into, mass_values,
+    ContactForces, assemble, assemble_contact_reusing, assemble_into, mass_values, pattern,
     strain_energy,
 };
-use super::damping::{Damping, kelvin_voigt_force};
+use super::contact::ContactEvaluator;
+use super::damping::kelvin_voigt_force;
+use crate::linalg::pattern::Pattern;
 use crate::model::Model;
+use crate::model::damping::Damping;
 
 /// Where the forces are evaluated.
 #[derive(Clone, Copy, Debug)]
@@ -90,6 +93,8 @@ pub struct ForceSum {
     /// Per-element strain energies (workspace) and their sum (J).
     element_energy: Vec<f64>,
     strain_energy: f64,
+    /// The model's contact, ready to evaluate (`None` without rods).
+    evaluator: Option<ContactEvaluator>,
     /// The last evaluation's contact (its force vector is reused).
     contact: Option<ContactForces>,
     /// Q_d on the unknowns (N) and its power Q_d · v (W) of the last
@@ -101,7 +106,7 @@ pub struct ForceSum {
 impl ForceSum {
     /// The sum of `model`'s effects at load factor 1.
     pub fn new(model: &Model) -> Self {
-        let pattern = Pattern::new(model);
+        let pattern = pattern(model);
         let rayleigh = match model.damping() {
             Some(Damping::Rayleigh {
                 mass: alpha,
@@ -125,6 +130,9 @@ impl ForceSum {
             internal: vec![0.0; n],
             element_energy: vec![0.0; model.n_elements],
             strain_energy: 0.0,
+            evaluator: model
+                .contact()
+                .map(|c| ContactEvaluator::new(c, &model.element_lengths())),
             contact: model.contact().map(|_| ContactForces::default()),
             damping: Vec::new(),
             damping_power: 0.0,
@@ -186,7 +194,7 @@ impl ForceSum {
             &mut self.internal,
             &mut self.element_energy,
         );
-        if let Some(c) = model.contact() {
+        if let (Some(c), Some(ev)) = (model.contact(), &self.evaluator) {
             let kvc = if c.velocity_dependent() {
                 kv.as_deref_mut()
             } else {
@@ -203,7 +211,7 @@ impl ForceSum {
             };
             let cf = assemble_contact_reusing(
                 model,
-                c,
+                ev,
                 &self.pattern,
                 at.q,
                 v,
@@ -250,6 +258,11 @@ impl ForceSum {
         self.strain_energy
     }
 
+    /// The model's contact, ready to evaluate (`None` without rods).
+    pub fn contact_evaluator(&self) -> Option<&ContactEvaluator> {
+        self.evaluator.as_ref()
+    }
+
     /// Contact of the last evaluation (`None` without contact).
     pub fn contact(&self) -> Option<&ContactForces> {
         self.contact.as_ref()
@@ -281,7 +294,7 @@ impl ForceSum {
     ) -> Potentials {
         let strain = strain_energy(model, q);
         let (gravity, loads) = model.external_potential(q);
-        let contact = model.contact().map_or(0.0, |c| {
+        let contact = self.evaluator.as_ref().map_or(0.0, |c| {
             let (events, force) = (&[], Vec::new());
             let cf = assemble_contact_reusing(
                 model,

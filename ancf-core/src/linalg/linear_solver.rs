@@ -15,11 +15,11 @@
 //! pivot, goes to faer's pivoting sparse LU, whose symbolic analysis is
 //! then also kept.
 
-use crate::forces::assembly::Pattern;
 use crate::linalg::band_cholesky::BandCholesky;
 use crate::linalg::band_lu::BandLu;
 use crate::linalg::band_split::{SPLIT_MIN_UNKNOWNS, SplitBandCholesky};
 use crate::linalg::block_tridiagonal::BlockTridiagonalLu;
+use crate::linalg::pattern::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::{

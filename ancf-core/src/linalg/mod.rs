@@ -8,3 +8,4 @@ pub mod band_split;
 pub mod block_tridiagonal;
 pub mod linear_solver;
 pub mod parallel;
+pub mod pattern;

@@ -2,7 +2,7 @@
 //! lines give the same `Model` a scene would.
 //!
 //! ```
-//! use ancf_core::forces::contact::Rod;
+//! use ancf_core::model::contact::Rod;
 //! use ancf_core::material::Material;
 //! use ancf_core::model::{SupportKind, WireBuilder};
 //! let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
@@ -17,10 +17,10 @@
 //! assert!(model.contact().is_some());
 //! ```
 
+use super::contact::{ContactSettings, Rod};
+use super::damping::Damping;
 use super::{Model, ModelError, PointLoad, Segment, Support, SupportKind};
 use crate::element::ElementIntegration;
-use crate::forces::contact::{ContactSettings, Rod};
-use crate::forces::damping::Damping;
 use crate::material::Material;
 use crate::section::Section;
 

@@ -3,6 +3,8 @@
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
 mod builder;
+pub mod contact;
+pub mod damping;
 mod mass_product;
 mod mesh;
 pub use builder::WireBuilder;
@@ -98,9 +100,9 @@ pub enum Effect {
     /// Point loads.
     PointLoads(Vec<PointLoad>),
     /// Penalty contact with rigid rods (friction only where a rod has μ > 0).
-    Contact(crate::forces::contact::Contact),
+    Contact(contact::Contact),
     /// Structural damping (Kelvin–Voigt or Rayleigh).
-    Damping(crate::forces::damping::Damping),
+    Damping(damping::Damping),
 }
 
 /// A straight wire of `n_elements` elements, in groups of equal length
@@ -715,7 +717,7 @@ impl Model {
     }
 
     /// The contact effect, when the scene has rods.
-    pub fn contact(&self) -> Option<&crate::forces::contact::Contact> {
+    pub fn contact(&self) -> Option<&contact::Contact> {
         self.effects.iter().find_map(|e| match e {
             Effect::Contact(c) => Some(c),
             _ => None,
@@ -724,16 +726,16 @@ impl Model {
 
     /// The rods whose line-law contact a time step of `h` s does not
     /// resolve on this wire (h √(ε_L / ρA) above
-    /// [`crate::forces::contact::RESOLVED_STEP_FREQUENCY`]); empty without
+    /// [`contact::RESOLVED_STEP_FREQUENCY`]); empty without
     /// contact.
-    pub fn unresolved_contacts(&self, h: f64) -> Vec<crate::forces::contact::UnresolvedContact> {
+    pub fn unresolved_contacts(&self, h: f64) -> Vec<contact::UnresolvedContact> {
         self.contact().map_or_else(Vec::new, |c| {
-            crate::forces::contact::unresolved_contacts(c, self.section().mass_per_length(), h)
+            contact::unresolved_contacts(c, self.section().mass_per_length(), h)
         })
     }
 
     /// The damping effect, when the scene names one.
-    pub fn damping(&self) -> Option<&crate::forces::damping::Damping> {
+    pub fn damping(&self) -> Option<&damping::Damping> {
         self.effects.iter().find_map(|e| match e {
             Effect::Damping(d) => Some(d),
             _ => None,
@@ -741,7 +743,7 @@ impl Model {
     }
 
     /// Add damping as one of the model's effects.
-    pub fn with_damping(mut self, damping: Option<crate::forces::damping::Damping>) -> Self {
+    pub fn with_damping(mut self, damping: Option<damping::Damping>) -> Self {
         if let Some(d) = damping {
             self.effects.push(Effect::Damping(d));
         }
@@ -751,16 +753,11 @@ impl Model {
     /// Add rods: contact becomes one of the model's effects.
     pub fn with_rods(
         mut self,
-        rods: Vec<crate::forces::contact::Rod>,
-        settings: crate::forces::contact::ContactSettings,
+        rods: Vec<contact::Rod>,
+        settings: contact::ContactSettings,
     ) -> Self {
         if !rods.is_empty() {
-            let c = crate::forces::contact::Contact::new(
-                rods,
-                settings,
-                self.section().outer_radius(),
-                &self.element_lengths(),
-            );
+            let c = contact::Contact::new(rods, settings, self.section().outer_radius());
             self.effects.push(Effect::Contact(c));
         }
         self

@@ -487,7 +487,7 @@ impl Scene {
 
     /// The rods whose line-law contact `analysis.time_step` does not
     /// resolve ([`Model::unresolved_contacts`]); none for a static analysis.
-    pub fn unresolved_contacts(&self) -> Vec<crate::forces::contact::UnresolvedContact> {
+    pub fn unresolved_contacts(&self) -> Vec<crate::model::contact::UnresolvedContact> {
         match &self.analysis {
             Analysis::Dynamic { settings, .. } => {
                 self.model.unresolved_contacts(settings.time_step)
@@ -497,7 +497,7 @@ impl Scene {
     }
 
     /// The largest time step (s) that resolves every rod's line-law contact
-    /// ([`crate::forces::contact::UnresolvedContact::resolving_step`]), when
+    /// ([`crate::model::contact::UnresolvedContact::resolving_step`]), when
     /// `analysis.time_step` does not; `None` when it does.
     pub fn resolving_step(&self) -> Option<f64> {
         self.unresolved_contacts()
@@ -948,7 +948,7 @@ fn tolerance(a: &AnalysisSpec) -> Result<f64, SceneError> {
 
 fn validate_damping(
     spec: Option<&DampingSpec>,
-) -> Result<Option<crate::forces::damping::Damping>, SceneError> {
+) -> Result<Option<crate::model::damping::Damping>, SceneError> {
     let Some(d) = spec else { return Ok(None) };
     let reject = |pairs: &[(&str, bool)]| -> Result<(), SceneError> {
         for (k, given) in pairs {
@@ -974,7 +974,7 @@ fn validate_damping(
                 )
             })?;
             let c = positive("damping.strain_rate_coefficient", c)?;
-            Ok(Some(crate::forces::damping::Damping::KelvinVoigt {
+            Ok(Some(crate::model::damping::Damping::KelvinVoigt {
                 coefficient: c,
             }))
         }
@@ -991,7 +991,7 @@ fn validate_damping(
                     format!("need mass ≥ 0, stiffness ≥ 0, not both 0; got {alpha}, {beta}"),
                 ));
             }
-            Ok(Some(crate::forces::damping::Damping::Rayleigh {
+            Ok(Some(crate::model::damping::Damping::Rayleigh {
                 mass: alpha,
                 stiffness: beta,
             }))
@@ -1020,12 +1020,12 @@ fn validate_rods(
     find: &dyn Fn(&str, &str) -> Result<Material, SceneError>,
 ) -> Result<
     (
-        Vec<crate::forces::contact::Rod>,
-        crate::forces::contact::ContactSettings,
+        Vec<crate::model::contact::Rod>,
+        crate::model::contact::ContactSettings,
     ),
     SceneError,
 > {
-    use crate::forces::contact::{ContactDamping, ContactLaw, RestitutionModel};
+    use crate::model::contact::{ContactDamping, ContactLaw, RestitutionModel};
     let mut rods = Vec::new();
     for (i, r) in specs.iter().enumerate() {
         let at = |k: &str| format!("rod[{i}].{k}");
@@ -1082,7 +1082,7 @@ fn validate_rods(
                     "missing: contact_law = \"hertz\" needs the rod's material (E and ν)",
                 ));
             }
-            (ContactLaw::Hertz, None, Some(m)) => crate::forces::contact::hertz_line_stiffness(
+            (ContactLaw::Hertz, None, Some(m)) => crate::model::contact::hertz_line_stiffness(
                 m.model.elastic_constants(),
                 wire_material.model.elastic_constants(),
                 wire_radius,
@@ -1129,7 +1129,7 @@ fn validate_rods(
                 (e < 1.0).then(|| ContactDamping::new(e, model))
             }
         };
-        rods.push(crate::forces::contact::Rod {
+        rods.push(crate::model::contact::Rod {
             center,
             axis: axis.map(|v| v / n),
             radius,
@@ -1140,7 +1140,7 @@ fn validate_rods(
             damping,
         });
     }
-    let mut settings = crate::forces::contact::ContactSettings::default();
+    let mut settings = crate::model::contact::ContactSettings::default();
     if let Some(c) = contact {
         if rods.is_empty() {
             return Err(err("contact", "contact settings without any [[rod]]"));

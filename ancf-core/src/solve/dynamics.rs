@@ -854,7 +854,7 @@ impl Integrator {
         };
         // The step's candidate contact pairs, found once at its start; an
         // iterate that moved farther than their margin visits all pairs.
-        let pairs = match model.contact() {
+        let pairs = match self.forces.contact_evaluator() {
             Some(c) => {
                 let margin = CANDIDATE_MARGIN * c.wire_radius;
                 if !same_bits(&w.contact_pairs_at, &s.q) {

@@ -10,18 +10,19 @@
 
 use super::point::{ElementOut, PointInput, axis_offset, point_contact};
 use super::zone::active_zones;
-use super::{Contact, DeepestPoint, ElementGeometry, Rod};
+use super::{ContactEvaluator, DeepestPoint, ElementGeometry};
 use crate::element::{ElementVector, shape_functions};
 use crate::math::vec3::dot;
+use crate::model::contact::Rod;
 
 /// A zone longer than this (in ξ) is split into pieces of at most this
 /// length, each with its own Gauss points.
 pub const MAX_PIECE: f64 = 0.5;
 
 /// Line contact of one element with `rod` (index `ri`): see
-/// [`Contact::element_rod`].
+/// [`ContactEvaluator::element_rod`].
 pub(crate) fn element_rod(
-    contact: &Contact,
+    contact: &ContactEvaluator,
     geometry: &ElementGeometry,
     ri: usize,
     rod: &Rod,

@@ -3,9 +3,10 @@
 //! points differ only in where the point sits, what gap offset applies and
 //! what measure (area or length) its stiffness is multiplied by.
 
-use super::{ContactSample, Rod};
+use super::ContactSample;
 use crate::element::{ElementMatrix, ElementVector};
 use crate::math::vec3::dot;
+use crate::model::contact::Rod;
 
 /// The vector from the rod's nearest axis point to `p` (m), and whether the
 /// nearest point is inside the rod's length (`true`: the vector is normal to

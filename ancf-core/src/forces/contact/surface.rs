@@ -6,9 +6,10 @@
 //! matters; its force jumps as test points enter the contact patch.
 
 use super::point::{ElementOut, PointInput, axis_offset, point_contact};
-use super::{Contact, DeepestPoint, ElementGeometry, Rod};
+use super::{ContactEvaluator, DeepestPoint, ElementGeometry};
 use crate::element::{ElementVector, shape_functions};
 use crate::math::quadrature::gauss_legendre_unit;
+use crate::model::contact::Rod;
 
 /// One surface test point, in material coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,9 +48,9 @@ pub fn test_points(stations: usize, angles: usize, wire_radius: f64, l: f64) -> 
 }
 
 /// Surface contact of one element with `rod` (index `ri`): see
-/// [`Contact::element_rod`].
+/// [`ContactEvaluator::element_rod`].
 pub(crate) fn element_rod(
-    contact: &Contact,
+    contact: &ContactEvaluator,
     geometry: &ElementGeometry,
     ri: usize,
     rod: &Rod,

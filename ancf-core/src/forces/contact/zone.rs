@@ -12,10 +12,10 @@
 //! integrate a smooth function, and a crossing that slides along the wire
 //! moves the force smoothly.
 
-use super::Rod;
 use super::point::axis_offset;
 use crate::element::ElementVector;
 use crate::math::vec3::dot;
+use crate::model::contact::Rod;
 
 /// At most this many separate zones per element and rod (a cubic
 /// centerline has at most three along an infinite rod).
@@ -208,7 +208,7 @@ pub fn active_zones(e: &ElementVector, l: f64, rod: &Rod, reach: f64) -> Zones {
 mod tests {
     use super::*;
     use crate::element::reference_coordinates;
-    use crate::forces::contact::ContactLaw;
+    use crate::model::contact::ContactLaw;
 
     fn rod(x: f64, z: f64) -> Rod {
         Rod {

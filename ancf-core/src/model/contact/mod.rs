@@ -1,0 +1,324 @@
+//! What a model says about contact: the rigid rods, each with its law
+//! (SPEC §7), stiffness, friction and restitution, and the settings of the
+//! contact integration. Checked here once ([`Rod::check`],
+//! [`ContactSettings::check`]); evaluated by `forces::contact`.
+//!
+//! * `Line` (default) and `Hertz`: contact on the centerline, integrated
+//!   over the active zone; `Hertz` is the line law with ε_L derived from the
+//!   materials' E* (hertz.rs).
+//! * `Surface`: fixed test points on the outer surface, the paper's method.
+//!
+//! Whether a time step resolves a line-law contact is known from ε_L and
+//! the wire's ρA alone (resolution.rs).
+
+mod hertz;
+pub mod resolution;
+
+pub use hertz::hertz_line_stiffness;
+pub use resolution::{RESOLVED_STEP_FREQUENCY, UnresolvedContact, unresolved_contacts};
+
+/// How a rod's contact force is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactLaw {
+    /// Centerline line contact over the active zone; stiffness ε_L in N/m².
+    Line,
+    /// The line law with ε_L = E* √(R_e / (2 R_s)) from the rod's and the
+    /// wire's outer-layer materials (Hertz at a 90° crossing).
+    Hertz,
+    /// Surface test points; stiffness ε_N in N/m³.
+    Surface,
+}
+
+impl ContactLaw {
+    /// The name used in scene files and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactLaw::Line => "line",
+            ContactLaw::Hertz => "hertz",
+            ContactLaw::Surface => "surface",
+        }
+    }
+
+    /// The unit of the contact stiffness under this law.
+    pub fn stiffness_unit(self) -> &'static str {
+        match self {
+            ContactLaw::Surface => "N/m^3",
+            _ => "N/m^2",
+        }
+    }
+}
+
+/// A rigid cylinder.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rod {
+    /// A point on the axis, m.
+    pub center: [f64; 3],
+    /// Unit axis direction.
+    pub axis: [f64; 3],
+    /// Radius, m.
+    pub radius: f64,
+    /// Length, m, centred on `center`; `None` is infinite. The line laws
+    /// treat the ends as spherical caps (distance to the axis segment), the
+    /// surface law as open (no contact beyond the ends).
+    pub length: Option<f64>,
+    /// The contact law.
+    pub law: ContactLaw,
+    /// Penalty stiffness actually used: ε_L in N/m² (line, hertz) or ε_N in
+    /// N/m³ (surface).
+    pub contact_stiffness: f64,
+    /// Coulomb coefficient μ; 0 = frictionless (no friction code runs).
+    pub friction: f64,
+    /// Contact damping with a coefficient of restitution; `None` (the
+    /// default) = elastic contact (no damping code runs).
+    pub damping: Option<ContactDamping>,
+}
+
+/// Hunt–Crossley contact damping: the normal force k δ becomes
+/// k δ (1 + χ δ̇)⁺, δ̇ the rate of penetration, with χ = c(e) / v⁻ from the
+/// coefficient of restitution e and the approach speed v⁻ of the contact
+/// event (SPEC §7.3). The force starts and ends at zero like the elastic
+/// one (a dashpot c δ̇ would jump at first touch).
+///
+/// Why c(e) can be exact: a single body hitting with this law obeys
+/// m δ̇ dδ̇ = −k δⁿ (1 + χ δ̇) dδ; integrated from touch to release (δ = 0 at
+/// both) the right side vanishes, so χ v⁻ − ln(1 + χ v⁻) = −χ v⁺ −
+/// ln(1 − χ v⁺) for any m, k and n (Carvalho & Martins, Mech. Mach. Theory
+/// 139, 2019). [`RestitutionModel::Exact`] solves it for the c that gives
+/// v⁺/v⁻ = e; the classic closed forms approximate it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactDamping {
+    restitution: f64,
+    model: RestitutionModel,
+    coefficient: f64,
+}
+
+/// How the damping factor follows from the coefficient of restitution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RestitutionModel {
+    /// c solved from the closed-form rebound of the Hunt–Crossley law (see
+    /// [`ContactDamping`]): a single body rebounds at exactly e.
+    Exact,
+    /// Flores et al. (Nonlinear Dyn. 65, 2011): c = 8 (1 − e) / (5 e);
+    /// rebounds at 0.256 for e = 0.3, 0.470 for 0.5, 0.894 for 0.9.
+    Flores,
+    /// Lankarani & Nikravesh (J. Mech. Des. 112, 1990): c = 3 (1 − e²) / 4,
+    /// from an energy balance for e → 1; rebounds at 0.684 for e = 0.3,
+    /// 0.725 for 0.5, 0.913 for 0.9 (never below 0.64).
+    LankaraniNikravesh,
+}
+
+impl RestitutionModel {
+    /// The model named `name` in a scene file or a Python call, or what to
+    /// tell the user.
+    pub fn from_name(name: &str) -> Result<Self, String> {
+        match name {
+            "exact" => Ok(RestitutionModel::Exact),
+            "flores" => Ok(RestitutionModel::Flores),
+            "lankarani-nikravesh" => Ok(RestitutionModel::LankaraniNikravesh),
+            other => Err(format!(
+                "unknown model \"{other}\" (use \"exact\", \"flores\" or \"lankarani-nikravesh\")"
+            )),
+        }
+    }
+
+    /// The name used in scene files and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            RestitutionModel::Exact => "exact",
+            RestitutionModel::Flores => "flores",
+            RestitutionModel::LankaraniNikravesh => "lankarani-nikravesh",
+        }
+    }
+}
+
+impl ContactDamping {
+    /// Damping for a coefficient of restitution `restitution` ∈ (0, 1) by
+    /// `model`.
+    pub fn new(restitution: f64, model: RestitutionModel) -> Self {
+        let e = restitution;
+        let coefficient = match model {
+            RestitutionModel::Exact => exact_coefficient(e),
+            RestitutionModel::Flores => 1.6 * (1.0 - e) / e,
+            RestitutionModel::LankaraniNikravesh => 0.75 * (1.0 - e * e),
+        };
+        ContactDamping {
+            restitution,
+            model,
+            coefficient,
+        }
+    }
+
+    /// The coefficient of restitution asked for.
+    pub fn restitution(&self) -> f64 {
+        self.restitution
+    }
+
+    /// How c follows from it.
+    pub fn model(&self) -> RestitutionModel {
+        self.model
+    }
+
+    /// c(e): the damping factor is χ = c / v⁻ (s/m).
+    pub fn coefficient(&self) -> f64 {
+        self.coefficient
+    }
+
+    /// The damping factor χ (s/m) of an event that began at approach speed
+    /// `impact_speed` (m/s; raised to `min_speed`).
+    pub fn factor(&self, impact_speed: f64, min_speed: f64) -> f64 {
+        self.coefficient / impact_speed.max(min_speed)
+    }
+}
+
+/// The rebound ratio v⁺/v⁻ of a single body under Hunt–Crossley damping
+/// with χ v⁻ = c: the root y ∈ (0, 1) of −y − ln(1 − y) = c − ln(1 + c),
+/// divided by c (bisection; the left side increases with y).
+pub fn hunt_crossley_rebound(c: f64) -> f64 {
+    if c <= 0.0 {
+        return 1.0;
+    }
+    let target = c - c.ln_1p();
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if -mid - (-mid).ln_1p() > target {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi) / c
+}
+
+/// The c whose rebound ratio is `e` (bisection in ln c; the rebound
+/// decreases from 1 at c = 0 towards 0).
+fn exact_coefficient(e: f64) -> f64 {
+    let (mut lo, mut hi) = ((1e-12_f64).ln(), (1e8_f64).ln());
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if hunt_crossley_rebound(mid.exp()) > e {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (0.5 * (lo + hi)).exp()
+}
+
+impl Rod {
+    /// An infinite, frictionless rod under the line law: a point on its axis
+    /// and its direction, radius (m) and ε_L (N/m²).
+    pub fn line(center: [f64; 3], axis: [f64; 3], radius: f64, stiffness: f64) -> Self {
+        Rod {
+            center,
+            axis: crate::math::vec3::unit(axis),
+            radius,
+            length: None,
+            law: ContactLaw::Line,
+            contact_stiffness: stiffness,
+            friction: 0.0,
+            damping: None,
+        }
+    }
+
+    /// The same rod with Coulomb friction μ.
+    pub fn with_friction(self, friction: f64) -> Self {
+        Rod { friction, ..self }
+    }
+
+    /// The same rod with contact damping of restitution `restitution` ∈ (0, 1)
+    /// by `model`.
+    pub fn with_restitution(self, restitution: f64, model: RestitutionModel) -> Self {
+        Rod {
+            damping: Some(ContactDamping::new(restitution, model)),
+            ..self
+        }
+    }
+
+    /// The same rod, `length` m long (centred on its point).
+    pub fn with_length(self, length: f64) -> Self {
+        Rod {
+            length: Some(length),
+            ..self
+        }
+    }
+}
+
+/// Resolution of the contact integration and the friction regularization.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSettings {
+    /// Surface law: Gauss stations along each element. Default 8.
+    pub stations: usize,
+    /// Surface law: angles around the outer surface. Default 16.
+    pub angles: usize,
+    /// Line laws: Gauss points per active zone (per piece of at most half
+    /// an element). Default 8: the 90° crossing's resultant to 1e-10 for a
+    /// penetration up to 9 % of R_wire + R_rod (6 points: 6e-8).
+    pub zone_points: usize,
+    /// Regularization velocity v_ε of Coulomb friction, m/s. Default 1e-3:
+    /// below it friction acts like a viscous damper.
+    pub slip_velocity: f64,
+    /// A time step whose deepest point penetrates a rod by more than this
+    /// fraction of the wire radius is rejected and halved. Default 1: no
+    /// physical state gets there, but a step too coarse for the contact
+    /// does, and accepting it loses the wire through the rod.
+    pub max_penetration: f64,
+    /// Contact damping: the smallest approach speed v⁻ (m/s) the damping
+    /// factor χ = c(e)/v⁻ is computed with. Default 0.1: a wire that slides
+    /// or settles into contact (v⁻ → 0) would otherwise get an unbounded χ.
+    pub min_impact_speed: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings {
+            stations: 8,
+            angles: 16,
+            zone_points: 8,
+            slip_velocity: 1e-3,
+            max_penetration: 1.0,
+            min_impact_speed: 0.1,
+        }
+    }
+}
+
+/// The contact of a wire with its rods, as the model describes it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Contact {
+    /// The rods, in the scene's order.
+    pub rods: Vec<Rod>,
+    /// Integration and regularization settings.
+    pub settings: ContactSettings,
+    /// Outer radius of the wire, m.
+    pub wire_radius: f64,
+}
+
+impl Contact {
+    /// The contact of a wire of outer radius `wire_radius` (m) with `rods`.
+    pub fn new(rods: Vec<Rod>, settings: ContactSettings, wire_radius: f64) -> Self {
+        Contact {
+            rods,
+            settings,
+            wire_radius,
+        }
+    }
+
+    /// Whether any rod has friction (then the Newton matrix is not symmetric).
+    pub fn has_friction(&self) -> bool {
+        self.rods.iter().any(|r| r.friction > 0.0)
+    }
+
+    /// Whether any rod has contact damping (then the force depends on the
+    /// velocities, the Newton matrix is not symmetric, and the state keeps
+    /// each contact event's approach speed).
+    pub fn has_damping(&self) -> bool {
+        self.rods.iter().any(|r| r.damping.is_some())
+    }
+
+    /// Whether the contact force depends on the velocities.
+    pub fn velocity_dependent(&self) -> bool {
+        self.has_friction() || self.has_damping()
+    }
+}

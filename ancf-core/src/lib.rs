@@ -55,6 +55,7 @@
 // The folders follow the data flow: scene → model → forces → linear algebra
 // → solvers → loads. `math`, `element`, `material` and `section` are what a
 // model is made of.
+pub mod check;
 pub mod element;
 pub mod error;
 pub mod forces;

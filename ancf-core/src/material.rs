@@ -6,6 +6,7 @@
 //! stress σ = [S11, S22, S33, S23, S13, S12] (second Piola–Kirchhoff, Pa),
 //! so that dW = σ · dε and the tangent D = ∂σ/∂ε is symmetric.
 
+use crate::check::{ParameterError, finite, positive, refuse};
 use nalgebra::{Matrix3, Matrix6, Vector6};
 
 /// Voigt index pairs (a, b) of the six strain/stress components.
@@ -278,6 +279,48 @@ impl Material {
             },
             locking: Default::default(),
         }
+    }
+
+    /// Whether the constants describe a real material: ρ > 0; SVK: E > 0,
+    /// ν ∈ (−1, 0.5) (the bounds of a stable isotropic solid), ω ∈ [0, 1];
+    /// Mooney–Rivlin: μ10, μ01 ≥ 0 with μ10 + μ01 > 0, κ > 0.
+    pub fn check(&self) -> Result<(), ParameterError> {
+        positive("density", self.density)?;
+        match self.model {
+            MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                bending_factor,
+            } => {
+                positive("youngs_modulus", youngs_modulus)?;
+                let nu = finite("poisson_ratio", poisson_ratio)?;
+                if !(nu > -1.0 && nu < 0.5) {
+                    return refuse("poisson_ratio", format!("must lie in (−1, 0.5), got {nu}"));
+                }
+                let omega = finite("bending_factor", bending_factor)?;
+                if !(0.0..=1.0).contains(&omega) {
+                    return refuse(
+                        "bending_factor",
+                        format!("ω must lie in [0, 1], got {omega}"),
+                    );
+                }
+            }
+            MaterialModel::MooneyRivlin {
+                mu10,
+                mu01,
+                penalty,
+            } => {
+                let (mu10, mu01) = (finite("mu10", mu10)?, finite("mu01", mu01)?);
+                if mu10 < 0.0 || mu01 < 0.0 || mu10 + mu01 <= 0.0 {
+                    return refuse(
+                        "mu10",
+                        format!("need μ10 ≥ 0, μ01 ≥ 0 and μ10 + μ01 > 0, got {mu10}, {mu01}"),
+                    );
+                }
+                positive("penalty", penalty)?;
+            }
+        }
+        Ok(())
     }
 
     /// How this layer integrates its energy (see [`MaterialModel::layer_laws`]).

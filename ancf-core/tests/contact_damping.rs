@@ -201,7 +201,7 @@ fn a_model_built_in_code_refuses_a_restitution_outside_0_1() {
             .rod(rod)
             .build();
         assert!(
-            matches!(&err, Err(ancf_core::model::ModelError::Wire { what, .. }) if what == "rod 0"),
+            matches!(&err, Err(ancf_core::model::ModelError::Rod { index: 0, field, .. }) if field == "restitution"),
             "e = {e}: {err:?}"
         );
     }

@@ -174,8 +174,8 @@ fn the_core_module_graph_has_no_cycle() {
     // drive both, loads reduce what they return, a scene maps a file onto
     // the model and the settings.
     let order = [
-        "math", "linalg", "material", "section", "element", "model", "forces", "loads", "solve",
-        "scene", "error",
+        "math", "check", "linalg", "material", "section", "element", "model", "forces", "loads",
+        "solve", "scene", "error",
     ];
     let rank = |m: &str| order.iter().position(|o| *o == m);
     for (module, imports) in &graph {

@@ -200,58 +200,42 @@ impl Material {
         poisson_ratio: f64,
         bending_factor: f64,
     ) -> PyResult<Material> {
-        positive("density", density)?;
-        positive("youngs_modulus", youngs_modulus)?;
-        if !(-1.0..0.5).contains(&poisson_ratio) {
-            return Err(PyValueError::new_err(format!(
-                "poisson_ratio: must be in [-1, 0.5), got {poisson_ratio}"
-            )));
-        }
-        if !(bending_factor > 0.0 && bending_factor <= 1.0) {
-            return Err(PyValueError::new_err(format!(
-                "bending_factor: must be in (0, 1], got {bending_factor}"
-            )));
-        }
-        Ok(Material {
-            inner: ancf_core::material::Material::st_venant_kirchhoff(
-                density,
-                youngs_modulus,
-                poisson_ratio,
-                bending_factor,
-            ),
-        })
+        let inner = ancf_core::material::Material::st_venant_kirchhoff(
+            density,
+            youngs_modulus,
+            poisson_ratio,
+            bending_factor,
+        );
+        inner.check().map_err(|e| value_error(&e.field, &e.message))?;
+        Ok(Material { inner })
     }
 
     /// Nearly incompressible Mooney–Rivlin: density (kg/m³), μ10, μ01 (Pa), volume penalty κ.
     #[staticmethod]
     #[pyo3(signature = (density, mu10, mu01, penalty=1e3))]
     fn mooney_rivlin(density: f64, mu10: f64, mu01: f64, penalty: f64) -> PyResult<Material> {
-        positive("density", density)?;
-        positive("penalty", penalty)?;
-        if !(mu10.is_finite()
-            && mu01.is_finite()
-            && mu10 >= 0.0
-            && mu01 >= 0.0
-            && mu10 + mu01 > 0.0)
-        {
-            return Err(PyValueError::new_err(
-                "mu10, mu01: must be ≥ 0 and not both 0",
-            ));
-        }
-        Ok(Material {
-            inner: ancf_core::material::Material::mooney_rivlin(density, mu10, mu01, penalty),
-        })
+        let inner = ancf_core::material::Material::mooney_rivlin(density, mu10, mu01, penalty);
+        inner.check().map_err(|e| value_error(&e.field, &e.message))?;
+        Ok(Material { inner })
     }
 }
 
-fn positive(name: &str, v: f64) -> PyResult<f64> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(PyValueError::new_err(format!(
-            "{name}: must be a finite number > 0, got {v}"
-        )))
+/// A `ValueError` naming the argument: "`name`: `message`".
+fn value_error(name: &str, message: &str) -> PyErr {
+    PyValueError::new_err(format!("{name}: {message}"))
+}
+
+/// The name of a rod parameter as `Wire.rod` spells it.
+fn rod_argument(field: &str) -> &str {
+    match field {
+        "contact_stiffness" => "stiffness",
+        other => other,
     }
+}
+
+/// A finite number > 0, by the core's rule, named as the caller spells it.
+fn positive(name: &str, v: f64) -> PyResult<f64> {
+    ancf_core::check::positive("value", v).map_err(|e| value_error(name, &e.message))
 }
 
 fn vec3(name: &str, v: Vec<f64>) -> PyResult<[f64; 3]> {
@@ -269,9 +253,15 @@ fn builder_field(e: &ancf_core::model::ModelError) -> String {
     use ancf_core::model::ModelError;
     match e {
         ModelError::Wire { what, .. } => what.clone(),
+        ModelError::Layer { index, field, .. } => format!("layers[{index}].{field}"),
         ModelError::Segment { index, what, .. } => format!("segments[{index}].{what}"),
         ModelError::Support { index, what, .. } => format!("supports[{index}].{what}"),
-        ModelError::LoadNode { index, .. } => format!("loads[{index}].node"),
+        ModelError::NothingToSolve => "supports".into(),
+        ModelError::Load { index, what, .. } => format!("loads[{index}].{what}"),
+        ModelError::Gravity { field, .. } => field.clone(),
+        ModelError::Rod { index, field, .. } => format!("rods[{index}].{}", rod_argument(field)),
+        ModelError::Contact { field, .. } => format!("contact.{field}"),
+        ModelError::Damping { field, .. } => format!("damping.{field}"),
     }
 }
 
@@ -393,34 +383,23 @@ impl Wire {
     ) -> PyResult<Wire> {
         use ancf_core::model::contact::RestitutionModel;
         let model = RestitutionModel::from_name(restitution_model)
-            .map_err(|message| PyValueError::new_err(format!("restitution_model: {message}")))?;
-        if let Some(e) = restitution
-            && !(e > 0.0 && e <= 1.0)
-        {
-            return Err(PyValueError::new_err(format!(
-                "restitution: must be in (0, 1] (1 = elastic), got {e}"
-            )));
-        }
-        positive("radius", radius)?;
-        positive("stiffness", stiffness)?;
-        if !(friction.is_finite() && friction >= 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "friction: must be ≥ 0, got {friction}"
-            )));
-        }
-        let axis = vec3("axis", axis)?;
-        if axis.iter().all(|a| *a == 0.0) {
-            return Err(PyValueError::new_err("axis: must not be the zero vector"));
-        }
-        let mut rod =
-            ancf_core::model::contact::Rod::line(vec3("center", center)?, axis, radius, stiffness)
-                .with_friction(friction);
+            .map_err(|message| value_error("restitution_model", &message))?;
+        let mut rod = ancf_core::model::contact::Rod::line(
+            vec3("center", center)?,
+            vec3("axis", axis)?,
+            radius,
+            stiffness,
+        )
+        .with_friction(friction);
         if let Some(l) = length {
-            rod = rod.with_length(positive("length", l)?);
+            rod = rod.with_length(l);
         }
-        if let Some(e) = restitution.filter(|&e| e < 1.0) {
+        // e = 1 asks for no damping: none is built.
+        if let Some(e) = restitution.filter(|&e| e != 1.0) {
             rod = rod.with_restitution(e, model);
         }
+        rod.check()
+            .map_err(|e| value_error(rod_argument(&e.field), &e.message))?;
         Ok(Wire {
             builder: self.builder.clone().rod(rod),
         })
@@ -527,37 +506,29 @@ impl Simulation {
     /// Starts a wire built in code at rest, stepping `time_step` (s) up to
     /// `end_time` (s) with generalized-α of spectral radius ρ∞.
     #[staticmethod]
-    #[pyo3(signature = (wire, time_step, end_time, spectral_radius=1.0))]
+    #[pyo3(signature = (wire, time_step, end_time, spectral_radius=None))]
     fn from_wire(
         py: Python<'_>,
         wire: &Wire,
         time_step: f64,
         end_time: f64,
-        spectral_radius: f64,
+        spectral_radius: Option<f64>,
     ) -> PyResult<Simulation> {
-        positive("time_step", time_step)?;
-        positive("end_time", end_time)?;
-        if !(0.0..=1.0).contains(&spectral_radius) {
-            return Err(PyValueError::new_err(format!(
-                "spectral_radius: must be in [0, 1], got {spectral_radius}"
-            )));
-        }
-        if end_time / time_step > 1e8 {
-            return Err(PyValueError::new_err(
-                "time_step: more than 1e8 steps to end_time; check the units",
-            ));
-        }
+        let settings = ancf_core::solve::dynamics::DynamicSettings {
+            time_step,
+            end_time,
+            spectral_radius: spectral_radius
+                .unwrap_or(ancf_core::solve::dynamics::DEFAULT_SPECTRAL_RADIUS),
+            ..Default::default()
+        };
+        settings
+            .check()
+            .map_err(|e| value_error(&e.field, &e.message))?;
         let model = wire.builder.clone().build().map_err(|e| {
             let err = SceneError::new_err(e.to_string());
             let _ = err.value(py).setattr("field", builder_field(&e));
             err
         })?;
-        let settings = ancf_core::solve::dynamics::DynamicSettings {
-            time_step,
-            end_time,
-            spectral_radius,
-            ..Default::default()
-        };
         let scene = CoreScene {
             source: String::new(),
             model,

@@ -204,10 +204,18 @@ def test_a_wire_built_in_code_equals_the_pendulum_scene():
         .support(0, "pin")
         .gravity([0.0, 0.0, -9.81])
     )
-    built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=1.0)
+    built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=1.0, spectral_radius=1.0)
     from_file = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
     built.run(every=1000)
     from_file.run(every=1000)
+    assert list(built.tip) == list(from_file.tip)
+    # Without ρ∞, both take the one default.
+    built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.2)
+    text = PENDULUM.read_text().replace("spectral_radius = 1.0", "").replace(
+        "end_time = 1.0", "end_time = 0.2")
+    from_file = ancf.Simulation(ancf.Scene.from_toml(text))
+    built.run(every=100)
+    from_file.run(every=100)
     assert list(built.tip) == list(from_file.tip)
 
 

@@ -3,9 +3,9 @@
 //! stations and stiffness — each as a [`Setting`] applied to the scene file.
 
 use ancf_core::model::contact::ContactLaw;
+use ancf_core::model::station_spacing;
 use ancf_core::scene::{
     Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
-    station_spacing,
 };
 
 /// How much to sweep.

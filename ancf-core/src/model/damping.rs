@@ -1,6 +1,8 @@
 //! Structural damping as a model names it (SPEC §6); evaluated by
 //! `forces::damping`.
 
+use crate::check::{ParameterError, finite, positive, refuse};
+
 /// Damping named by a scene.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Damping {
@@ -16,4 +18,26 @@ pub enum Damping {
         /// c (s).
         coefficient: f64,
     },
+}
+
+impl Damping {
+    /// Whether the factors can be used: Kelvin–Voigt c > 0; Rayleigh
+    /// α, β ≥ 0, not both 0.
+    pub fn check(&self) -> Result<(), ParameterError> {
+        match *self {
+            Damping::KelvinVoigt { coefficient } => {
+                positive("strain_rate_coefficient", coefficient)?;
+            }
+            Damping::Rayleigh { mass, stiffness } => {
+                let (alpha, beta) = (finite("mass", mass)?, finite("stiffness", stiffness)?);
+                if alpha < 0.0 || beta < 0.0 || alpha + beta == 0.0 {
+                    return refuse(
+                        "mass",
+                        format!("need mass ≥ 0, stiffness ≥ 0, not both 0; got {alpha}, {beta}"),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
 }

@@ -7,7 +7,7 @@ pub mod contact;
 pub mod damping;
 mod mass_product;
 mod mesh;
-pub use builder::WireBuilder;
+pub use builder::{WireBuilder, station_spacing};
 pub use mesh::{ElementGroup, Segment};
 
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
@@ -141,15 +141,28 @@ pub struct Model {
 }
 
 /// Why a model cannot be built. Each kind names the part at fault in the
-/// model's own terms (segment 1, support 2); a scene maps it to the field
-/// of its file (`scene`), a program to its own input.
+/// model's own terms (layer 1, rod 0, support 2) and the parameter by its
+/// scene-file key; a scene maps it to the field of its file (`scene`), the
+/// Python package to its own arguments.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModelError {
     /// A property of the wire as a whole: `what` is "length", "elements",
-    /// "direction", "segments", "layers", "layer i" or "rod i".
+    /// "direction", "segments", "layers", "quadrature.axial" or
+    /// "quadrature.section".
     Wire {
         /// The property at fault.
         what: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// Layer `index` of the section (0 from the centre out; the rectangle is
+    /// layer 0): `field` is "outer_radius", "width", "height" or a parameter
+    /// of its material ("poisson_ratio", …).
+    Layer {
+        /// The layer (0-based).
+        index: usize,
+        /// Its parameter at fault.
+        field: String,
         /// What is wrong with it.
         message: String,
     },
@@ -162,21 +175,55 @@ pub enum ModelError {
         /// What is wrong with it.
         message: String,
     },
-    /// Support `index`: `what` is "node" or "kind".
+    /// Support `index`: `what` is "node", "kind", "position" or "release_time".
     Support {
         /// The support (0-based).
         index: usize,
         /// Its property at fault.
-        what: &'static str,
+        what: String,
         /// What is wrong with it.
         message: String,
     },
-    /// Point load `index` is at a node the wire does not have.
-    LoadNode {
+    /// Every coordinate is held: there is nothing to solve.
+    NothingToSolve,
+    /// Point load `index`: `what` is "node" or "force".
+    Load {
         /// The load (0-based).
         index: usize,
-        /// The node it names.
-        node: usize,
+        /// Its property at fault.
+        what: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The gravitational acceleration.
+    Gravity {
+        /// The component at fault (`acceleration[2]`).
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// Rod `index`: `field` is one of [`contact::Rod::check`]'s parameters.
+    Rod {
+        /// The rod (0-based).
+        index: usize,
+        /// Its parameter at fault.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The contact settings: `field` is one of [`contact::ContactSettings::check`]'s.
+    Contact {
+        /// The setting at fault.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The structural damping: `field` is one of [`damping::Damping::check`]'s.
+    Damping {
+        /// The factor at fault.
+        field: String,
+        /// What is wrong with it.
+        message: String,
     },
 }
 
@@ -187,25 +234,38 @@ impl ModelError {
             message: message.into(),
         }
     }
+
+    /// What is wrong, without the part's name.
+    pub fn message(&self) -> String {
+        match self {
+            ModelError::Wire { message, .. }
+            | ModelError::Layer { message, .. }
+            | ModelError::Segment { message, .. }
+            | ModelError::Support { message, .. }
+            | ModelError::Load { message, .. }
+            | ModelError::Gravity { message, .. }
+            | ModelError::Rod { message, .. }
+            | ModelError::Contact { message, .. }
+            | ModelError::Damping { message, .. } => message.clone(),
+            ModelError::NothingToSolve => "every coordinate is fixed: nothing to solve".into(),
+        }
+    }
 }
 
 impl std::fmt::Display for ModelError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let m = self.message();
         match self {
-            ModelError::Wire { what, message } => write!(f, "wire {what}: {message}"),
-            ModelError::Segment {
-                index,
-                what,
-                message,
-            } => write!(f, "segment {index}, {what}: {message}"),
-            ModelError::Support {
-                index,
-                what,
-                message,
-            } => write!(f, "support {index}, {what}: {message}"),
-            ModelError::LoadNode { index, node } => {
-                write!(f, "load {index}: node {node} does not exist")
-            }
+            ModelError::Wire { what, .. } => write!(f, "wire {what}: {m}"),
+            ModelError::Layer { index, field, .. } => write!(f, "layer {index}, {field}: {m}"),
+            ModelError::Segment { index, what, .. } => write!(f, "segment {index}, {what}: {m}"),
+            ModelError::Support { index, what, .. } => write!(f, "support {index}, {what}: {m}"),
+            ModelError::NothingToSolve => write!(f, "supports: {m}"),
+            ModelError::Load { index, what, .. } => write!(f, "load {index}, {what}: {m}"),
+            ModelError::Gravity { field, .. } => write!(f, "gravity {field}: {m}"),
+            ModelError::Rod { index, field, .. } => write!(f, "rod {index}, {field}: {m}"),
+            ModelError::Contact { field, .. } => write!(f, "contact {field}: {m}"),
+            ModelError::Damping { field, .. } => write!(f, "damping {field}: {m}"),
         }
     }
 }
@@ -224,7 +284,7 @@ fn eliminate(
         if s.node >= n_nodes {
             return Err(ModelError::Support {
                 index: i,
-                what: "node",
+                what: "node".into(),
                 message: format!(
                     "node {} does not exist (the wire has nodes 0..={})",
                     s.node,
@@ -244,7 +304,7 @@ fn eliminate(
                 let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
                     return Err(ModelError::Support {
                         index: i,
-                        what: "kind",
+                        what: "kind".into(),
                         message: format!(
                             "a clamp needs a wire along a coordinate axis (its direction is {axis:?}); use a fixed support"
                         ),
@@ -421,9 +481,14 @@ impl Model {
         let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, axis, |_| true)?;
         for (i, ld) in loads.iter().enumerate() {
             if ld.node >= n_nodes {
-                return Err(ModelError::LoadNode {
+                return Err(ModelError::Load {
                     index: i,
-                    node: ld.node,
+                    what: "node".into(),
+                    message: format!(
+                        "node {} does not exist (the wire has nodes 0..={})",
+                        ld.node,
+                        n_nodes - 1
+                    ),
                 });
             }
         }

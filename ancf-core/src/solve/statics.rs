@@ -18,6 +18,18 @@ pub struct StaticSettings {
     pub increment_tolerance: f64,
 }
 
+impl StaticSettings {
+    /// Whether Newton can run with these settings: at least one load step
+    /// and one iteration, relative tolerances in (0, 1).
+    pub fn check(&self) -> Result<(), crate::check::ParameterError> {
+        crate::check::count_in("load_steps", self.load_steps, 1..=1_000_000)?;
+        crate::check::count_in("max_iterations", self.max_iterations, 1..=10_000)?;
+        crate::solve::dynamics::check_tolerance(self.residual_tolerance)?;
+        crate::solve::dynamics::check_tolerance(self.increment_tolerance)?;
+        Ok(())
+    }
+}
+
 impl Default for StaticSettings {
     fn default() -> Self {
         StaticSettings {

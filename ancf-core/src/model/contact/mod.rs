@@ -17,6 +17,8 @@ pub mod resolution;
 pub use hertz::hertz_line_stiffness;
 pub use resolution::{RESOLVED_STEP_FREQUENCY, UnresolvedContact, unresolved_contacts};
 
+use crate::check::{ParameterError, count_in, direction, finite3, non_negative, positive, refuse};
+
 /// How a rod's contact force is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -211,9 +213,15 @@ impl Rod {
     /// An infinite, frictionless rod under the line law: a point on its axis
     /// and its direction, radius (m) and ε_L (N/m²).
     pub fn line(center: [f64; 3], axis: [f64; 3], radius: f64, stiffness: f64) -> Self {
+        // A zero axis stays zero, for `check` to name it.
+        let axis = if axis.iter().all(|a| *a == 0.0) {
+            axis
+        } else {
+            crate::math::vec3::unit(axis)
+        };
         Rod {
             center,
-            axis: crate::math::vec3::unit(axis),
+            axis,
             radius,
             length: None,
             law: ContactLaw::Line,
@@ -221,6 +229,30 @@ impl Rod {
             friction: 0.0,
             damping: None,
         }
+    }
+
+    /// Whether the rod can be built: a finite centre, a non-zero axis,
+    /// radius, length and stiffness > 0, friction μ ≥ 0 and restitution in
+    /// (0, 1].
+    pub fn check(&self) -> Result<(), ParameterError> {
+        finite3("center", self.center)?;
+        direction("axis", self.axis)?;
+        positive("radius", self.radius)?;
+        if let Some(l) = self.length {
+            positive("length", l)?;
+        }
+        positive("contact_stiffness", self.contact_stiffness)?;
+        non_negative("friction", self.friction)?;
+        if let Some(d) = self.damping {
+            let e = d.restitution();
+            if !(e > 0.0 && e <= 1.0) {
+                return refuse(
+                    "restitution",
+                    format!("must be in (0, 1] (1 = elastic, no damping), got {e}"),
+                );
+            }
+        }
+        Ok(())
     }
 
     /// The same rod with Coulomb friction μ.
@@ -269,6 +301,21 @@ pub struct ContactSettings {
     /// factor χ = c(e)/v⁻ is computed with. Default 0.1: a wire that slides
     /// or settles into contact (v⁻ → 0) would otherwise get an unbounded χ.
     pub min_impact_speed: f64,
+}
+
+impl ContactSettings {
+    /// Whether the settings can be used: stations 1..=64, angles 3..=256,
+    /// zone points 1..=32, the penetration limit, slip velocity and least
+    /// impact speed > 0.
+    pub fn check(&self) -> Result<(), ParameterError> {
+        count_in("stations", self.stations, 1..=64)?;
+        count_in("angles", self.angles, 3..=256)?;
+        count_in("zone_points", self.zone_points, 1..=32)?;
+        positive("max_penetration", self.max_penetration)?;
+        positive("slip_velocity", self.slip_velocity)?;
+        positive("min_impact_speed", self.min_impact_speed)?;
+        Ok(())
+    }
 }
 
 impl Default for ContactSettings {

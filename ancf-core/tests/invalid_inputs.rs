@@ -1,0 +1,203 @@
+//! The same invalid value is refused for the same reason whichever way it
+//! comes in: through a scene file (naming the file's field) and through the
+//! builder and the solver settings in code (naming the model part and the
+//! parameter). The cases are the table in tests/data/invalid_inputs.toml,
+//! which the Python package's tests run through its API as well.
+
+use ancf_core::material::Material;
+use ancf_core::model::contact::{RestitutionModel, Rod};
+use ancf_core::model::{ModelError, SupportKind, WireBuilder};
+use ancf_core::scene::Scene;
+use ancf_core::solve::dynamics::DynamicSettings;
+
+/// One row of the table.
+#[derive(Debug)]
+struct Case {
+    part: String,
+    parameter: String,
+    value: f64,
+    reason: String,
+}
+
+fn cases() -> Vec<Case> {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/invalid_inputs.toml"
+    );
+    let text = std::fs::read_to_string(path).expect("the table");
+    let table: toml::Table = toml::from_str(&text).expect("valid TOML");
+    table["case"]
+        .as_array()
+        .expect("[[case]]")
+        .iter()
+        .map(|c| Case {
+            part: c["part"].as_str().expect("part").into(),
+            parameter: c["parameter"].as_str().expect("parameter").into(),
+            value: c["value"]
+                .as_float()
+                .or_else(|| c["value"].as_integer().map(|i| i as f64))
+                .expect("value"),
+            reason: c["reason"].as_str().expect("reason").into(),
+        })
+        .collect()
+}
+
+/// A valid scene: a pinned steel wire over a line-law rod.
+const BASE: &str = r#"
+[analysis]
+kind = "dynamic"
+end_time = 0.01
+time_step = 1e-3
+
+[[material]]
+name = "steel"
+model = "st-venant-kirchhoff"
+density = 7800.0
+youngs_modulus = 2e11
+poisson_ratio = 0.3
+
+[wire]
+length = 1.0
+elements = 4
+layers = [{ material = "steel", outer_radius = 0.01 }]
+
+[[support]]
+node = 0
+kind = "pin"
+
+[[rod]]
+center = [0.5, 0.0, -0.2]
+axis = [0.0, 1.0, 0.0]
+radius = 0.02
+contact_law = "line"
+contact_stiffness = 5e7
+"#;
+
+/// The base scene with the case's value, and the field it must be refused at.
+fn scene_with(case: &Case) -> (String, String) {
+    let mut doc: toml::Table = toml::from_str(BASE).expect("base scene");
+    let value = toml::Value::Float(case.value);
+    let p = case.parameter.clone();
+    let (table, field) = match case.part.as_str() {
+        "material" => (
+            doc["material"].as_array_mut().unwrap()[0]
+                .as_table_mut()
+                .unwrap(),
+            format!("material[0].{p}"),
+        ),
+        "layer" => (
+            doc["wire"]["layers"].as_array_mut().unwrap()[0]
+                .as_table_mut()
+                .unwrap(),
+            format!("wire.layers[0].{p}"),
+        ),
+        "rod" => (
+            doc["rod"].as_array_mut().unwrap()[0]
+                .as_table_mut()
+                .unwrap(),
+            format!("rod[0].{p}"),
+        ),
+        part => (doc[part].as_table_mut().unwrap(), format!("{part}.{p}")),
+    };
+    table.insert(p, value);
+    (toml::to_string(&doc).expect("TOML"), field)
+}
+
+/// What the builder or the settings say of the case: the parameter named
+/// and the message.
+fn built_with(case: &Case) -> (String, String) {
+    // The case's value for a material or rod parameter, the base's otherwise.
+    let v = |name: &str, base: f64| {
+        let ours = matches!(case.part.as_str(), "material" | "rod") && case.parameter == name;
+        if ours { case.value } else { base }
+    };
+    if case.part == "analysis" {
+        let mut s = DynamicSettings {
+            time_step: 1e-3,
+            end_time: 0.01,
+            ..Default::default()
+        };
+        match case.parameter.as_str() {
+            "time_step" => s.time_step = case.value,
+            "end_time" => s.end_time = case.value,
+            "spectral_radius" => s.spectral_radius = case.value,
+            other => panic!("no settings parameter {other}"),
+        }
+        let Err(e) = s.check() else {
+            panic!("{case:?} is accepted by the settings")
+        };
+        return (e.field, e.message);
+    }
+    let steel = Material::st_venant_kirchhoff(
+        v("density", 7800.0),
+        v("youngs_modulus", 2e11),
+        v("poisson_ratio", 0.3),
+        v("bending_factor", 1.0),
+    );
+    let mut rod = Rod::line(
+        [0.5, 0.0, -0.2],
+        [0.0, 1.0, 0.0],
+        v("radius", 0.02),
+        v("contact_stiffness", 5e7),
+    )
+    .with_friction(v("friction", 0.0));
+    if case.part == "rod" && case.parameter == "length" {
+        rod = rod.with_length(case.value);
+    }
+    if case.part == "rod" && case.parameter == "restitution" {
+        rod = rod.with_restitution(case.value, RestitutionModel::Exact);
+    }
+    let length = if case.part == "wire" { case.value } else { 1.0 };
+    let radius = if case.part == "layer" {
+        case.value
+    } else {
+        0.01
+    };
+    let e = WireBuilder::new(length, 4)
+        .layer(steel, radius)
+        .support(0, SupportKind::Pin)
+        .rod(rod)
+        .build()
+        .err()
+        .unwrap_or_else(|| panic!("{case:?} is accepted by the builder"));
+    let named = match &e {
+        ModelError::Wire { what, .. } => what.clone(),
+        ModelError::Layer { field, .. } | ModelError::Rod { field, .. } => field.clone(),
+        other => panic!("{other} names another part"),
+    };
+    (named, e.message())
+}
+
+#[test]
+fn every_invalid_value_is_refused_for_the_same_reason_by_scene_and_builder() {
+    let cases = cases();
+    assert!(cases.len() >= 15, "the table has its cases");
+    for case in &cases {
+        let what = format!("{} {} = {}", case.part, case.parameter, case.value);
+        let (text, field) = scene_with(case);
+        let Err(scene) = Scene::from_toml(&text) else {
+            panic!("{what}: the scene is accepted");
+        };
+        assert_eq!(scene.field, field, "{what}: the scene names the field");
+        assert!(
+            scene.message.contains(&case.reason),
+            "{what}: scene says `{}`, not `{}`",
+            scene.message,
+            case.reason
+        );
+        let (named, message) = built_with(case);
+        assert_eq!(
+            named, case.parameter,
+            "{what}: the builder names the parameter"
+        );
+        assert_eq!(
+            message, scene.message,
+            "{what}: the builder and the scene give one reason"
+        );
+    }
+}
+
+#[test]
+fn the_base_of_the_table_is_valid() {
+    Scene::from_toml(BASE).expect("the base scene is valid");
+}

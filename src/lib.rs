@@ -2,6 +2,7 @@
 //! look at (CSV, JSON, plots). The physics lives in `ancf-core`.
 
 pub mod bench;
+pub mod build_info;
 pub mod output;
 pub mod plot;
 pub mod run;

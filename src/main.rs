@@ -11,7 +11,7 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(
     name = "ancf",
-    version,
+    version = ancf::build_info::version_line(),
     about = "ANCF beam simulator for electrical wires and cables"
 )]
 struct Cli {

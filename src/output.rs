@@ -101,6 +101,8 @@ pub struct Summary {
     /// nothing to say.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// The program that computed it (version, commit, compiler, kernels).
+    pub build: crate::build_info::BuildInfo,
 }
 
 impl Summary {

@@ -218,7 +218,32 @@ fn static_run_reports_the_tip() {
     let nodes = std::fs::read_to_string(dir.join("final_nodes.csv")).unwrap();
     assert!(nodes.starts_with("node,x,y,z"));
     assert_eq!(nodes.lines().count(), 1 + 17);
+    // The summary says what computed it, as `ancf --version` does.
+    let build = &summary["build"];
+    assert_eq!(build["version"], env!("CARGO_PKG_VERSION"));
+    let commit = build["commit"].as_str().unwrap();
+    assert!(commit == "unknown" || commit.len() == 40, "{commit}");
+    assert!(build["rustc"].as_str().unwrap().starts_with("rustc "));
+    assert!(build["dirty"].is_boolean());
+    assert!(!build["kernel_orders"].as_array().unwrap().is_empty());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn version_names_the_commit_the_compiler_and_the_kernels() {
+    for flag in ["--version", "-V"] {
+        let out = ancf().arg(flag).output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            text.starts_with(&format!("ancf {} (commit ", env!("CARGO_PKG_VERSION"))),
+            "{text}"
+        );
+        assert!(
+            text.contains("rustc ") && text.contains("kernels for axial orders"),
+            "{text}"
+        );
+    }
 }
 
 #[test]

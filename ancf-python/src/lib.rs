@@ -758,6 +758,14 @@ impl Simulation {
         if !warnings.is_empty() {
             d.set_item("warnings", warnings)?;
         }
+        let b = ancf::build_info::BuildInfo::current();
+        let build = PyDict::new(py);
+        build.set_item("version", b.version)?;
+        build.set_item("commit", b.commit)?;
+        build.set_item("dirty", b.dirty)?;
+        build.set_item("rustc", b.rustc)?;
+        build.set_item("kernel_orders", b.kernel_orders)?;
+        d.set_item("build", build)?;
         Ok(d)
     }
 

@@ -219,6 +219,15 @@ def test_a_wire_built_in_code_equals_the_pendulum_scene():
     assert list(built.tip) == list(from_file.tip)
 
 
+def test_the_summary_says_what_computed_it():
+    sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
+    build = sim.summary()["build"]
+    assert set(build) == {"version", "commit", "dirty", "rustc", "kernel_orders"}
+    assert build["commit"] == "unknown" or len(build["commit"]) == 40
+    assert build["rustc"].startswith("rustc ")
+    assert build["kernel_orders"]
+
+
 def test_wire_builder_errors():
     steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
     with pytest.raises(ValueError, match="length"):

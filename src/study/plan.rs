@@ -2,7 +2,7 @@
 //! makes — elements, quadrature orders, time step, ρ∞, Newton kind, contact
 //! stations and stiffness — each as a [`Setting`] applied to the scene file.
 
-use ancf_core::model::contact::ContactLaw;
+use ancf_core::model::contact::{ContactLaw, surface_stiffness_matching_line};
 use ancf_core::model::station_spacing;
 use ancf_core::scene::{
     Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
@@ -199,11 +199,8 @@ pub const SURFACE_MATCH_PENETRATION: f64 = 0.1;
 /// A line-law rod (`law = "line"`) under `law`: hertz takes the stiffness
 /// from the rod's material (the run is refused when the rod names none);
 /// the surface law gets the ε_N (N/m³) whose 90° crossing force equals the
-/// line law's at a penetration δ* = 0.1 R_wire: for small δ the surface
-/// patch carries F ≈ π ε_N √(R_w R_r) δ² and the line F ≈ (4/3) ε_L
-/// √(2 R_s) δ^{3/2} (SPEC §7.2), so
-/// ε_N = (4/3) ε_L √(2 R_s) / (π √(R_w R_r) √δ*). Rods under other laws
-/// keep theirs.
+/// line law's at a penetration δ* = 0.1 R_wire
+/// ([`surface_stiffness_matching_line`]). Rods under other laws keep theirs.
 fn switch_law(r: &mut ancf_core::scene::RodSpec, law: ContactLaw, wire_radius: f64) {
     if r.contact_law.as_deref() != Some("line") {
         return;
@@ -213,12 +210,10 @@ fn switch_law(r: &mut ancf_core::scene::RodSpec, law: ContactLaw, wire_radius: f
         ContactLaw::Line => {}
         ContactLaw::Hertz => r.contact_stiffness = None,
         ContactLaw::Surface => {
-            let (rw, rr) = (wire_radius, r.radius);
-            let delta = SURFACE_MATCH_PENETRATION * rw;
-            r.contact_stiffness = r.contact_stiffness.map(|eps_l| {
-                4.0 / 3.0 * eps_l * (2.0 * (rw + rr)).sqrt()
-                    / (std::f64::consts::PI * (rw * rr).sqrt() * delta.sqrt())
-            });
+            let delta = SURFACE_MATCH_PENETRATION * wire_radius;
+            r.contact_stiffness = r
+                .contact_stiffness
+                .map(|eps_l| surface_stiffness_matching_line(eps_l, wire_radius, r.radius, delta));
         }
     }
 }

@@ -680,7 +680,7 @@ fn rods(
             }
             None => None,
             // e = 1 asks for no damping: none is built.
-            Some(e) if e == 1.0 => None,
+            Some(1.0) => None,
             Some(e) => Some(ContactDamping::new(e, model)),
         };
         let n = r.axis.iter().map(|v| v * v).sum::<f64>().sqrt();

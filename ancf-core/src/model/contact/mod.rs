@@ -11,9 +11,11 @@
 //! Whether a time step resolves a line-law contact is known from ε_L and
 //! the wire's ρA alone (resolution.rs).
 
+mod equivalent;
 mod hertz;
 pub mod resolution;
 
+pub use equivalent::surface_stiffness_matching_line;
 pub use hertz::hertz_line_stiffness;
 pub use resolution::{RESOLVED_STEP_FREQUENCY, UnresolvedContact, unresolved_contacts};
 

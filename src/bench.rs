@@ -1,4 +1,4 @@
-//! `ancf bench`: the numbers users compare simulators by (issue 7), measured
+//! `ancf bench`: the numbers users compare simulators by, measured
 //! on this machine in one command. Element kernels, pendulum step times,
 //! parallel speed-up and the impact scene's real-time factor. Single thread
 //! unless stated (a 1-thread rayon pool); wall-clock medians of repeats.

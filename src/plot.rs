@@ -366,7 +366,7 @@ pub fn configurations_plot(
     })
 }
 
-/// Error against cost on log–log axes (issue 5): one marker colour per
+/// Error against cost on log–log axes: one marker colour per
 /// group, the Pareto front (no cheaper run is more accurate) as a black
 /// line. Points with a non-positive coordinate are left out (log scale).
 pub fn pareto_plot(

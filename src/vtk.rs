@@ -5,8 +5,8 @@
 //! is rewritten after every frame, so it is valid even if a run stops.
 //!
 //! Frames are built and written on a thread of their own: the solver hands
-//! over (t, q, v) and goes on with the next step (on the impact scene the
-//! 200 frames cost 0.7 s of a 3.8 s run when written in line, BENCHMARKS.md).
+//! over (t, q, v) and goes on with the next step (written in line, the
+//! frames would cost a large part of a contact run).
 //! At most `QUEUE` frames wait; a full queue makes the solver wait, so memory
 //! stays bounded. [`VtkWriter::sync`] waits until every queued frame is on
 //! disk (before a checkpoint names them); dropping the writer does too.
@@ -49,8 +49,8 @@ pub struct VtkWriter {
 
 /// One `DataArray` in VTK's inline binary form: base64 of a UInt32 byte
 /// count followed by the little-endian values, as one stream (what
-/// vtkXMLWriter writes uncompressed). Formatting the floats as text took
-/// half the impact run's time (issue 14: 2.9 of 6.0 s for 200 frames).
+/// vtkXMLWriter writes uncompressed). Floats formatted as text would cost
+/// as much as the simulation.
 fn data_array(out: &mut String, vtk_type: &str, name: &str, components: usize, bytes: &[u8]) {
     use base64::Engine as _;
     let _ = writeln!(
@@ -353,8 +353,7 @@ mod tests {
 
     /// The inline binary array decodes to a UInt32 byte count followed by
     /// the values, bit for bit (the layout VTK's XML reader expects; the
-    /// shipped files were also read back with VTK 9's
-    /// vtkXMLUnstructuredGridReader, see BENCHMARKS.md).
+    /// files read back with VTK 9's vtkXMLUnstructuredGridReader).
     #[test]
     fn binary_data_array_round_trips() {
         let values = [1.5, -2.25e-30, 3.0e38, 0.1];

@@ -1,4 +1,4 @@
-//! One error type for programs built on the core (issue 15): every fallible
+//! One error type for programs built on the core: every fallible
 //! front-door call — reading a scene, building a model, the static
 //! equilibrium, a simulation's setup and steps — converts into [`Error`]
 //! with `?`, and a caller matches the kind it can handle:

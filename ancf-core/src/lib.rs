@@ -88,7 +88,7 @@ pub mod prelude {
 #[cfg(test)]
 mod tests {
     /// Every error the core returns works with `?` in a caller's
-    /// `Box<dyn Error + Send + Sync>` (issue 15): this does not compile otherwise.
+    /// `Box<dyn Error + Send + Sync>`: this does not compile otherwise.
     #[test]
     fn errors_are_std_errors() {
         fn is_error<E: std::error::Error + Send + Sync + 'static>() {}

@@ -1,4 +1,4 @@
-//! `ancf._ancf`: the Python face of ancf-core (issue 16). Scenes are read
+//! `ancf._ancf`: the Python face of ancf-core. Scenes are read
 //! and validated exactly as by the CLI; a `Simulation` wraps the core's
 //! `Simulation`; results come back as NumPy arrays. Every error is a Python
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).

@@ -1,5 +1,5 @@
-//! `ancf study`: what accuracy costs in time, on the user's own scene
-//! (issue 5). The study sweeps the settings that matter for the scene
+//! `ancf study`: what accuracy costs in time, on the user's own scene.
+//! The study sweeps the settings that matter for the scene
 //! ([`plan`]), runs every setting with the ordinary run pipeline in memory
 //! (each run single-threaded in its own one-thread rayon pool, runs in
 //! parallel on worker threads; no files), measures its error

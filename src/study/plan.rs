@@ -1,4 +1,4 @@
-//! Which settings a study sweeps for a scene (issue 5): the choices a user
+//! Which settings a study sweeps for a scene: the choices a user
 //! makes — elements, quadrature orders, time step, ρ∞, Newton kind, contact
 //! stations and stiffness — each as a [`Setting`] applied to the scene file.
 
@@ -13,7 +13,7 @@ use ancf_core::scene::{
 pub enum Level {
     /// A few runs per sweep (seconds): checks a scene and the report's shape.
     Quick,
-    /// The full sweeps of issue 5 (minutes): what `docs/accuracy/` holds.
+    /// The full sweeps (minutes): what `docs/accuracy/` holds.
     Standard,
     /// Dynamic scenes: only the three refinements a result's error band
     /// needs — time step h, h/2, h/4; elements ½, 1, 2 ×; contact points
@@ -270,9 +270,8 @@ fn stations_for(base: &Setting, length: f64, elements: usize) -> Option<usize> {
 /// line-law contact (h √(ε_L / ρA) ≤ 3,
 /// [`ancf_core::model::contact::RESOLVED_STEP_FREQUENCY`]): the stiffness
 /// and law families compare penalties and laws, which a step too coarse
-/// for them does not (at the impact scene's 0.1 ms the ×100 and hertz rows
-/// went on by rejecting steps, their loads set by which sub-steps passed;
-/// at 50 µs and 25 µs they have no cut and cost no more, BENCHMARKS.md).
+/// for them does not (it goes on by rejecting steps, its loads set by which
+/// sub-steps passed).
 /// A setting the scene check refuses is left as is (its run says why).
 fn resolved(file: &SceneFile, mut s: Setting) -> Setting {
     let Ok(scene) = Scene::from_file(&s.apply(file, None)) else {
@@ -513,7 +512,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         // close the reference is to its converged solution (on the impact
         // scene's reference the two kinds agree to 1.1e-6 relative, far
         // under the errors the study measures, and modified Newton costs a
-        // third; BENCHMARKS.md).
+        // third).
         full_newton: Some(false),
         tolerance: Some(NEWTON_TOLERANCE_FLOOR),
         stations: stations_for(&base, length, 2 * n_max).map(|s| (2 * s).min(64)),
@@ -534,7 +533,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
 /// (or the scene's own, if higher) moved the impact study's reference by
 /// 5e-8 of the tip excursion, 1e-8 of the filtered peak and 6e-8 of the
 /// impulse at 256 elements — 1/2000 of the finest threshold the study
-/// reports — at 3/4 of its cost (BENCHMARKS.md). Other laws keep five.
+/// reports — at 3/4 of its cost. Other laws keep five.
 fn reference_axial(scene: &Scene, base: &Setting) -> usize {
     let all_preintegrated = scene.model.element(0).plan.is_preintegrated_only();
     base.axial.max(if all_preintegrated { 3 } else { 5 })

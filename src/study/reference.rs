@@ -1,5 +1,5 @@
 //! Analytic reference values a study can use instead of a reference run:
-//! the cantilever cases of SPEC §8 (issue 5). A scene qualifies when it is
+//! the cantilever cases of SPEC §8. A scene qualifies when it is
 //! a straight cantilever — one clamp at node 0, one point load at the last
 //! node, nothing else (no gravity, rods, damping) — with circular layers of
 //! St. Venant–Kirchhoff material and ν = 0.

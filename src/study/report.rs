@@ -979,9 +979,8 @@ fn step_cuts_note(md: &mut String, input: &ReportInput) {
          Newton failed, or the converged step would raise total + dissipated energy more than 1 % of the energy in \
          play above its start (the energy guard) or push the wire past the penetration limit — and redoes it in \
          halves. Many cuts mean the run used up its energy budget and went on by rejecting the steps that add \
-         energy: its loads then depend on which sub-steps passed (on the impact scene at ×100 contact stiffness \
-         the filtered peak moved from 442 to 479 N with the sub-step policy alone, BENCHMARKS.md), so they are not \
-         converged samples; a smaller time step is what resolves them.\n",
+         energy: its loads then depend on which sub-steps passed (a change of the sub-step policy alone can move \
+         a filtered peak by several per cent), so they are not converged samples; a smaller time step is what resolves them.\n",
         cut.len(),
         most.label(),
         worst.step_cuts,

@@ -123,8 +123,8 @@ type Vector6 = nalgebra::Vector6<f64>;
 ///
 /// The evaluation works on structures built once per element type: M by
 /// its four non-zero blocks, and the Hessian blocks as 45 outer products
-/// u_l u_rᵀ (of 15 × 25 possible) for an isotropic law: see `BENCHMARKS.md`
-/// (issue 7) for what this saved.
+/// u_l u_rᵀ (of 15 × 25 possible) for an isotropic law, so that the
+/// evaluation does only the products that are not zero.
 #[derive(Clone, Debug)]
 pub struct PreIntegrated {
     m: M15,
@@ -134,8 +134,7 @@ pub struct PreIntegrated {
     a: M15,
     /// M by its blocks (`add_section` cannot fill anything else): the
     /// centre strains with α and γ (`CENTRE`, 8 × 8), the y-slopes and the
-    /// z-slopes (3 × 3 each) and β alone — 83 products instead of 225
-    /// (instruction counts in BENCHMARKS.md, issue 7).
+    /// z-slopes (3 × 3 each) and β alone — 83 products instead of 225.
     m_centre: [[f64; 8]; 8],
     m_slope_y: [[f64; 3]; 3],
     m_slope_z: [[f64; 3]; 3],
@@ -1007,7 +1006,7 @@ fn forces_4_with<F: Arith>(
 
 /// Eight elements' forces at once: on the AVX-512 path one 512-bit
 /// register a lane operation, faster than four lanes; on the other paths
-/// no slower (BENCHMARKS.md). Each lane has the bits it has in any other
+/// no slower. Each lane has the bits it has in any other
 /// batch.
 #[inline(always)]
 fn forces_8_with<F: Arith>(

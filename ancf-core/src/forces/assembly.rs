@@ -201,13 +201,13 @@ pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
 /// iteration) stays serial: at 0.1–0.15 µs per element its section is too
 /// short for the hand-off, and the idle thread's spinning afterwards took
 /// the cores the serial rest of the iteration needs (the 1000-element
-/// span-break scene ran 1.3–1.6× slower on 2 threads than on 1 with it,
-/// as fast without; BENCHMARKS.md, eighth session). Results do not depend
+/// span-break scene ran slower on 2 threads than on 1 with it, as fast
+/// without). Results do not depend
 /// on it (the chunks equal the serial loop bit for bit); only the speed does.
 pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
     let element = model.element(0);
     let points = (element.axial.nodes.len() * element.plan.points()) as f64;
-    // µs of force + Jacobian per element (BENCHMARKS.md): pre-integrated
+    // µs of force + Jacobian per element: pre-integrated
     // SVK 0.75 four at a time, plus ≈ 0.3 per section point.
     let per_element = 0.75 + 0.3 * points;
     with_jacobian
@@ -222,7 +222,7 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 /// threads spin for a while on cores the main thread wants. Below about
 /// 100 elements' worth the section gains nothing and the aftermath costs:
 /// the 64-element impact scene (77 µs of Jacobian work) runs 1.2× slower
-/// with it, while 128 elements and more still gain (BENCHMARKS.md).
+/// with it, while 128 elements and more still gain.
 pub const PARALLEL_MIN_WORK_US: f64 = 100.0;
 
 /// Elements per chunk: 8 chunks at 256 elements, so that rayon can balance

@@ -5,8 +5,8 @@
 //! two neighbouring nodes only, so the half-bandwidth is at most 23 (two
 //! 12-coordinate nodes). A band factorization costs n p² / 2 multiply-adds
 //! with contiguous inner products and no index lookups; faer's general
-//! sparse LLᵀ (simplicial or supernodal) on the same matrices was 3–8×
-//! slower (BENCHMARKS.md, issue 7), which is why this file exists.
+//! sparse LLᵀ (simplicial or supernodal) on the same matrices is several
+//! times slower, which is why this file exists.
 //!
 //! Storage (LAPACK's lower band layout): column j of L keeps the rows
 //! j … j + p contiguously at `l[j (p + 1) + (i − j)]` (rows past n − 1 stay

@@ -6,8 +6,8 @@
 //! dominates, so the symmetric part stays positive definite and elimination
 //! in the natural order is stable. A pivot that is not finite or falls below
 //! 1e-10 of the largest diagonal entry is refused and the caller falls back
-//! to faer's pivoting sparse LU. On the impact scene faer's general sparse
-//! LU was 38 % of the run and its solves 14 % (perf, BENCHMARKS.md, issue 7).
+//! to faer's pivoting sparse LU, whose general sparse factorization and
+//! solves cost the contact scenes most of their time.
 //!
 //! Storage: row i keeps the columns i − p … i + p at
 //! `a[i (2p + 1) + (j − i + p)]`; L (unit diagonal, not stored) and U

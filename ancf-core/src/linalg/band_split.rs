@@ -13,10 +13,10 @@
 //! ```
 //!
 //! The two band factorizations are independent, and so are the two halves
-//! of each solve: the serial band factorization and solves were ≈ 35 % of
-//! a full-Newton step at 256 elements and 25 % of a modified-Newton step at
-//! 4096 (BENCHMARKS.md, issue 7), and no other part of a step could use the
-//! second core there. The top half is the matrix's own rows 0 … s + p − 1
+//! of each solve: the serial band factorization and solves are a third of a
+//! full-Newton step at a few hundred elements and a quarter of a
+//! modified-Newton step at thousands, and no other part of a step can use
+//! the second core there. The top half is the matrix's own rows 0 … s + p − 1
 //! (the separator at its end); the bottom half is rows s … n − 1 in reverse
 //! order (the separator, reversed, at its end), so both are ordinary
 //! [`BandCholesky`] factors eliminated up to their separator rows. The
@@ -30,13 +30,10 @@ use crate::linalg::parallel::run_tasks;
 
 /// From this many unknowns on, [`crate::linalg::linear_solver`] uses the split
 /// factorization (decided by the size alone, so results never depend on
-/// the thread count), and its two halves run on two threads. Full-Newton
-/// steps on 2 threads against 1 at 256 / 384 elements (3081 / 4617
-/// unknowns): 1.18 / 1.19× with the one-piece band, 1.30 / 1.35× split;
-/// one thread showed no cost for the reversed copy of the bottom half's
-/// right-hand side (0.442 vs 0.447 ms per modified-Newton step at 256).
-/// With rayon's own join the split had made 256 elements slower
-/// (BENCHMARKS.md, issue 7). ≈ 170 wire elements.
+/// the thread count), and its two halves run on two threads: from a few
+/// hundred elements the split gains on two threads and costs nothing on
+/// one (the reversed copy of the bottom half's right-hand side is cheap).
+/// ≈ 170 wire elements.
 pub const SPLIT_MIN_UNKNOWNS: usize = 2000;
 
 /// Solves split their halves over two threads only from this many unknowns

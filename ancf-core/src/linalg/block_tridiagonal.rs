@@ -136,8 +136,8 @@ crate::simd_dispatch! {
 
 /// The solves on `path`, except that the AVX-512 path runs the AVX2 code:
 /// their 12-lane matrix–vector products, chained block after block, run
-/// faster as three 256-bit vectors than as a 512-bit and a 256-bit one
-/// (BENCHMARKS.md). Both are the fused path's operations: the same bits.
+/// faster as three 256-bit vectors than as a 512-bit and a 256-bit one.
+/// Both are the fused path's operations: the same bits.
 fn solve(path: SimdPath, lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
     let path = if path == SimdPath::Avx512 {
         SimdPath::Avx2

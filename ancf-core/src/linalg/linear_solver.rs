@@ -6,7 +6,7 @@
 //! `BLOCK_LU_MAX_SYMMETRIC` unknowns. Otherwise, or when a block
 //! is singular, a symmetric matrix tries LLᵀ first — as a band
 //! ([`BandCholesky`]: a wire's pattern is banded, and the band form was
-//! 3–8× faster than faer's sparse LLᵀ, BENCHMARKS.md; from 2000 unknowns
+//! several times faster than faer's sparse LLᵀ; from 2000 unknowns
 //! on split in two halves for two threads, [`SplitBandCholesky`]) or, for a wider
 //! pattern, faer's sparse LLᵀ. A non-symmetric matrix (friction,
 //! Kelvin–Voigt damping) on a band pattern tries a band LU without pivoting
@@ -34,11 +34,10 @@ use faer::{ColMut, Conj, MatMut, Par, Side, linalg::solvers::Solve};
 const MAX_BAND: usize = 48;
 
 /// Symmetric dynamic Newton matrices up to this many unknowns go to the
-/// block LU rather than the band LLᵀ: modified-Newton pendulum steps
-/// measured 1.5–1.8× faster at 4–1024 elements. At 4096 elements (49 000
-/// unknowns) the split LLᵀ, factoring and solving on two threads, kept
-/// full-Newton steps faster (24 against 28–30 ms) for equal modified-Newton
-/// steps (BENCHMARKS.md, sixth session).
+/// block LU rather than the band LLᵀ: its modified-Newton steps are faster
+/// up to about a thousand elements. At several thousand the split LLᵀ,
+/// factoring and solving on two threads, keeps full-Newton steps faster
+/// for equal modified-Newton steps.
 const BLOCK_LU_MAX_SYMMETRIC: usize = 20_000;
 
 /// faer's sparse LLᵀ at its low level: the symbolic factor, the factor's

@@ -7,9 +7,9 @@
 //! within a few µs, and waking it takes ≈ 40 µs. Here every thread of the
 //! pool takes the next task until none is left, and the calling thread then
 //! spins (instead of sleeping) until the tasks the others took are done —
-//! at most one task's time. At 256 elements this turned a bimodal assembly
-//! (185 or 240 µs on 2 threads) into a steady 187–197 µs (BENCHMARKS.md,
-//! issue 7). Which thread runs which task varies; callers make the tasks
+//! at most one task's time: a parallel section then takes the same time on
+//! every call instead of sometimes the wake-up's more. Which thread runs
+//! which task varies; callers make the tasks
 //! write disjoint data, so results do not depend on it.
 
 use std::sync::Mutex;

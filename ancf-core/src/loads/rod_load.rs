@@ -8,11 +8,10 @@ use crate::math::vec3::norm;
 /// Default channel frequency class: CFC 60 (−3 dB at 100 Hz), the class
 /// SAE J211-1 gives barrier face forces — the load an impacting structure
 /// puts on a rigid obstacle, as here. It keeps a pulse's impulse and the
-/// frequencies a frame responds to. Measured on the impact scene (issue
-/// 14): the CFC 60 peak converges in the mesh (622 / 620 / 619 N at 64 /
-/// 96 / 128 elements) where the CFC 600 peak does not (1161 / 1099 / 1086 N,
-/// and 1137 N at h/2): the penalty contact's content above a few hundred Hz
-/// depends on how finely bending waves are resolved. Choose CFC 180 or 600
+/// frequencies a frame responds to. On the impact scene the CFC 60 peak
+/// converges with the mesh where the CFC 600 peak does not: the penalty
+/// contact's content above a few hundred Hz depends on how finely bending
+/// waves are resolved (docs/accuracy/wire_rod_impact). Choose CFC 180 or 600
 /// for a structure that responds above 100 Hz, with a mesh that resolves it.
 pub const DEFAULT_CFC: f64 = 60.0;
 

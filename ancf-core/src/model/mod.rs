@@ -20,7 +20,7 @@ pub const NODE_DOFS: usize = 12;
 
 /// Axial Gauss points of an element unless said otherwise. 5 would
 /// integrate an SVK element's energy exactly (degree 8 in ξ), but the
-/// accuracy study (docs/accuracy, issue 5) finds 3 points give the same
+/// accuracy study (docs/accuracy) finds 3 points give the same
 /// cantilever and pendulum errors to three digits at 60–70 % of the cost;
 /// 2 points are 9× less accurate in dynamics.
 pub const DEFAULT_AXIAL_ORDER: usize = 3;

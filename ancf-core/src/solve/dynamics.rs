@@ -229,11 +229,9 @@ pub struct PreviousStep {
 /// smooth part changing at rate ȧ is off by (1 + ρ∞) h ȧ instead of h ȧ.
 /// With ρ∞ = 1 (no numerical damping) those modes flip sign forever, and
 /// the a₀ predictor is off by twice their amplitude: on the pendulum the flip
-/// sits at the node next to the pin (±8 m/s² in z at 1024 elements) and it
-/// set the residual Newton started from (1.3e3 N at 1024 elements, 5.2e3 N
-/// at 4096), so that modified Newton needed 4–7 iterations and, at 4096, a
-/// refactorization every other step; with this predictor 2–3 and none
-/// (BENCHMARKS.md, issue 7). Only unknowns are predicted; prescribed
+/// sits at the node next to the pin, and it sets the residual Newton starts
+/// from, so that modified Newton needs more iterations and, on fine meshes,
+/// refactorizations; this predictor removes it. Only unknowns are predicted; prescribed
 /// coordinates keep a₀.
 pub fn predict(model: &Model, s: &State, h: f64, spectral_radius: f64) -> Vec<f64> {
     let mut a1 = s.a.clone();
@@ -763,7 +761,7 @@ impl Integrator {
     /// (the energy guard's 1 % budget, the penetration limit) leave the
     /// next step's start alone: trying the full size first is what lets a
     /// run on the budget find a step that keeps it (holding the sub-steps
-    /// there made the stiff-contact runs fail, BENCHMARKS.md). A run without
+    /// there makes stiff-contact runs fail). A run without
     /// cuts never subdivides.
     pub fn step(&mut self, s: &State, h: f64) -> Result<(State, StepInfo), StepError> {
         let mut info = StepInfo::default();

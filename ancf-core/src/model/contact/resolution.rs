@@ -4,16 +4,12 @@
 //! Where the wire lies on a rod, the line law (and hertz, the line law with
 //! ε_L from E*) is an elastic foundation of ε_L N/m² under a beam of ρA
 //! kg/m: the wire vibrates against it at no less than ω_c = √(ε_L / ρA).
-//! On the impact scene (ρA = 1.597 kg/m, BENCHMARKS.md, twelfth and
-//! thirteenth sessions) every run with h ω_c ≤ 2.9 went without a step
-//! cut (the scene's own 0.56, ×10 stiffness 1.77, ×100 at h = 50 µs 2.8,
-//! hertz at 25 µs 2.9; the span break, 1.77, has none either) and every
-//! run above went on by rejecting steps (×100 at 0.1 ms 5.6: 1 582 cuts;
-//! hertz at 0.1 ms 11.4: 1 356; hertz at 50 µs 5.7 failed), its loads then
-//! set by which sub-steps passed. Resolving the contact is necessary, not
-//! sufficient: hertz at 12.5 µs (1.4) with the scene's Newton tolerance
-//! 1e-4 was cut and failed when the tolerance's energy error over 64 000
-//! steps used up the energy guard, and a contact too soft for the blow
+//! A step that samples that oscillation too coarsely (h ω_c above about 3)
+//! is rejected and cut again and again, and the loads then depend on which
+//! sub-steps passed; below it the impact and span-break contacts, at every
+//! stiffness and law tried, run without a cut. Resolving the contact is
+//! necessary, not sufficient: a Newton tolerance too loose for a very
+//! small step adds up an energy error, and a contact too soft for the blow
 //! meets the penetration limit whatever the step. The surface law's ε_N
 //! (N/m³) has no foundation stiffness per length; it is not judged.
 

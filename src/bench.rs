@@ -569,6 +569,7 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
             &RunOptions {
                 out: dir.clone(),
                 quiet: true,
+                cancel: Default::default(),
             },
         )?;
         let wall = t.elapsed().as_secs_f64();

@@ -4,6 +4,7 @@ use ancf::run::{RunOptions, run_scene};
 use ancf_core::math::quadrature::ring_rule;
 use ancf_core::math::simd::SimdPath;
 use ancf_core::scene::Scene;
+use ancf_core::solve::cancel::CancelToken;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -192,13 +193,13 @@ fn main() -> ExitCode {
             resume,
         } => {
             // Ctrl-C ends the run after the current step, keeping everything written so far.
-            stop_on_interrupt("an interrupt will stop the run without a summary");
+            let cancel = stop_on_interrupt("an interrupt will stop the run without a summary");
             let (result, out) = match (resume, scene) {
                 (Some(dir), _) => {
                     if !quiet {
                         eprintln!("ancf: resuming the run in {}", dir.display());
                     }
-                    (ancf::run::resume(&dir, quiet), dir)
+                    (ancf::run::resume(&dir, quiet, &cancel), dir)
                 }
                 (None, Some(scene)) => {
                     let s = match load(&scene) {
@@ -220,6 +221,7 @@ fn main() -> ExitCode {
                             &RunOptions {
                                 out: out.clone(),
                                 quiet,
+                                cancel,
                             },
                         ),
                         out,
@@ -228,7 +230,7 @@ fn main() -> ExitCode {
                 (None, None) => unreachable!("clap requires a scene without --resume"),
             };
             match result {
-                Ok(summary) if summary.status == "completed" => {
+                Ok(summary) if summary.status == ancf::output::RunStatus::Completed => {
                     println!(
                         "completed: {} steps, {} Newton iterations, {:.2} s wall; outputs in {}",
                         summary.steps,
@@ -247,7 +249,7 @@ fn main() -> ExitCode {
                 Ok(summary) => {
                     eprintln!("error: run {}: {}", summary.status, summary.message);
                     eprintln!("outputs so far are in {}", out.display());
-                    ExitCode::from(if summary.status == "interrupted" {
+                    ExitCode::from(if summary.status == ancf::output::RunStatus::Interrupted {
                         130
                     } else {
                         1
@@ -468,8 +470,9 @@ fn sweep_command(
         };
     }
     // Ctrl-C: finished variants are kept, running ones stop with a checkpoint.
-    stop_on_interrupt("an interrupt will stop the sweep without results.csv");
+    let cancel = stop_on_interrupt("an interrupt will stop the sweep without results.csv");
     let opts = SweepOptions {
+        cancel,
         out: out.clone(),
         executor,
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
@@ -520,12 +523,13 @@ fn sweep_exit(out: &std::path::Path, end: ancf::sweep::SweepEnd) -> ExitCode {
     }
 }
 
-/// Ctrl-C or SIGTERM sets `run::INTERRUPTED`, which runs and sweeps check
-/// between steps; `without` says what is lost when no handler can be set.
-fn stop_on_interrupt(without: &str) {
-    if let Err(e) = ctrlc::set_handler(|| {
-        ancf::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
-    }) {
+/// A token that Ctrl-C or SIGTERM cancels; runs and sweeps check it
+/// between steps. `without` says what is lost when no handler can be set.
+fn stop_on_interrupt(without: &str) -> CancelToken {
+    let token = CancelToken::new();
+    let handler = token.clone();
+    if let Err(e) = ctrlc::set_handler(move || handler.cancel()) {
         eprintln!("warning: no Ctrl-C handler ({e}); {without}");
     }
+    token
 }

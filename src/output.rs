@@ -63,11 +63,45 @@ pub struct RodSummary {
     pub load: ancf_core::loads::rod_load::RodLoad,
 }
 
+/// How a run ended (summary.json's `status`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// Not ended yet.
+    #[default]
+    Running,
+    /// Reached its end time (or static equilibrium).
+    Completed,
+    /// Stopped by a numerical failure, named in the message.
+    Failed,
+    /// Stopped by its cancellation token (Ctrl-C, a termination signal, a
+    /// Python KeyboardInterrupt); what it wrote is kept.
+    Interrupted,
+}
+
+impl RunStatus {
+    /// The name summary.json and the sweep tables use.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunStatus::Running => "running",
+            RunStatus::Completed => "completed",
+            RunStatus::Failed => "failed",
+            RunStatus::Interrupted => "interrupted",
+        }
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// `summary.json`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {
-    /// "completed", "failed" or "interrupted".
-    pub status: String,
+    /// How the run ended.
+    pub status: RunStatus,
     pub message: String,
     /// "static" or "dynamic".
     pub analysis: String,

@@ -14,13 +14,19 @@ fn run(text: &str, name: &str) -> serde_json::Value {
         &ancf::run::RunOptions {
             out: dir.clone(),
             quiet: true,
+            cancel: Default::default(),
         },
     )
     .unwrap();
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(s.status, "completed", "{name}: {}", s.message);
+    assert_eq!(
+        s.status,
+        ancf::output::RunStatus::Completed,
+        "{name}: {}",
+        s.message
+    );
     if let Some(e) = json.get("energy") {
         assert!(
             e["total"].as_f64().is_some_and(f64::is_finite),

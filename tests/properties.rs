@@ -2,6 +2,7 @@
 
 #[path = "../ancf-core/tests/common/mod.rs"]
 mod common;
+use ancf::output::RunStatus;
 use ancf_core::scene::Scene;
 use common::*;
 use proptest::prelude::*;
@@ -92,12 +93,12 @@ proptest! {
         {
             {
                 let dir = std::env::temp_dir().join(format!("ancf-prop-{}-{}", std::process::id(), pos));
-                let summary = ancf::run::run_scene(&scene, &ancf::run::RunOptions { out: dir.clone(), quiet: true });
+                let summary = ancf::run::run_scene(&scene, &ancf::run::RunOptions { out: dir.clone(), quiet: true, cancel: Default::default() });
                 let _ = std::fs::remove_dir_all(&dir);
                 if let Ok(s) = summary {
-                    prop_assert!(s.status == "completed" || s.status == "failed");
+                    prop_assert!(matches!(s.status, RunStatus::Completed | RunStatus::Failed));
                     if let Some(e) = s.energy {
-                        prop_assert!(s.status == "failed" || e.total.is_finite(), "a completed run with non-finite energy");
+                        prop_assert!(s.status == RunStatus::Failed || e.total.is_finite(), "a completed run with non-finite energy");
                     }
                 }
             }

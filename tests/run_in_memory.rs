@@ -3,6 +3,7 @@
 //! also when the scene checkpoints (a checkpoint drops the factorization,
 //! which a run in memory must do too to keep the same bits).
 
+use ancf::output::RunStatus;
 use ancf::run::{RunOptions, run_in_memory, run_scene};
 use ancf_core::scene::Scene;
 
@@ -32,10 +33,11 @@ fn memory_and_files_agree() {
     let opts = RunOptions {
         out: dir.clone(),
         quiet: true,
+        cancel: Default::default(),
     };
     let written = run_scene(&scene, &opts).unwrap();
     let memory = run_in_memory(&scene);
-    assert_eq!(written.status, "completed", "{}", written.message);
+    assert_eq!(written.status, RunStatus::Completed, "{}", written.message);
     let json = |s: &ancf::output::Summary| {
         let mut v = serde_json::to_value(s).unwrap();
         v.as_object_mut().unwrap().remove("wall_time_s");
@@ -67,4 +69,43 @@ fn memory_and_files_agree() {
     let forces = std::fs::read_to_string(dir.join("rod_forces.csv")).unwrap();
     assert_eq!(forces.lines().count() - 1, memory.rod_loads[0].time.len());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Two runs in one process (as two Python threads would run them), each
+/// with its own cancellation token: cancelling one stops it at its next
+/// step with status "interrupted" and its outputs kept, and the other
+/// completes untouched.
+#[test]
+fn two_runs_in_one_process_stop_independently() {
+    let mut scene = scene();
+    scene.output.checkpoint_every = 0;
+    let base = std::env::temp_dir().join(format!("ancf-cancel-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let options = |name: &str| RunOptions {
+        out: base.join(name),
+        quiet: true,
+        cancel: Default::default(),
+    };
+    let (stopped, kept) = (options("stopped"), options("kept"));
+    let token = stopped.cancel.clone();
+    let (a, b) = (scene.clone(), scene.clone());
+    let first = std::thread::spawn(move || run_scene(&a, &stopped));
+    let second = std::thread::spawn(move || run_scene(&b, &kept));
+    // Cancel the first once it has written some steps.
+    let series = base.join("stopped").join("timeseries.csv");
+    let start = std::time::Instant::now();
+    while std::fs::read_to_string(&series).map_or(0, |t| t.lines().count()) < 20 {
+        assert!(start.elapsed().as_secs() < 60, "the first run never wrote");
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    token.cancel();
+    let first = first.join().unwrap().unwrap();
+    let second = second.join().unwrap().unwrap();
+    assert_eq!(first.status, RunStatus::Interrupted, "{}", first.message);
+    assert!(first.steps < 3200, "stopped early: {} steps", first.steps);
+    let written = std::fs::read_to_string(&series).unwrap().lines().count();
+    assert!(written >= 20, "{written} rows kept, {} steps", first.steps);
+    assert_eq!(second.status, RunStatus::Completed, "{}", second.message);
+    assert_eq!(second.steps, 3200);
+    let _ = std::fs::remove_dir_all(&base);
 }

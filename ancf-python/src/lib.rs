@@ -708,9 +708,9 @@ impl Simulation {
         d.set_item(
             "status",
             if self.sim.is_finished() {
-                "completed"
+                ancf::output::RunStatus::Completed.as_str()
             } else {
-                "running"
+                ancf::output::RunStatus::Running.as_str()
             },
         )?;
         d.set_item("analysis", "dynamic")?;
@@ -880,19 +880,20 @@ impl RunResult {
 #[pyfunction]
 #[pyo3(signature = (scene, out, quiet=true))]
 fn _run(py: Python<'_>, scene: &Scene, out: std::path::PathBuf, quiet: bool) -> PyResult<String> {
-    use std::sync::atomic::Ordering;
+    // This run's own token: a KeyboardInterrupt here stops this run only.
+    let cancel = ancf_core::solve::cancel::CancelToken::new();
     let opts = ancf::run::RunOptions {
         out: out.clone(),
         quiet,
+        cancel: cancel.clone(),
     };
     let inner = scene.inner.clone();
     let handle = std::thread::spawn(move || ancf::run::run_scene(&inner, &opts));
     while !handle.is_finished() {
         py.detach(|| std::thread::sleep(std::time::Duration::from_millis(20)));
         if let Err(interrupt) = py.check_signals() {
-            ancf::run::INTERRUPTED.store(true, Ordering::Relaxed);
+            cancel.cancel();
             let _ = py.detach(|| handle.join());
-            ancf::run::INTERRUPTED.store(false, Ordering::Relaxed);
             return Err(interrupt);
         }
     }

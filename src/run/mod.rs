@@ -12,12 +12,13 @@ pub mod files;
 pub mod history;
 mod plots;
 
-use crate::output::{ContactSummary, EnergySummary, Summary, TipSummary};
-use ancf_core::forces::sum::{At, ForceSum};
+use crate::output::{ContactSummary, EnergySummary, RunStatus, Summary, TipSummary};
+use ancf_core::forces::assembly::ContactForces;
 use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
 use ancf_core::scene::{Analysis, Scene};
+use ancf_core::solve::cancel::CancelToken;
 use ancf_core::solve::dynamics::{DynamicSettings, Energies};
 use ancf_core::solve::simulation::{Initial, Simulation, SimulationError, Snapshot};
 use ancf_core::solve::statics::{StaticSettings, solve_static};
@@ -27,16 +28,15 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Set by the Ctrl-C handler (see `main.rs`); the run loop checks it each
-/// step and ends with status "interrupted", keeping what it wrote.
-pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
 #[derive(Clone, Debug)]
 pub struct RunOptions {
     /// Output directory (created if absent).
     pub out: PathBuf,
     /// No progress bar.
     pub quiet: bool,
+    /// The run checks it before every step and, once cancelled, ends with
+    /// status "interrupted", keeping what it wrote.
+    pub cancel: CancelToken,
 }
 
 /// A run kept in memory: its summary (as summary.json has it), its written
@@ -92,13 +92,14 @@ fn node_positions(model: &Model, q: &[f64]) -> Vec<[f64; 3]> {
 /// outputs cannot be written at all.
 pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| io_err(&opts.out, e))?;
-    execute(scene, Some(&opts.out), opts.quiet, None).map(|r| r.summary)
+    execute(scene, Some(&opts.out), opts.quiet, &opts.cancel, None).map(|r| r.summary)
 }
 
 /// Run a scene without writing anything: the summary `run_scene` would
 /// write, and the records in memory.
 pub fn run_in_memory(scene: &Scene) -> RunRecord {
-    execute(scene, None, true, None).expect("a run without files has no I/O to fail")
+    execute(scene, None, true, &CancelToken::new(), None)
+        .expect("a run without files has no I/O to fail")
 }
 
 /// What a completed run's message says of its step cuts (`None` without
@@ -119,8 +120,8 @@ pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
 
 /// Continue the run checkpointed in `dir` (`ancf run --resume DIR`): the
 /// outputs are cut back to the checkpoint and continued; the result equals
-/// an uninterrupted run bit for bit.
-pub fn resume(dir: &Path, quiet: bool) -> Result<Summary, String> {
+/// an uninterrupted run bit for bit. `cancel` stops it as in [`run_scene`].
+pub fn resume(dir: &Path, quiet: bool, cancel: &CancelToken) -> Result<Summary, String> {
     let path = dir.join("checkpoint.json");
     let text = std::fs::read_to_string(&path)
         .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
@@ -130,7 +131,7 @@ pub fn resume(dir: &Path, quiet: bool) -> Result<Summary, String> {
     if !matches!(scene.analysis, Analysis::Dynamic { .. }) {
         return Err("only dynamic runs have checkpoints".into());
     }
-    execute(&scene, Some(dir), quiet, Some(ck.progress)).map(|r| r.summary)
+    execute(&scene, Some(dir), quiet, cancel, Some(ck.progress)).map(|r| r.summary)
 }
 
 /// The run: static or dynamic, with files in `out` or in memory only,
@@ -139,6 +140,7 @@ fn execute(
     scene: &Scene,
     out: Option<&Path>,
     quiet: bool,
+    cancel: &CancelToken,
     resume: Option<Progress>,
 ) -> Result<RunRecord, String> {
     let model = &scene.model;
@@ -160,18 +162,21 @@ fn execute(
             };
             match solve_static(model, &settings) {
                 Ok(res) => {
-                    summary.status = "completed".into();
+                    summary.status = RunStatus::Completed;
                     summary.message = format!(
                         "converged in {:?} Newton iterations per load step",
                         res.iterations
                     );
                     summary.steps = res.iterations.len();
                     summary.newton_iterations = res.iterations.iter().sum();
-                    summary.contact = static_contact(model, &res.q);
+                    summary.contact = res
+                        .contact
+                        .as_ref()
+                        .and_then(|cf| static_contact(model, cf));
                     res.q
                 }
                 Err(e) => {
-                    summary.status = "failed".into();
+                    summary.status = RunStatus::Failed;
                     summary.message = format!(
                         "{}. Likely cause: a load too large for one step or an unstable configuration; \
                          increase analysis.load_steps",
@@ -195,8 +200,9 @@ fn execute(
                 },
                 _ => Initial::Reference,
             };
+            let watch = Watch { quiet, cancel };
             let (q, history, loads) =
-                run_dynamic(scene, settings, initial, out, quiet, &mut summary, resume)?;
+                run_dynamic(scene, settings, initial, out, &watch, &mut summary, resume)?;
             record.history = history;
             record.rod_loads = loads;
             q
@@ -209,6 +215,13 @@ fn execute(
     }
     record.summary = summary;
     Ok(record)
+}
+
+/// Who watches a dynamic run: a progress bar unless quiet, and the token
+/// that stops it.
+struct Watch<'a> {
+    quiet: bool,
+    cancel: &'a CancelToken,
 }
 
 fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
@@ -260,7 +273,7 @@ fn run_dynamic(
     settings: &DynamicSettings,
     initial: Initial,
     out: Option<&Path>,
-    quiet: bool,
+    watch: &Watch<'_>,
     summary: &mut Summary,
     resume: Option<Progress>,
 ) -> Result<(Vec<f64>, History, Vec<LoadHistory>), String> {
@@ -282,7 +295,7 @@ fn run_dynamic(
             let sim = match Simulation::new(model, settings.clone(), initial) {
                 Ok(sim) => sim,
                 Err(SimulationError::Static(e)) => {
-                    summary.status = "failed".into();
+                    summary.status = RunStatus::Failed;
                     summary.message = format!(
                         "initial static equilibrium: {}. Likely cause: {}",
                         e.message,
@@ -291,7 +304,7 @@ fn run_dynamic(
                     return Ok((e.last_converged, History::default(), Vec::new()));
                 }
                 Err(e) => {
-                    summary.status = "failed".into();
+                    summary.status = RunStatus::Failed;
                     summary.message = e.to_string();
                     return Ok((model.initial_coordinates(), History::default(), Vec::new()));
                 }
@@ -327,6 +340,7 @@ fn run_dynamic(
     };
     let (done, n_steps) = sim.steps();
     summary.unknowns = model.holding_at(0.0).n_unknowns;
+    let (quiet, cancel) = (watch.quiet, watch.cancel);
     let bar = progress_bar(n_steps as u64, quiet);
     bar.set_position(done as u64);
     let snapshot_every = (n_steps / 8).max(1);
@@ -334,12 +348,12 @@ fn run_dynamic(
     // without one), which changes the iterations' last bits: a run in
     // memory does so too, to compute what the same run with files would.
     let checkpoint_every = scene.output.checkpoint_every;
-    summary.status = "completed".into();
+    summary.status = RunStatus::Completed;
     summary.message = format!("{}{n_steps} steps of {h} s", p.message);
     while !sim.is_finished() {
         let k = sim.steps().0 + 1;
-        if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
-            summary.status = "interrupted".into();
+        if cancel.is_cancelled() {
+            summary.status = RunStatus::Interrupted;
             summary.message = format!(
                 "interrupted (Ctrl-C or a termination signal) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
                 sim.state().time,
@@ -355,7 +369,7 @@ fn run_dynamic(
         let info = match sim.step() {
             Ok(info) => info,
             Err(e @ SimulationError::Step { .. }) => {
-                summary.status = "failed".into();
+                summary.status = RunStatus::Failed;
                 summary.message = format!(
                     "{e}. Likely cause: {}. Output up to t = {t_before:.6} s is kept",
                     e.likely_cause()
@@ -363,7 +377,7 @@ fn run_dynamic(
                 break;
             }
             Err(e) => {
-                summary.status = "failed".into();
+                summary.status = RunStatus::Failed;
                 summary.message = e.to_string();
                 break;
             }
@@ -372,7 +386,7 @@ fn run_dynamic(
         if k % scene.output.every == 0 || k == n_steps {
             let e = sim.energies();
             if !e.total().is_finite() {
-                summary.status = "failed".into();
+                summary.status = RunStatus::Failed;
                 summary.message = format!(
                     "step {k} at t = {:.6} s: the energy is not finite. Likely cause: an inverted \
                      element or a time step too large; reduce analysis.time_step",
@@ -414,7 +428,7 @@ fn run_dynamic(
     }
     bar.finish_and_clear();
     let progress = sim.progress();
-    if progress.released > 0 && summary.status == "completed" {
+    if progress.released > 0 && summary.status == RunStatus::Completed {
         summary
             .message
             .push_str(&format!("; {} support release(s)", progress.released));
@@ -424,7 +438,7 @@ fn run_dynamic(
     summary.factorizations = progress.factorizations;
     summary.step_cuts = progress.step_cuts;
     if let Some(note) = step_cuts_note(progress.step_cuts, progress.step)
-        && summary.status == "completed"
+        && summary.status == RunStatus::Completed
     {
         summary.message.push_str(&format!("; {note}"));
     }
@@ -471,11 +485,8 @@ fn rod_summary(rod: &ancf_core::model::contact::Rod, load: RodLoad) -> crate::ou
 
 /// Contact in a static equilibrium: each rod's final force is its peak
 /// (no impulse, no duration, nothing to filter).
-fn static_contact(model: &Model, q: &[f64]) -> Option<ContactSummary> {
+fn static_contact(model: &Model, cf: &ContactForces) -> Option<ContactSummary> {
     let c = model.contact()?;
-    let mut forces = ForceSum::new(model);
-    forces.evaluate(model, At::rest(q), None, None);
-    let cf = forces.contact()?;
     let rods = c
         .rods
         .iter()

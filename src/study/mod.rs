@@ -127,7 +127,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
     for _ in 0..5 {
         let run = run_in_memory(&scene);
         total += run.summary.wall_time_s;
-        let done = run.summary.status != "completed" || total > 0.5;
+        let done = run.summary.status != crate::output::RunStatus::Completed || total > 0.5;
         if best
             .as_ref()
             .is_none_or(|b| run.summary.wall_time_s < b.summary.wall_time_s)
@@ -169,7 +169,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         })
     });
     Outcome {
-        status: summary.status.clone(),
+        status: summary.status.to_string(),
         message: summary.message.clone(),
         wall_s: summary.wall_time_s,
         tip: summary.tip.displacement,

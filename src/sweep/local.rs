@@ -7,15 +7,20 @@
 //! outputs are kept; no new child starts. Rerunning resumes them.
 
 use super::run_command;
-use crate::run::INTERRUPTED;
+use ancf_core::solve::cancel::CancelToken;
 use std::io::IsTerminal;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 /// Runs the variants `ids` of the sweep in `out`; true when interrupted.
-pub fn run(out: &Path, ids: &[String], jobs: usize, quiet: bool) -> Result<bool, String> {
+pub fn run(
+    out: &Path,
+    ids: &[String],
+    jobs: usize,
+    quiet: bool,
+    cancel: &CancelToken,
+) -> Result<bool, String> {
     let exe = std::env::current_exe().map_err(|e| format!("the ancf executable: {e}"))?;
     let jobs = jobs.max(1);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -37,7 +42,7 @@ pub fn run(out: &Path, ids: &[String], jobs: usize, quiet: bool) -> Result<bool,
     let mut running: Vec<(String, Child)> = Vec::new();
     let mut forwarded = false;
     loop {
-        let interrupted = INTERRUPTED.load(Ordering::Relaxed);
+        let interrupted = cancel.is_cancelled();
         if interrupted && !forwarded {
             // Children started by this process get the interrupt as well
             // (a terminal's Ctrl-C reaches them anyway; a `kill -INT` of
@@ -90,5 +95,5 @@ pub fn run(out: &Path, ids: &[String], jobs: usize, quiet: bool) -> Result<bool,
         std::thread::sleep(Duration::from_millis(20));
     }
     bar.finish_and_clear();
-    Ok(INTERRUPTED.load(Ordering::Relaxed))
+    Ok(cancel.is_cancelled())
 }

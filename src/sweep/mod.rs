@@ -39,6 +39,9 @@ pub struct SweepOptions {
     /// over the sweep file's `[slurm]`.
     pub slurm: file::SlurmSpec,
     pub quiet: bool,
+    /// Cancelled (Ctrl-C, SIGTERM): local variants are stopped with a
+    /// checkpoint, a Slurm job is no longer followed.
+    pub cancel: ancf_core::solve::cancel::CancelToken,
 }
 
 /// `DIR/sweep.json`: what the folder holds, for reruns and `--collect`.
@@ -203,7 +206,7 @@ pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
         }
     }
     let interrupted = match opts.executor {
-        Executor::Local => local::run(&out, &todo, opts.jobs, opts.quiet)?,
+        Executor::Local => local::run(&out, &todo, opts.jobs, opts.quiet, &opts.cancel)?,
         Executor::Slurm => {
             let o = &opts.slurm;
             let spec = file::SlurmSpec {
@@ -212,7 +215,14 @@ pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
                 max_parallel: o.max_parallel.or(sweep.slurm.max_parallel),
                 ..sweep.slurm.clone()
             };
-            match slurm::run(&out, &todo, &spec, opts.submit_only, opts.quiet)? {
+            match slurm::run(
+                &out,
+                &todo,
+                &spec,
+                opts.submit_only,
+                opts.quiet,
+                &opts.cancel,
+            )? {
                 slurm::Outcome::Submitted { job } => {
                     return Ok(SweepEnd::Submitted {
                         job,

@@ -8,12 +8,11 @@
 
 use super::file::SlurmSpec;
 use super::run_dir;
-use crate::run::INTERRUPTED;
+use ancf_core::solve::cancel::CancelToken;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 /// How a Slurm sweep left this command.
@@ -86,13 +85,15 @@ pub fn script(out: &Path, ids: &[String], spec: &SlurmSpec, exe: &Path) -> Strin
 }
 
 /// Submits the variants `ids` (none: nothing to do) and, unless
-/// `submit_only`, follows the array until every task has ended.
+/// `submit_only`, follows the array until every task has ended or `cancel`
+/// is cancelled.
 pub fn run(
     out: &Path,
     ids: &[String],
     spec: &SlurmSpec,
     submit_only: bool,
     quiet: bool,
+    cancel: &CancelToken,
 ) -> Result<Outcome, String> {
     if ids.is_empty() {
         return Ok(Outcome::Finished);
@@ -140,13 +141,13 @@ pub fn run(
     if submit_only {
         return Ok(Outcome::Submitted { job });
     }
-    follow(&job, ids.len(), quiet);
+    follow(&job, ids.len(), quiet, cancel);
     record_states(out, &job, ids);
     Ok(Outcome::Finished)
 }
 
 /// Waits until `squeue` no longer lists job `job` (or Ctrl-C).
-fn follow(job: &str, tasks: usize, quiet: bool) {
+fn follow(job: &str, tasks: usize, quiet: bool, cancel: &CancelToken) {
     let bar = if quiet || !std::io::stderr().is_terminal() {
         indicatif::ProgressBar::hidden()
     } else {
@@ -158,7 +159,7 @@ fn follow(job: &str, tasks: usize, quiet: bool) {
         bar
     };
     loop {
-        if INTERRUPTED.load(Ordering::Relaxed) {
+        if cancel.is_cancelled() {
             eprintln!(
                 "stopped following job {job}; its tasks go on. Collect later with `ancf sweep --collect DIR`"
             );

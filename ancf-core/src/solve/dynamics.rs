@@ -22,6 +22,17 @@ pub enum NewtonKind {
     Modified,
 }
 
+/// The matrix a factorization error is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Matrix {
+    /// The symbolic analysis of the Newton matrix's pattern.
+    Pattern,
+    /// The mass matrix (the initial acceleration).
+    Mass,
+    /// The Newton matrix (1 − α_m) M + … of a step.
+    Newton,
+}
+
 /// Settings of the dynamic solver.
 #[derive(Clone, Debug)]
 pub struct DynamicSettings {
@@ -354,11 +365,10 @@ pub enum StepError {
         /// The gain, J.
         gain: f64,
     },
-    /// A matrix could not be factored: `matrix` names it ("Newton", "mass",
-    /// or "pattern" for the symbolic analysis).
+    /// A matrix could not be factored.
     Factorization {
         /// Which matrix.
-        matrix: &'static str,
+        matrix: Matrix,
         /// The factorization's error.
         error: FactorError,
     },
@@ -435,9 +445,9 @@ impl std::fmt::Display for StepError {
                 "the step would raise the energy {gain:.3e} J above its start, past the energy guard's 1 % of \
                  the energy in play"
             ),
-            StepError::Factorization { matrix, error } => match *matrix {
-                "mass" => write!(f, "mass matrix: {error}"),
-                _ => write!(f, "{error}"),
+            StepError::Factorization { matrix, error } => match matrix {
+                Matrix::Mass => write!(f, "mass matrix: {error}"),
+                Matrix::Pattern | Matrix::Newton => write!(f, "{error}"),
             },
             StepError::Halved { cuts, h, cause } => write!(
                 f,
@@ -631,7 +641,7 @@ impl Integrator {
         let pattern = forces.pattern();
         let solver =
             SparseSolver::for_dynamics(pattern).map_err(|error| StepError::Factorization {
-                matrix: "pattern",
+                matrix: Matrix::Pattern,
                 error,
             })?;
         let mass = mass_values(&model, pattern);
@@ -681,7 +691,7 @@ impl Integrator {
         self.solver
             .factorize(&self.mass, true)
             .map_err(|error| StepError::Factorization {
-                matrix: "mass",
+                matrix: Matrix::Mass,
                 error,
             })?;
         self.factored_for = None;
@@ -1094,7 +1104,7 @@ impl Integrator {
                 self.solver
                     .factorize(&self.newton_matrix, symmetric)
                     .map_err(|error| StepError::Factorization {
-                        matrix: "Newton",
+                        matrix: Matrix::Newton,
                         error,
                     })?;
                 info.factorizations += 1;

@@ -52,6 +52,9 @@ pub struct StaticResult {
     pub strain_energy: f64,
     /// Force each support exerts on the wire at its node's position r, N.
     pub reactions: Vec<(usize, [f64; 3])>,
+    /// The contact at equilibrium (`None` without rods): each rod's force,
+    /// the normal force and penetration, the deepest point.
+    pub contact: Option<crate::forces::assembly::ContactForces>,
 }
 
 /// A static solve that did not converge.
@@ -241,6 +244,7 @@ pub fn solve_static_from(
         })
         .collect();
     Ok(StaticResult {
+        contact: forces.contact().cloned(),
         q,
         iterations,
         strain_energy: energy,

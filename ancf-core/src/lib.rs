@@ -70,16 +70,30 @@ pub mod section;
 pub mod solve;
 
 pub use error::Error;
+pub use material::Material;
+pub use model::contact::{ContactLaw, ContactSettings, RestitutionModel, Rod};
+pub use model::damping::Damping;
+pub use model::{Model, ModelError, SupportKind, WireBuilder};
+#[cfg(feature = "scene")]
+pub use scene::{Scene, SceneError};
+pub use solve::cancel::CancelToken;
+pub use solve::dynamics::{DynamicSettings, NewtonKind};
+pub use solve::simulation::{Initial, Simulation, SimulationError};
+pub use solve::statics::{StaticSettings, solve_static};
 
-/// What most programs need: `use ancf_core::prelude::*;`.
+/// What most programs need: `use ancf_core::prelude::*;` — the builder and
+/// what it takes (materials, rods, supports, damping, contact settings),
+/// the solver settings, the simulation, scenes and the errors.
 pub mod prelude {
     pub use crate::error::Error;
     pub use crate::material::Material;
     pub use crate::math::simd::SimdPath;
-    pub use crate::model::contact::{ContactLaw, RestitutionModel, Rod};
-    pub use crate::model::{Model, SupportKind, WireBuilder};
+    pub use crate::model::contact::{ContactLaw, ContactSettings, RestitutionModel, Rod};
+    pub use crate::model::damping::Damping;
+    pub use crate::model::{Model, ModelError, Support, SupportKind, WireBuilder};
     #[cfg(feature = "scene")]
     pub use crate::scene::{Analysis, Scene, SceneError};
+    pub use crate::solve::cancel::CancelToken;
     pub use crate::solve::dynamics::{DynamicSettings, Energies, NewtonKind};
     pub use crate::solve::simulation::{Initial, Simulation, SimulationError};
     pub use crate::solve::statics::{StaticSettings, solve_static};

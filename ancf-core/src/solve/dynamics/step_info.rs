@@ -1,0 +1,48 @@
+//! What a step reports, and how finely the next ones start.
+
+use crate::forces::contact::{ContactSample, DeepestPoint};
+
+/// Steps without a Newton failure after which [`Integrator::step`] tries
+/// twice the sub-step size again.
+pub const SUBDIVISION_HOLD: usize = 8;
+
+/// How finely the integrator starts its steps: `depth` halvings (2^depth
+/// sub-steps), held for `held` steps without a Newton failure so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Subdivision {
+    /// Halvings each step starts with.
+    pub depth: usize,
+    /// Steps completed at this depth without a Newton failure.
+    pub held: usize,
+}
+
+/// What the cuts of one step found (see [`Integrator::step`]).
+pub(super) struct CutLog {
+    /// The smallest depth an attempt was accepted at.
+    pub(super) shallowest: usize,
+    /// Whether Newton failed on an attempt (rather than a guard rejecting
+    /// a converged one).
+    pub(super) newton_failed: bool,
+}
+
+/// Statistics of one completed step.
+#[derive(Clone, Debug, Default)]
+pub struct StepInfo {
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Newton matrix factorizations.
+    pub factorizations: usize,
+    /// Sub-steps used (1 when no cut was needed).
+    pub substeps: usize,
+    /// Attempts rejected and cut in halves (their Newton iterations and
+    /// factorizations are counted above: the work the step cost).
+    pub rejected: usize,
+    /// Contact at the step's generalized-α midpoint (last sub-step).
+    pub contact: ContactSample,
+    /// Deepest penetrating point: (element, point).
+    pub deepest: Option<(usize, DeepestPoint)>,
+    /// Force on each rod (normal + friction, N) at the step's midpoint.
+    pub rod_forces: Vec<[f64; 3]>,
+    /// Power dissipated by damping (W) at the step's midpoint.
+    pub damping_power: f64,
+}

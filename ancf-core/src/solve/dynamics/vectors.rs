@@ -1,0 +1,97 @@
+//! The integrator's vector loops: the generalized-α midpoint and the
+//! Newton matrix's values (dispatched per SIMD path, plain arithmetic on
+//! every path), and norms.
+
+use super::AlphaParameters;
+use crate::math::simd::{Arith, Plain, dot};
+
+crate::simd_dispatch! {
+    pub(super) fn midpoint(params: &AlphaParameters, h: f64, state: [&[f64]; 4], out: [&mut [f64]; 3]) = midpoint_with;
+}
+
+/// The generalized-α midpoint (q_m, v_m, a_m) of the step from
+/// `state` = (q, v, a) ending with acceleration a₁, over all coordinates.
+/// Plain multiplications and additions on every path (no fused ones, so
+/// the bits do not depend on the path); the AVX paths gain the wider
+/// registers. Zipped, without indices, so that the loop vectorizes
+/// (indexed, its bounds checks and spills made it ≈ 5 % of the span-break
+/// scene).
+// `F` unused: `simd_dispatch!` instantiates the loop per path, and this
+// one computes with plain arithmetic on every path.
+#[allow(clippy::extra_unused_type_parameters)]
+#[inline(always)]
+fn midpoint_with<F: Arith>(
+    params: &AlphaParameters,
+    h: f64,
+    [q, v, a, a1]: [&[f64]; 4],
+    [qm, vm, am]: [&mut [f64]; 3],
+) {
+    let (alpha_m, alpha_f) = (params.alpha_m, params.alpha_f);
+    let state = q.iter().zip(v).zip(a).zip(a1);
+    let midpoint = qm.iter_mut().zip(vm.iter_mut()).zip(am.iter_mut());
+    for (((qm, vm), am), (((&q, &v), &a), &a1)) in midpoint.zip(state) {
+        let (q1, v1) = params.newmark(h, q, v, a, a1);
+        *qm = (1.0 - alpha_f) * q1 + alpha_f * q;
+        *vm = (1.0 - alpha_f) * v1 + alpha_f * v;
+        *am = (1.0 - alpha_m) * a1 + alpha_m * a;
+    }
+}
+
+crate::simd_dispatch! {
+    pub(super) fn newton_matrix(a: &mut [f64], parts: [&[f64]; 3], c: [f64; 3], velocity_jacobian: bool) = newton_matrix_with;
+}
+
+/// The Newton matrix's values A = c₀ M + c₁ Kq (+ c₂ Kv with a velocity
+/// Jacobian) over the pattern, in one pass. Plain multiplications and
+/// additions on every path, as in `midpoint_with`.
+#[allow(clippy::extra_unused_type_parameters)] // as in `midpoint_with`
+#[inline(always)]
+fn newton_matrix_with<F: Arith>(
+    a: &mut [f64],
+    [m, kq, kv]: [&[f64]; 3],
+    [c_m, c_k, c_d]: [f64; 3],
+    velocity_jacobian: bool,
+) {
+    let parts = a.iter_mut().zip(m).zip(kq);
+    if velocity_jacobian {
+        for (((a, m), k), d) in parts.zip(kv) {
+            *a = (c_m * m + c_k * k) + c_d * d;
+        }
+    } else {
+        for ((a, m), k) in parts {
+            *a = c_m * m + c_k * k;
+        }
+    }
+}
+
+/// Zero −∂Q/∂v when it is used (−∂Q/∂q is written over by `assemble`).
+pub(super) fn clear_velocity_jacobian(kv: &mut [f64], velocity_jacobian: bool) {
+    if velocity_jacobian {
+        kv.fill(0.0);
+    }
+}
+
+pub(super) fn norm(v: &[f64]) -> f64 {
+    sum_of_squares(v).sqrt()
+}
+
+/// Σ vᵢ² with `simd::dot`'s partial sums (one running sum waits on each
+/// addition's latency at every entry; only the norms' last bits depend on
+/// the order).
+pub(super) fn sum_of_squares(v: &[f64]) -> f64 {
+    dot::<Plain>(v, v)
+}
+
+/// max |vᵢ| in eight interleaved partial maxima (exact in any order).
+pub(super) fn norm_inf(v: &[f64]) -> f64 {
+    const LANES: usize = 8;
+    let mut acc = [0.0f64; LANES];
+    let chunks = v.chunks_exact(LANES);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for (a, x) in acc.iter_mut().zip(c) {
+            *a = a.max(x.abs());
+        }
+    }
+    tail.iter().chain(&acc).fold(0.0, |m, x| m.max(x.abs()))
+}

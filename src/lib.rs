@@ -1,11 +1,11 @@
-//! The `ancf` program's library: running a scene and writing what users
-//! look at (CSV, JSON, plots). The physics lives in `ancf-core`.
+//! The `ancf` program's library: benchmarks, the accuracy study and
+//! sweeps. The physics lives in `ancf-core`, a scene's run and its outputs
+//! in `ancf-output`.
 
 pub mod bench;
-pub mod build_info;
-pub mod output;
-pub mod plot;
-pub mod run;
 pub mod study;
 pub mod sweep;
-pub mod vtk;
+
+// The run loop and its writers live in `ancf-output` (the Python package
+// uses them too); the program's modules reach them by these names.
+pub use ancf_output::{build_info, output, plot, run, vtk};

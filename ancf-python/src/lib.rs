@@ -708,9 +708,9 @@ impl Simulation {
         d.set_item(
             "status",
             if self.sim.is_finished() {
-                ancf::output::RunStatus::Completed.as_str()
+                ancf_output::output::RunStatus::Completed.as_str()
             } else {
-                ancf::output::RunStatus::Running.as_str()
+                ancf_output::output::RunStatus::Running.as_str()
             },
         )?;
         d.set_item("analysis", "dynamic")?;
@@ -758,7 +758,7 @@ impl Simulation {
         if !warnings.is_empty() {
             d.set_item("warnings", warnings)?;
         }
-        let b = ancf::build_info::BuildInfo::current();
+        let b = ancf_output::build_info::BuildInfo::current();
         let build = PyDict::new(py);
         build.set_item("version", b.version)?;
         build.set_item("commit", b.commit)?;
@@ -882,13 +882,13 @@ impl RunResult {
 fn _run(py: Python<'_>, scene: &Scene, out: std::path::PathBuf, quiet: bool) -> PyResult<String> {
     // This run's own token: a KeyboardInterrupt here stops this run only.
     let cancel = ancf_core::solve::cancel::CancelToken::new();
-    let opts = ancf::run::RunOptions {
+    let opts = ancf_output::run::RunOptions {
         out: out.clone(),
         quiet,
         cancel: cancel.clone(),
     };
     let inner = scene.inner.clone();
-    let handle = std::thread::spawn(move || ancf::run::run_scene(&inner, &opts));
+    let handle = std::thread::spawn(move || ancf_output::run::run_scene(&inner, &opts));
     while !handle.is_finished() {
         py.detach(|| std::thread::sleep(std::time::Duration::from_millis(20)));
         if let Err(interrupt) = py.check_signals() {

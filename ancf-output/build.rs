@@ -1,10 +1,10 @@
-//! Build script of the `ancf` package: build provenance. It records the git
-//! commit the program is built from (and whether the work tree differed
-//! from it) and the compiler's version as compile-time environment
-//! variables, read by `ancf::build_info`: `ancf --version`, summary.json
-//! and the Python package's `summary()` report them, so that a design
-//! number can be traced to the code that computed it. Without git or a
-//! `.git` folder (a source tarball) the commit is "unknown".
+//! Build script of `ancf-output`: build provenance. It records the git
+//! commit the code is built from (and whether the work tree differed from
+//! it) and the compiler's version as compile-time environment variables,
+//! read by `build_info`: `ancf --version`, summary.json and the Python
+//! package's `summary()` report them, so that a design number can be traced
+//! to the code that computed it. Without git or a `.git` folder (a source
+//! tarball) the commit is "unknown".
 
 use std::path::Path;
 use std::process::Command;
@@ -24,6 +24,7 @@ fn git(dir: &Path, args: &[&str]) -> Option<String> {
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The package's own version, not the one of whoever depends on it.
     let commit = git(root, &["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
     // Tracked files that differ from the commit (untracked files do not
     // change what is built).
@@ -44,16 +45,18 @@ fn main() {
     // Again when the commit moves or a source changes (the dirty flag);
     // not on every `git status`, which touches the index.
     for path in [
-        ".git/HEAD",
-        ".git/refs",
-        ".git/packed-refs",
+        "../.git/HEAD",
+        "../.git/refs",
+        "../.git/packed-refs",
+        "../src",
         "src",
-        "ancf-core/src",
-        "ancf-core/build.rs",
-        "ancf-macros/src",
-        "Cargo.toml",
-        "Cargo.lock",
         "build.rs",
+        "../ancf-core/src",
+        "../ancf-core/build.rs",
+        "../ancf-macros/src",
+        "../ancf-python/src",
+        "../Cargo.toml",
+        "../Cargo.lock",
     ] {
         println!("cargo:rerun-if-changed={path}");
     }

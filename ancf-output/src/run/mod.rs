@@ -11,6 +11,7 @@
 pub mod files;
 pub mod history;
 mod plots;
+mod progress;
 
 use crate::output::{ContactSummary, EnergySummary, RunStatus, Summary, TipSummary};
 use ancf_core::forces::assembly::ContactForces;
@@ -224,18 +225,8 @@ struct Watch<'a> {
     cancel: &'a CancelToken,
 }
 
-fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
-    if quiet || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(total);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps  t = {msg}  {per_sec}  ETA {eta}",
-        )
-        .expect("valid template"),
-    );
-    bar
+fn progress_bar(total: u64, quiet: bool) -> progress::Bar {
+    progress::Bar::new(total, quiet || !std::io::stderr().is_terminal())
 }
 
 /// What a run accumulates besides the simulation's own snapshot: with it,

@@ -246,3 +246,37 @@ fn a_subdivided_run_resumes_bit_for_bit() {
         sim.progress().newton_iterations
     );
 }
+
+/// Every step's energy is checked, whatever a run writes: a state with a
+/// non-finite coordinate fails the check on a wire without rods (where no
+/// energy guard runs) and with a Mooney–Rivlin layer (where the energy is
+/// evaluated), and a finite one passes.
+#[test]
+fn a_state_with_a_non_finite_energy_is_refused_without_rods() {
+    use ancf_core::prelude::*;
+    use ancf_core::solve::dynamics::Integrator;
+    let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
+    let rubber = Material::mooney_rivlin(1100.0, 5e5, 1e5, 1e3);
+    for cover in [steel.clone(), rubber] {
+        let model = WireBuilder::new(1.0, 4)
+            .layer(steel.clone(), 0.005)
+            .layer(cover, 0.01)
+            .support(0, SupportKind::Pin)
+            .gravity([0.0, 0.0, -9.81])
+            .build()
+            .unwrap();
+        let mut integrator = Integrator::new(
+            std::sync::Arc::new(model.clone()),
+            DynamicSettings::default(),
+        )
+        .unwrap();
+        assert!(!integrator.guards_energy());
+        let n = model.reference.len();
+        let mut s = integrator
+            .initial_state(model.reference.clone(), vec![0.0; n])
+            .unwrap();
+        assert!(integrator.energy_is_finite(&s));
+        s.q[30] = f64::NAN;
+        assert!(!integrator.energy_is_finite(&s));
+    }
+}

@@ -304,14 +304,16 @@ impl Simulation {
         } else {
             h
         };
-        let (next, info) =
-            self.integrator
-                .step(&p.state, hk)
-                .map_err(|error| SimulationError::Step {
-                    step: k,
-                    time: p.state.time + hk,
-                    error,
-                })?;
+        let failed = |error| SimulationError::Step {
+            step: k,
+            time: p.state.time + hk,
+            error,
+        };
+        let (next, info) = self.integrator.step(&p.state, hk).map_err(failed)?;
+        // Every step's energy is finite, whatever the run writes.
+        if !self.integrator.energy_is_finite(&next) {
+            return Err(failed(StepError::NonFiniteEnergy));
+        }
         p.state = next;
         p.step = k;
         p.newton_iterations += info.iterations;

@@ -175,6 +175,37 @@ impl Integrator {
         self.energy_scale = self.energy_scale.max(e.in_play());
     }
 
+    /// Whether every step's energy is checked here (the energy guard of a
+    /// model with rods: finite, and no gain above its budget).
+    pub fn guards_energy(&self) -> bool {
+        self.model.contact().is_some()
+    }
+
+    /// Whether the energy of a state the integrator accepted is finite,
+    /// at the least cost that decides it: known where the guard computed it
+    /// (rods); evaluated where a law can overflow for a finite state (a
+    /// Mooney–Rivlin layer of an element turned inside out); elsewhere a
+    /// polynomial of the coordinates and velocities, finite when they are.
+    pub fn energy_is_finite(&self, s: &State) -> bool {
+        if self.guards_energy() {
+            return true;
+        }
+        let mooney_rivlin = self.model.effects.iter().any(|e| {
+            matches!(
+                e,
+                crate::model::Effect::Elasticity {
+                    mooney_rivlin: true,
+                    ..
+                }
+            )
+        });
+        if mooney_rivlin {
+            self.energies(s).total().is_finite()
+        } else {
+            s.q.iter().chain(&s.v).all(|x| x.is_finite())
+        }
+    }
+
     /// Energies of a state.
     pub fn energies(&self, s: &State) -> Energies {
         self.energies_visiting(s, None)
@@ -292,6 +323,9 @@ impl Integrator {
             let e1 = self.energies_visiting(&next, candidates.then_some(&w.contact_pairs[..]));
             let scale = self.energy_scale.max(e1.in_play());
             let gain = (e1.total() + e1.dissipated) - self.energy_start;
+            if !gain.is_finite() {
+                return Err(StepError::NonFiniteEnergy);
+            }
             if gain > 0.01 * scale + self.energy_floor {
                 return Err(StepError::EnergyGain { gain });
             }

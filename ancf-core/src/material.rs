@@ -246,6 +246,13 @@ pub struct Material {
     pub locking: Locking,
 }
 
+/// Poisson's ratio of a St. Venant–Kirchhoff material unless given: 0, the
+/// value with which this element does not lock in bending (SPEC §3.3).
+pub const DEFAULT_POISSON_RATIO: f64 = 0.0;
+
+/// The weakened-bending coefficient ω unless given: 1, the plain continuum.
+pub const DEFAULT_BENDING_FACTOR: f64 = 1.0;
+
 impl Material {
     /// St. Venant–Kirchhoff: density (kg/m³), Young's modulus (Pa), Poisson's
     /// ratio and the weakened-bending coefficient ω (1: plain continuum);

@@ -193,26 +193,28 @@ impl Material {
     /// St. Venant–Kirchhoff: density (kg/m³), Young's modulus (Pa),
     /// Poisson's ratio, weakened-bending coefficient ω (1: plain continuum).
     #[staticmethod]
-    #[pyo3(signature = (density, youngs_modulus, poisson_ratio=0.0, bending_factor=1.0))]
+    #[pyo3(signature = (density, youngs_modulus, poisson_ratio=None, bending_factor=None))]
     fn st_venant_kirchhoff(
         density: f64,
         youngs_modulus: f64,
-        poisson_ratio: f64,
-        bending_factor: f64,
+        poisson_ratio: Option<f64>,
+        bending_factor: Option<f64>,
     ) -> PyResult<Material> {
+        use ancf_core::material::{DEFAULT_BENDING_FACTOR, DEFAULT_POISSON_RATIO};
         let inner = ancf_core::material::Material::st_venant_kirchhoff(
             density,
             youngs_modulus,
-            poisson_ratio,
-            bending_factor,
+            poisson_ratio.unwrap_or(DEFAULT_POISSON_RATIO),
+            bending_factor.unwrap_or(DEFAULT_BENDING_FACTOR),
         );
         inner.check().map_err(|e| value_error(&e.field, &e.message))?;
         Ok(Material { inner })
     }
 
-    /// Nearly incompressible Mooney–Rivlin: density (kg/m³), μ10, μ01 (Pa), volume penalty κ.
+    /// Nearly incompressible Mooney–Rivlin: density (kg/m³), μ10, μ01 (Pa),
+    /// volume penalty κ (1e3 – 1e7; required, as in a scene).
     #[staticmethod]
-    #[pyo3(signature = (density, mu10, mu01, penalty=1e3))]
+    #[pyo3(signature = (density, mu10, mu01, penalty))]
     fn mooney_rivlin(density: f64, mu10: f64, mu01: f64, penalty: f64) -> PyResult<Material> {
         let inner = ancf_core::material::Material::mooney_rivlin(density, mu10, mu01, penalty);
         inner.check().map_err(|e| value_error(&e.field, &e.message))?;
@@ -369,28 +371,32 @@ impl Wire {
     /// (None: elastic) with its model ("exact", "flores",
     /// "lankarani-nikravesh").
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (center, axis, radius, stiffness, friction=0.0, length=None, restitution=None, restitution_model="exact"))]
+    #[pyo3(signature = (center, axis, radius, stiffness, friction=None, length=None, restitution=None, restitution_model=None))]
     fn rod(
         &self,
         center: Vec<f64>,
         axis: Vec<f64>,
         radius: f64,
         stiffness: f64,
-        friction: f64,
+        friction: Option<f64>,
         length: Option<f64>,
         restitution: Option<f64>,
-        restitution_model: &str,
+        restitution_model: Option<&str>,
     ) -> PyResult<Wire> {
         use ancf_core::model::contact::RestitutionModel;
-        let model = RestitutionModel::from_name(restitution_model)
+        let model = restitution_model
+            .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
             .map_err(|message| value_error("restitution_model", &message))?;
+        // Rod::line's own defaults: infinite, frictionless, elastic.
         let mut rod = ancf_core::model::contact::Rod::line(
             vec3("center", center)?,
             vec3("axis", axis)?,
             radius,
             stiffness,
-        )
-        .with_friction(friction);
+        );
+        if let Some(mu) = friction {
+            rod = rod.with_friction(mu);
+        }
         if let Some(l) = length {
             rod = rod.with_length(l);
         }

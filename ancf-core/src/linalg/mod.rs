@@ -7,5 +7,5 @@ pub mod band_lu;
 pub mod band_split;
 pub mod block_tridiagonal;
 pub mod linear_solver;
-pub mod parallel;
+pub(crate) mod parallel;
 pub mod pattern;

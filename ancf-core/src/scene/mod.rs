@@ -669,7 +669,7 @@ fn rods(
         let model = r
             .restitution_model
             .as_deref()
-            .map_or(Ok(RestitutionModel::Exact), RestitutionModel::from_name)
+            .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
             .map_err(|message| err(at("restitution_model"), message))?;
         let damping = match r.restitution {
             None if r.restitution_model.is_some() => {
@@ -746,8 +746,12 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
                     youngs_modulus: m
                         .youngs_modulus
                         .ok_or_else(|| err(at("youngs_modulus"), "missing (Pa)"))?,
-                    poisson_ratio: m.poisson_ratio.unwrap_or(0.0),
-                    bending_factor: m.bending_factor.unwrap_or(1.0),
+                    poisson_ratio: m
+                        .poisson_ratio
+                        .unwrap_or(crate::material::DEFAULT_POISSON_RATIO),
+                    bending_factor: m
+                        .bending_factor
+                        .unwrap_or(crate::material::DEFAULT_BENDING_FACTOR),
                 }
             }
             "mooney-rivlin" => {

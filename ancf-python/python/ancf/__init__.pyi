@@ -41,10 +41,13 @@ class Material:
 
     @staticmethod
     def st_venant_kirchhoff(
-        density: float, youngs_modulus: float, poisson_ratio: float = 0.0, bending_factor: float = 1.0
+        density: float,
+        youngs_modulus: float,
+        poisson_ratio: Optional[float] = None,
+        bending_factor: Optional[float] = None,
     ) -> Material: ...
     @staticmethod
-    def mooney_rivlin(density: float, mu10: float, mu01: float, penalty: float = 1e3) -> Material: ...
+    def mooney_rivlin(density: float, mu10: float, mu01: float, penalty: float) -> Material: ...
 
 class Wire:
     """A wire described in code; every method returns a new Wire (calls chain)."""
@@ -62,10 +65,10 @@ class Wire:
         axis: list[float],
         radius: float,
         stiffness: float,
-        friction: float = 0.0,
+        friction: Optional[float] = None,
         length: Optional[float] = None,
         restitution: Optional[float] = None,
-        restitution_model: str = "exact",
+        restitution_model: Optional[str] = None,
     ) -> Wire: ...
 
 class RunResult:

@@ -14,7 +14,7 @@
 mod line;
 mod point;
 mod surface;
-pub mod zone;
+pub(crate) mod zone;
 
 pub use surface::TestPoint;
 

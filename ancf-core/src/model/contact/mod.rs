@@ -98,11 +98,12 @@ pub struct ContactDamping {
 }
 
 /// How the damping factor follows from the coefficient of restitution.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum RestitutionModel {
     /// c solved from the closed-form rebound of the Hunt–Crossley law (see
-    /// [`ContactDamping`]): a single body rebounds at exactly e.
+    /// [`ContactDamping`]): a single body rebounds at exactly e. The default.
+    #[default]
     Exact,
     /// Flores et al. (Nonlinear Dyn. 65, 2011): c = 8 (1 − e) / (5 e);
     /// rebounds at 0.256 for e = 0.3, 0.470 for 0.5, 0.894 for 0.9.

@@ -69,6 +69,20 @@ pub struct OutputSettings {
     pub cfc: f64,
 }
 
+impl Default for OutputSettings {
+    /// Every step written, a checkpoint every 1000 steps, ParaView files and
+    /// plots, CFC 60 rod loads.
+    fn default() -> Self {
+        OutputSettings {
+            every: defaults::OUTPUT_EVERY,
+            checkpoint_every: defaults::CHECKPOINT_EVERY,
+            vtk: true,
+            plots: true,
+            cfc: crate::loads::rod_load::DEFAULT_CFC,
+        }
+    }
+}
+
 /// A validated scene, ready to run.
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -508,30 +522,20 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
     }
 }
 
-/// `[output]`.
+/// `[output]` over the defaults.
 fn output(o: Option<&OutputSpec>) -> Result<OutputSettings, SceneError> {
-    let Some(o) = o else {
-        return Ok(OutputSettings {
-            every: defaults::OUTPUT_EVERY,
-            checkpoint_every: defaults::CHECKPOINT_EVERY,
-            vtk: true,
-            plots: true,
-            cfc: crate::loads::rod_load::DEFAULT_CFC,
-        });
-    };
-    let every = o.every.unwrap_or(defaults::OUTPUT_EVERY);
+    let d = OutputSettings::default();
+    let Some(o) = o else { return Ok(d) };
+    let every = o.every.unwrap_or(d.every);
     if every == 0 {
         return Err(err("output.every", "must be at least 1"));
     }
     Ok(OutputSettings {
         every,
-        checkpoint_every: o.checkpoint_every.unwrap_or(defaults::CHECKPOINT_EVERY),
-        vtk: o.vtk.unwrap_or(true),
-        plots: o.plots.unwrap_or(true),
-        cfc: positive(
-            "output.cfc",
-            o.cfc.unwrap_or(crate::loads::rod_load::DEFAULT_CFC),
-        )?,
+        checkpoint_every: o.checkpoint_every.unwrap_or(d.checkpoint_every),
+        vtk: o.vtk.unwrap_or(d.vtk),
+        plots: o.plots.unwrap_or(d.plots),
+        cfc: positive("output.cfc", o.cfc.unwrap_or(d.cfc))?,
     })
 }
 

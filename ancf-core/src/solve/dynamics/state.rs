@@ -16,7 +16,7 @@ pub struct State {
     pub dissipated: f64,
     /// The step that produced this state: its size and the acceleration at
     /// its start (the Newton predictor of the next step, see
-    /// [`predict`]). `None` at t = 0 and after a restart from equilibrium;
+    /// [`super::predict`]). `None` at t = 0 and after a restart from equilibrium;
     /// checkpoints written before it existed read as `None`.
     #[serde(default)]
     pub previous: Option<PreviousStep>,

@@ -2,7 +2,7 @@
 
 use crate::forces::contact::{ContactSample, DeepestPoint};
 
-/// Steps without a Newton failure after which [`Integrator::step`] tries
+/// Steps without a Newton failure after which [`super::Integrator::step`] tries
 /// twice the sub-step size again.
 pub const SUBDIVISION_HOLD: usize = 8;
 
@@ -16,7 +16,7 @@ pub struct Subdivision {
     pub held: usize,
 }
 
-/// What the cuts of one step found (see [`Integrator::step`]).
+/// What the cuts of one step found (see [`super::Integrator::step`]).
 pub(super) struct CutLog {
     /// The smallest depth an attempt was accepted at.
     pub(super) shallowest: usize,

@@ -330,6 +330,13 @@ impl Wire {
         })
     }
 
+    /// A hollow section: the first layer starts at `inner_radius` (m), a tube.
+    fn bore(&self, inner_radius: f64) -> Wire {
+        Wire {
+            builder: self.builder.clone().bore(inner_radius),
+        }
+    }
+
     /// A support at `node`: kind "pin" (position), "clamp" or "fixed".
     fn support(&self, node: usize, kind: &str) -> PyResult<Wire> {
         use ancf_core::model::SupportKind;

@@ -333,3 +333,24 @@ def test_ctrl_c_stops_ancf_run_and_keeps_the_output(tmp_path):
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["status"] == "interrupted"
     assert (tmp_path / "out" / "timeseries.csv").exists()
+
+
+def test_a_tube_is_a_wire_with_a_bore():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    tube = ancf.Wire(2.0, 8).layer(steel, 0.05).bore(0.046).support(0, "clamp")
+    solid = ancf.Wire(2.0, 8).layer(steel, 0.05).support(0, "clamp")
+
+    def largest_sag(wire):
+        sim = ancf.Simulation.from_wire(wire.gravity([0, 0, -9.81]), time_step=1e-3, end_time=0.2)
+        return -sim.run(every=1).tip[:, 2].min()
+
+    # Self-weight sag scales with ρA / EI: the tube's is about half the bar's.
+    ratio = largest_sag(tube) / largest_sag(solid)
+    assert 0.4 < ratio < 0.7, ratio
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Simulation.from_wire(
+            ancf.Wire(2.0, 8).layer(steel, 0.05).bore(0.05).support(0, "clamp"),
+            time_step=1e-3,
+            end_time=0.01,
+        )
+    assert e.value.field == "layers[0].outer_radius"

@@ -47,6 +47,8 @@ pub struct WireBuilder {
     origin: [f64; 3],
     direction: [f64; 3],
     section: SectionSpec,
+    /// The first layer's inner radius (m): 0 for a solid section.
+    bore: f64,
     axial_order: usize,
     section_order: usize,
     supports: Vec<Support>,
@@ -68,6 +70,7 @@ impl WireBuilder {
             origin: [0.0; 3],
             direction: [1.0, 0.0, 0.0],
             section: SectionSpec::Layers(Vec::new()),
+            bore: 0.0,
             axial_order: super::DEFAULT_AXIAL_ORDER,
             section_order: super::DEFAULT_SECTION_ORDER,
             supports: Vec::new(),
@@ -105,6 +108,13 @@ impl WireBuilder {
                 self.section = SectionSpec::Layers(vec![(material, outer_radius)])
             }
         }
+        self
+    }
+
+    /// A hollow section: the first layer starts at `inner_radius` (m)
+    /// instead of the centre — a tube, the paper's ring quadrature.
+    pub fn bore(mut self, inner_radius: f64) -> Self {
+        self.bore = inner_radius;
         self
     }
 
@@ -284,7 +294,8 @@ impl WireBuilder {
                         "a wire needs at least one layer",
                     ));
                 }
-                let mut inner = 0.0;
+                let mut inner =
+                    crate::check::non_negative("inner_radius", self.bore).map_err(layer(0))?;
                 let mut section_layers = Vec::new();
                 for (i, (material, outer)) in layers.iter().enumerate() {
                     let outer = positive("outer_radius", *outer).map_err(layer(i))?;
@@ -293,7 +304,12 @@ impl WireBuilder {
                             index: i,
                             field: "outer_radius".into(),
                             message: format!(
-                                "{outer} m must exceed the layer's inner radius {inner} m (the previous outer radius)"
+                                "{outer} m must exceed the layer's inner radius {inner} m ({})",
+                                if i == 0 {
+                                    "its inner_radius"
+                                } else {
+                                    "the previous outer radius"
+                                }
                             ),
                         });
                     }

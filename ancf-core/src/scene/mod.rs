@@ -272,6 +272,17 @@ impl Scene {
                     return Err(err("wire.layers", "needs at least one layer"));
                 }
                 for (i, l) in layers.iter().enumerate() {
+                    match (i, l.inner_radius) {
+                        (0, Some(r)) => builder = builder.bore(r),
+                        (_, Some(_)) => {
+                            return Err(err(
+                                format!("wire.layers[{i}].inner_radius"),
+                                "only the first layer has one: each other layer starts at the previous \
+                                 outer radius",
+                            ));
+                        }
+                        (_, None) => {}
+                    }
                     let m = find(&format!("wire.layers[{i}].material"), &l.material)?;
                     builder = builder.layer(m, l.outer_radius);
                     layer_materials.push(l.material.clone());
@@ -417,7 +428,7 @@ fn model_error(
     let field = match e {
         ModelError::Wire { what, .. } => format!("wire.{what}"),
         ModelError::Layer { index, field, .. } => match field.as_str() {
-            "outer_radius" => format!("wire.layers[{index}].outer_radius"),
+            "outer_radius" | "inner_radius" => format!("wire.layers[{index}].{field}"),
             "width" | "height" => format!("wire.rectangle.{field}"),
             parameter => {
                 let name = layer_materials.get(*index);

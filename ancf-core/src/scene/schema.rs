@@ -154,6 +154,9 @@ pub struct LayerSpec {
     pub material: String,
     /// Its outer radius (m).
     pub outer_radius: f64,
+    /// First layer only: its inner radius (m), a hollow section (a tube);
+    /// absent, the first layer is solid.
+    pub inner_radius: Option<f64>,
 }
 
 /// `[wire] rectangle`: a rectangular section.

@@ -38,7 +38,11 @@ fn tip(section: &Section, n: usize, kind: SupportKind, force: [f64; 3]) -> [f64;
         [1.0, 0.0, 0.0],
         vec![Support::new(0, kind)],
         None,
-        vec![PointLoad { node: n, force }],
+        vec![PointLoad {
+            node: n,
+            force,
+            ..Default::default()
+        }],
     )
     .expect("valid model");
     let res = solve_static(&model, &StaticSettings::default()).expect("converges");

@@ -20,7 +20,11 @@ fn cantilever(section: Section, n: usize, kind: SupportKind, force: [f64; 3]) ->
         [1.0, 0.0, 0.0],
         vec![Support::new(0, kind)],
         None,
-        vec![PointLoad { node: n, force }],
+        vec![PointLoad {
+            node: n,
+            force,
+            ..Default::default()
+        }],
     )
     .unwrap()
 }

@@ -69,10 +69,12 @@ fn a_slowly_sliding_wrap_transmits_the_capstan_ratio() {
         PointLoad {
             node: 0,
             force: [0.0, 0.0, -T1],
+            ..Default::default()
         },
         PointLoad {
             node: n,
             force: [0.0, 0.0, -t2],
+            ..Default::default()
         },
     ];
     let rod = Rod {

@@ -19,7 +19,11 @@ fn tip(section: Section, n: usize, force: [f64; 3]) -> [f64; 3] {
         [1.0, 0.0, 0.0],
         vec![Support::new(0, SupportKind::Clamp)],
         None,
-        vec![PointLoad { node: n, force }],
+        vec![PointLoad {
+            node: n,
+            force,
+            ..Default::default()
+        }],
     )
     .unwrap();
     let res = solve_static(

@@ -152,7 +152,28 @@ impl WireBuilder {
 
     /// A constant force (N) at a node.
     pub fn load(mut self, node: usize, force: [f64; 3]) -> Self {
-        self.loads.push(PointLoad { node, force });
+        self.loads.push(PointLoad {
+            node,
+            force,
+            ..Default::default()
+        });
+        self
+    }
+
+    /// A constant moment (N m) at a node, applied through its gradient
+    /// coordinates ([`PointLoad::moment_forces`]).
+    pub fn moment(mut self, node: usize, moment: [f64; 3]) -> Self {
+        self.loads.push(PointLoad {
+            node,
+            moment,
+            ..Default::default()
+        });
+        self
+    }
+
+    /// A load given in full (force and moment).
+    pub fn load_with(mut self, load: PointLoad) -> Self {
+        self.loads.push(load);
         self
     }
 
@@ -213,11 +234,13 @@ impl WireBuilder {
             }
         }
         for (index, l) in self.loads.iter().enumerate() {
-            finite3("force", l.force).map_err(|e| ModelError::Load {
+            let at = |e: ParameterError| ModelError::Load {
                 index,
                 what: e.field,
                 message: e.message,
-            })?;
+            };
+            finite3("force", l.force).map_err(at)?;
+            finite3("moment", l.moment).map_err(at)?;
         }
         if let Some(g) = self.gravity {
             finite3("acceleration", g).map_err(|e| ModelError::Gravity {

@@ -12,7 +12,7 @@ use crate::check::ParameterError;
 use crate::material::{Material, MaterialModel};
 use crate::model::contact::{ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod};
 use crate::model::damping::Damping;
-use crate::model::{Model, ModelError, Segment, Support, SupportKind, WireBuilder};
+use crate::model::{Model, ModelError, PointLoad, Segment, Support, SupportKind, WireBuilder};
 use crate::solve::dynamics::{DynamicSettings, NewtonKind};
 use crate::solve::statics::StaticSettings;
 
@@ -331,7 +331,17 @@ impl Scene {
             });
         }
         for (i, l) in f.load.iter().enumerate() {
-            builder = builder.load(node(format!("load[{i}].node"), l.node)?, l.force);
+            if l.force.is_none() && l.moment.is_none() {
+                return Err(err(
+                    format!("load[{i}].force"),
+                    "missing: give a force (N), a moment (N m) or both",
+                ));
+            }
+            builder = builder.load_with(PointLoad {
+                node: node(format!("load[{i}].node"), l.node)?,
+                force: l.force.unwrap_or_default(),
+                moment: l.moment.unwrap_or_default(),
+            });
         }
         if let Some(g) = &f.gravity {
             builder = builder.gravity(g.acceleration);

@@ -247,7 +247,9 @@ pub struct LoadSpec {
     /// The node.
     pub node: NodeRef,
     /// The force (N).
-    pub force: [f64; 3],
+    pub force: Option<[f64; 3]>,
+    /// The moment (N m), applied through the node's gradient coordinates.
+    pub moment: Option<[f64; 3]>,
 }
 
 /// `[[rod]]`: a rigid cylinder the wire may touch.

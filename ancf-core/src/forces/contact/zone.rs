@@ -37,6 +37,18 @@ impl Zones {
         self.bounds[..self.len].iter()
     }
 
+    /// Number of intervals.
+    #[cfg(test)]
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    /// No active interval.
+    #[cfg(test)]
+    fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
     fn push(&mut self, a: f64, b: f64) {
         if b > a && self.len < MAX_ZONES {
             self.bounds[self.len] = (a, b);

@@ -225,9 +225,11 @@ impl Law {
 pub enum Locking {
     /// The paper's plain formulation: the whole law over the section.
     None,
-    /// The default. SVK: the ν = 0 part of D (diagonal normal block, E)
-    /// over the section, the Poisson-coupling remainder D(E, ν) − D(E, 0) on
-    /// the centerline. Mooney–Rivlin: a ν = 0 SVK law with the small-strain
+    /// The default. SVK: the normal block without its Poisson coupling
+    /// (E on the diagonal) and the true shear modulus G = E / 2(1 + ν) over
+    /// the section, the normal block's remainder (λ's coupling, λ + 2μ − E
+    /// on its diagonal) on the centerline — so torsion, whose shear strain
+    /// vanishes on the centerline, sees G J. Mooney–Rivlin: a ν = 0 SVK law with the small-strain
     /// modulus E_c = 6(μ10 + μ01) over the section, W_MR − W_SVK on the
     /// centerline. Uniform states are unchanged (both parts integrate to the
     /// full law); bending sees E I instead of the locked stiffness.
@@ -414,8 +416,17 @@ impl MaterialModel {
                 },
                 Locking::Centerline,
             ) => {
-                let d0 = isotropic_elasticity(youngs_modulus, 0.0);
-                (d0, isotropic_elasticity(youngs_modulus, poisson_ratio) - d0)
+                // The section keeps E on the normal strains without their
+                // Poisson coupling, and the true shear modulus G (torsion
+                // and the varying part of transverse shear live only off
+                // the centerline); the centerline takes the rest of the
+                // normal block: λ's coupling and the diagonal's λ + 2μ − E.
+                let full = isotropic_elasticity(youngs_modulus, poisson_ratio);
+                let mut d0 = isotropic_elasticity(youngs_modulus, 0.0);
+                for k in 3..6 {
+                    d0[(k, k)] = full[(k, k)];
+                }
+                (d0, full - d0)
             }
             (
                 MaterialModel::MooneyRivlin {

@@ -131,6 +131,11 @@ pub struct Snapshot {
     pub released: usize,
     /// The force on each rod at every step.
     pub rod_loads: Vec<LoadHistory>,
+    /// The force each support exerts on the wire at every step, in the
+    /// model's support order (empty in a snapshot from before they were
+    /// recorded: recorded from there on).
+    #[serde(default)]
+    pub support_loads: Vec<LoadHistory>,
     /// Contact so far (`None` without rods).
     #[serde(default)]
     pub contact: Option<ContactRecord>,
@@ -197,6 +202,7 @@ impl Simulation {
                 step_cuts: 0,
                 released: 0,
                 rod_loads: vec![LoadHistory::default(); rods],
+                support_loads: vec![LoadHistory::default(); model.supports.len()],
                 contact: model.contact().map(|_| ContactRecord::default()),
             },
             phases,
@@ -217,6 +223,9 @@ impl Simulation {
         // A snapshot from before contact was recorded: record from here on.
         if model.contact().is_some() && snapshot.contact.is_none() {
             snapshot.contact = Some(ContactRecord::default());
+        }
+        if snapshot.support_loads.len() != model.supports.len() {
+            snapshot.support_loads = vec![LoadHistory::default(); model.supports.len()];
         }
         let (phases, phase_starts) = Self::phases(model, &settings);
         let phase = phases
@@ -322,6 +331,9 @@ impl Simulation {
         for (history, force) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
             history.push(p.state.time, *force);
         }
+        for (history, force) in p.support_loads.iter_mut().zip(&info.reactions) {
+            history.push(p.state.time, *force);
+        }
         if let Some(record) = p.contact.as_mut() {
             record.push(p.state.time, &info.contact, info.deepest);
         }
@@ -381,6 +393,14 @@ impl Simulation {
     /// The force on each rod at every step.
     pub fn rod_loads(&self) -> &[LoadHistory] {
         &self.progress.rod_loads
+    }
+
+    /// The force each support exerts on the wire at every step (N, at the
+    /// step's generalized-α midpoint), in the model's support order: after
+    /// a span breaks, the remaining support's history is the tower's
+    /// broken-wire load.
+    pub fn support_loads(&self) -> &[LoadHistory] {
+        &self.progress.support_loads
     }
 
     /// The wire's contact so far: first touch, largest normal force and

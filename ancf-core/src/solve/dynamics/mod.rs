@@ -27,7 +27,7 @@ use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values}
 use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::SparseSolver;
 use crate::math::simd::path;
-use crate::model::Model;
+use crate::model::{Model, NODE_DOFS};
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
@@ -427,6 +427,19 @@ impl Integrator {
             q2 += sum_of_squares(q);
         }
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
+        // The supports' forces: the same balance on the held coordinates
+        // of each supported node's position (damping acts on unknowns only).
+        info.reactions.clear();
+        info.reactions.extend(model.supports.iter().map(|sup| {
+            std::array::from_fn(|k| {
+                let c = NODE_DOFS * sup.node + k;
+                if model.dof_map[c].is_none() {
+                    ma[c] + q[c] - ext[c]
+                } else {
+                    0.0
+                }
+            })
+        }));
         if let Some((qd, power)) = self.forces.damping() {
             r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);
             info.damping_power = power;

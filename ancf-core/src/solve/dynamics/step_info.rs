@@ -43,6 +43,11 @@ pub struct StepInfo {
     pub deepest: Option<(usize, DeepestPoint)>,
     /// Force on each rod (normal + friction, N) at the step's midpoint.
     pub rod_forces: Vec<[f64; 3]>,
+    /// Force each support exerts on the wire at its node's position r (N),
+    /// at the step's midpoint, in the model's support order: the residual
+    /// M a + Q − Q_ext of the held position coordinates (zero once a
+    /// support has released, or for a coordinate it does not hold).
+    pub reactions: Vec<[f64; 3]>,
     /// Power dissipated by damping (W) at the step's midpoint.
     pub damping_power: f64,
 }

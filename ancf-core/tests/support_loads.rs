@@ -1,0 +1,80 @@
+//! The force each support exerts on the wire, step by step: after a span
+//! breaks, the remaining support's history is the tower's broken-wire load.
+//!
+//! A taut wire without gravity, pretensioned between two pins and released
+//! at one end: the far support keeps its static reaction until the
+//! unloading wave arrives at t = L / c, c = √(E / ρ), and then loses it
+//! (for a bar that carries compression, to about the opposite value).
+
+use ancf_core::prelude::*;
+
+#[test]
+fn the_far_support_holds_until_the_axial_wave_arrives() {
+    let (l, elements, e, rho, r) = (10.0_f64, 100, 2e11_f64, 7800.0_f64, 0.005_f64);
+    let strain = 1e-4;
+    let steel = Material::st_venant_kirchhoff(rho, e, 0.0, 1.0);
+    let end = |node: usize, x: f64, release: Option<f64>| Support {
+        node,
+        kind: SupportKind::Pin,
+        position: Some([x, 0.0, 0.0]),
+        release_time: release,
+    };
+    let model = WireBuilder::new(l, elements)
+        .layer(steel, r)
+        // Node 0 lets go at once; the far end holds.
+        .support_with(end(0, 0.0, Some(1e-9)))
+        .support_with(end(elements, l * (1.0 + strain), None))
+        .build()
+        .unwrap();
+    let c = (e / rho).sqrt();
+    let arrival = l / c;
+    let settings = DynamicSettings {
+        time_step: 1e-5,
+        end_time: 1.6 * arrival,
+        spectral_radius: 0.8,
+        ..Default::default()
+    };
+    let mut sim = Simulation::new(&model, settings, Initial::Static { load_steps: 1 }).unwrap();
+    while !sim.is_finished() {
+        sim.step().unwrap();
+    }
+    let tension = e * std::f64::consts::PI * r * r * strain;
+    let far = &sim.support_loads()[1];
+    // The far pin holds the stretched wire out: +x.
+    let fx: Vec<(f64, f64)> = far
+        .time
+        .iter()
+        .zip(&far.force)
+        .map(|(t, f)| (*t, f[0]))
+        .collect();
+    // Before the wave: the static tension, to 2 %.
+    for &(t, f) in fx.iter().filter(|(t, _)| *t < 0.9 * arrival) {
+        assert!(
+            (f / tension - 1.0).abs() < 0.02,
+            "t = {t:.3e} s: {f:.2} N against {tension:.2} N"
+        );
+    }
+    // After it the reaction has fallen: the unloading wave reflects at the
+    // fixed end with its own sign, so the pin sees the tension's change
+    // twice — a bar's end goes from +T to about −T.
+    let late: Vec<f64> = fx
+        .iter()
+        .filter(|(t, _)| *t > 1.2 * arrival)
+        .map(|x| x.1)
+        .collect();
+    assert!(!late.is_empty());
+    for &f in &late {
+        assert!(
+            f < 0.2 * tension,
+            "{f:.2} N after the wave against {tension:.2} N"
+        );
+    }
+    let mean = late.iter().sum::<f64>() / late.len() as f64;
+    assert!(
+        (mean / tension + 1.0).abs() < 0.2,
+        "mean {mean:.2} N after the wave, −{tension:.2} N expected"
+    );
+    // The released support carries nothing once it has let go.
+    let near = &sim.support_loads()[0];
+    assert!(near.force.iter().skip(1).all(|f| *f == [0.0; 3]));
+}

@@ -80,6 +80,15 @@ pub fn direction(field: &'static str, v: [f64; 3]) -> Result<[f64; 3], Parameter
     }
 }
 
+/// A relative tolerance: in (0, 1).
+pub fn relative_tolerance(field: &'static str, t: f64) -> Result<f64, ParameterError> {
+    let t = positive(field, t)?;
+    if t >= 1.0 {
+        return refuse(field, format!("a relative tolerance must be < 1, got {t}"));
+    }
+    Ok(t)
+}
+
 /// A count within `range`.
 pub fn count_in(
     field: &'static str,

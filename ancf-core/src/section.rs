@@ -52,6 +52,11 @@ pub struct Section {
 }
 
 /// Density moments of a section, the mass matrix's section factors:
+/// The outer radius of a `width` × `height` rectangle (m): its half diagonal.
+pub fn rectangle_outer_radius(width: f64, height: f64) -> f64 {
+    0.5 * width.hypot(height)
+}
+
 /// `m[a][b] = Σ ρ_k ∫ m_a m_b dA` with m = (1, y, z), in kg/m, kg, kg·m.
 pub type DensityMoments = [[f64; 3]; 3];
 
@@ -101,7 +106,7 @@ impl Section {
     pub fn outer_radius(&self) -> f64 {
         match &self.shape {
             SectionShape::Circular { radii } => radii.last().map_or(0.0, |r| r.1),
-            SectionShape::Rectangular { width, height } => 0.5 * width.hypot(*height),
+            SectionShape::Rectangular { width, height } => rectangle_outer_radius(*width, *height),
         }
     }
 

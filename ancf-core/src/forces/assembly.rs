@@ -488,7 +488,7 @@ pub fn assemble_contact_reusing(
     let mut out = ContactForces {
         force,
         rod_forces: vec![[0.0; 3]; contact.rods.len()],
-        touching: if contact.has_damping() {
+        touching: if contact.damped {
             vec![None; model.n_elements * contact.rods.len()]
         } else {
             Vec::new()

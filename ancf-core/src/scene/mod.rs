@@ -350,7 +350,7 @@ impl Scene {
             return Err(err("contact", "contact settings without any [[rod]]"));
         }
         let wire_radius = match &w.rectangle {
-            Some(r) => 0.5 * r.width.hypot(r.height),
+            Some(r) => crate::section::rectangle_outer_radius(r.width, r.height),
             None => w
                 .layers
                 .as_ref()
@@ -708,20 +708,13 @@ fn rods(
             Some(1.0) => None,
             Some(e) => Some(ContactDamping::new(e, model)),
         };
-        let n = r.axis.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let line = Rod::line(r.center, r.axis, r.radius, contact_stiffness);
         rods.push(Rod {
-            center: r.center,
-            axis: if n > 0.0 && n.is_finite() {
-                r.axis.map(|v| v / n)
-            } else {
-                r.axis
-            },
-            radius: r.radius,
             length: r.length,
             law,
-            contact_stiffness,
-            friction: r.friction.unwrap_or(0.0),
+            friction: r.friction.unwrap_or(line.friction),
             damping,
+            ..line
         });
     }
     Ok(rods)

@@ -24,8 +24,8 @@ impl StaticSettings {
     pub fn check(&self) -> Result<(), crate::check::ParameterError> {
         crate::check::count_in("load_steps", self.load_steps, 1..=1_000_000)?;
         crate::check::count_in("max_iterations", self.max_iterations, 1..=10_000)?;
-        crate::solve::dynamics::check_tolerance(self.residual_tolerance)?;
-        crate::solve::dynamics::check_tolerance(self.increment_tolerance)?;
+        crate::check::relative_tolerance("tolerance", self.residual_tolerance)?;
+        crate::check::relative_tolerance("tolerance", self.increment_tolerance)?;
         Ok(())
     }
 }

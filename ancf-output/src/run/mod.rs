@@ -225,10 +225,6 @@ struct Watch<'a> {
     cancel: &'a CancelToken,
 }
 
-fn progress_bar(total: u64, quiet: bool) -> progress::Bar {
-    progress::Bar::new(total, quiet || !std::io::stderr().is_terminal())
-}
-
 /// What a run accumulates besides the simulation's own snapshot: with it,
 /// what a checkpoint saves and a resumed run starts from.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -332,7 +328,7 @@ fn run_dynamic(
     let (done, n_steps) = sim.steps();
     summary.unknowns = model.holding_at(0.0).n_unknowns;
     let (quiet, cancel) = (watch.quiet, watch.cancel);
-    let bar = progress_bar(n_steps as u64, quiet);
+    let bar = progress::Bar::new(n_steps as u64, quiet || !std::io::stderr().is_terminal());
     bar.set_position(done as u64);
     let snapshot_every = (n_steps / 8).max(1);
     // Checkpoints drop the kept factorization (a resumed run starts

@@ -38,6 +38,9 @@ pub struct ContactEvaluator {
     /// What depends on the element length, one per element group of the
     /// model (one for a uniform mesh).
     pub geometry: Vec<ElementGeometry>,
+    /// Whether any rod has contact damping ([`Contact::has_damping`]): then
+    /// each contact event's approach speed is kept.
+    pub damped: bool,
 }
 
 /// The contact quantities of elements of one length, computed once.
@@ -116,13 +119,8 @@ impl ContactEvaluator {
             settings: settings.clone(),
             wire_radius,
             geometry,
+            damped: contact.has_damping(),
         }
-    }
-
-    /// Whether any rod has contact damping (then each contact event's
-    /// approach speed is kept).
-    pub fn has_damping(&self) -> bool {
-        self.rods.iter().any(|r| r.damping.is_some())
     }
 
     /// Broad phase: can element `e` (of element group `group`) touch rod

@@ -216,11 +216,13 @@ impl Rod {
     /// An infinite, frictionless rod under the line law: a point on its axis
     /// and its direction, radius (m) and ε_L (N/m²).
     pub fn line(center: [f64; 3], axis: [f64; 3], radius: f64, stiffness: f64) -> Self {
-        // A zero axis stays zero, for `check` to name it.
-        let axis = if axis.iter().all(|a| *a == 0.0) {
-            axis
+        // An axis without a finite, non-zero length stays as given, for
+        // `check` to name it.
+        let n = crate::math::vec3::norm(axis);
+        let axis = if n > 0.0 && n.is_finite() {
+            axis.map(|a| a / n)
         } else {
-            crate::math::vec3::unit(axis)
+            axis
         };
         Rod {
             center,

@@ -18,7 +18,6 @@ pub use alpha::AlphaParameters;
 pub use energies::Energies;
 pub use error::{Matrix, StepError};
 pub use predictor::predict;
-pub(crate) use settings::check_tolerance;
 pub use settings::{DEFAULT_SPECTRAL_RADIUS, DynamicSettings, MAX_STEPS, NewtonKind};
 pub use state::{PreviousStep, State};
 pub use step_info::{SUBDIVISION_HOLD, StepInfo, Subdivision};

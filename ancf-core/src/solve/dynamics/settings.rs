@@ -69,22 +69,10 @@ impl DynamicSettings {
         if !(0.0..=1.0).contains(&rho) {
             return refuse("spectral_radius", format!("must be in [0, 1], got {rho}"));
         }
-        check_tolerance(self.tolerance)?;
+        crate::check::relative_tolerance("tolerance", self.tolerance)?;
         count_in("max_iterations", self.max_iterations, 1..=10_000)?;
         Ok(())
     }
-}
-
-/// A Newton relative tolerance: in (0, 1).
-pub(crate) fn check_tolerance(t: f64) -> Result<f64, ParameterError> {
-    let t = positive("tolerance", t)?;
-    if t >= 1.0 {
-        return refuse(
-            "tolerance",
-            format!("a relative tolerance must be < 1, got {t}"),
-        );
-    }
-    Ok(t)
 }
 
 impl Default for DynamicSettings {

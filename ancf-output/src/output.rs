@@ -63,6 +63,37 @@ pub struct RodSummary {
     pub load: ancf_core::loads::rod_load::RodLoad,
 }
 
+/// One support's load: the force it exerts on the body it holds (N). After
+/// a span breaks, the remaining support's peak is the tower's broken-wire
+/// load and `ratio_to_static` its dynamic amplification.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct SupportSummary {
+    /// The body held: "wire".
+    pub beam: String,
+    /// The node held.
+    pub node: usize,
+    /// The force in the static equilibrium (N): a static run's result; in a
+    /// dynamic run, the force at t = 0 (the static reaction when the run
+    /// starts from a static equilibrium, `analysis.initial_static`).
+    pub static_force: [f64; 3],
+    /// Dynamic runs: the largest |F| over the steps (N) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_force: Option<f64>,
+    /// … its time (s) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_time: Option<f64>,
+    /// … the largest CFC-filtered |F| (N, `output.cfc`) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered_peak_force: Option<f64>,
+    /// … and the peak over the static force's magnitude, `peak_force /
+    /// |static_force|` (absent when the static force is zero) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio_to_static: Option<f64>,
+    /// … and the same for the filtered peak.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered_ratio_to_static: Option<f64>,
+}
+
 /// How a run ended (summary.json's `status`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -130,6 +161,10 @@ pub struct Summary {
     pub effects: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSummary>,
+    /// Per support, in the scene's order: the force it exerts (absent
+    /// without supports).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub supports: Vec<SupportSummary>,
     /// What the scene will likely do badly, known before the run
     /// ([`ancf_core::scene::Scene::warnings`]); absent when there is
     /// nothing to say.

@@ -442,6 +442,19 @@ impl Simulation {
         (0..m.n_nodes()).map(|n| m.node_position(v, n)).collect()
     }
 
+    /// The supports' summary so far, as summary.json's `supports`.
+    fn support_summaries(&self) -> Vec<ancf_output::output::SupportSummary> {
+        let cfc = self.scene.output.cfc;
+        let loads = self.sim.support_loads();
+        let filtered: Vec<_> = loads.iter().map(|h| h.filtered(cfc)).collect();
+        ancf_output::run::supports::dynamic_supports(
+            &self.scene.model,
+            self.sim.initial_support_forces(),
+            loads,
+            &filtered,
+        )
+    }
+
     /// One step; the error names the step and the time.
     fn advance(&mut self) -> Result<(), PyErr> {
         self.sim
@@ -471,6 +484,29 @@ fn set_load(d: &Bound<'_, PyDict>, load: &ancf_core::loads::rod_load::RodLoad) -
     }
     d.set_item("first_contact_time", load.first_contact_time)?;
     Ok(())
+}
+
+/// A support's entry as summary.json has it (absent values left out).
+fn support_dict<'py>(
+    py: Python<'py>,
+    s: &ancf_output::output::SupportSummary,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("beam", &s.beam)?;
+    d.set_item("node", s.node)?;
+    d.set_item("static_force", s.static_force.to_vec())?;
+    for (k, v) in [
+        ("peak_force", s.peak_force),
+        ("peak_time", s.peak_time),
+        ("filtered_peak_force", s.filtered_peak_force),
+        ("ratio_to_static", s.ratio_to_static),
+        ("filtered_ratio_to_static", s.filtered_ratio_to_static),
+    ] {
+        if let Some(v) = v {
+            d.set_item(k, v)?;
+        }
+    }
+    Ok(d)
 }
 
 fn matrix<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {
@@ -704,6 +740,33 @@ impl Simulation {
         Ok(list)
     }
 
+    /// Per support, in the scene's order: summary.json's `supports[i]`
+    /// (beam, node, static_force, peak_force, peak_time,
+    /// filtered_peak_force, ratio_to_static, filtered_ratio_to_static, so
+    /// far) and its history: `time` (k, s; t = 0 first) and `force` (k × 3,
+    /// N), the force it exerts on the wire.
+    #[getter]
+    fn supports<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        let initial = self.sim.initial_support_forces();
+        for (i, (s, h)) in self
+            .support_summaries()
+            .iter()
+            .zip(self.sim.support_loads())
+            .enumerate()
+        {
+            let d = support_dict(py, s)?;
+            let mut time = vec![0.0];
+            time.extend(&h.time);
+            let mut force = vec![initial.get(i).copied().unwrap_or([0.0; 3])];
+            force.extend(&h.force);
+            d.set_item("time", PyArray1::from_vec(py, time))?;
+            d.set_item("force", matrix(py, &force))?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
     /// The run so far with summary.json's keys, as far as a simulation in
     /// progress knows them: status ("running" or "completed"), analysis,
     /// elements, unknowns, time, steps, newton_iterations, factorizations,
@@ -713,7 +776,10 @@ impl Simulation {
     /// max_penetration, rods: [law, contact_stiffness,
     /// stiffness_unit, peak_force, peak_time, filtered_peak_force,
     /// filtered_peak_time, impulse, contact_duration, cfc,
-    /// first_contact_time, first_impact_filtered_peak, first_impact_impulse]}.
+    /// first_contact_time, first_impact_filtered_peak, first_impact_impulse]};
+    /// with supports, supports [beam, node, static_force, peak_force,
+    /// peak_time, filtered_peak_force, ratio_to_static,
+    /// filtered_ratio_to_static].
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = self.sim.progress();
         let model = &self.scene.model;
@@ -765,6 +831,13 @@ impl Simulation {
             }
             contact.set_item("rods", rods)?;
             d.set_item("contact", contact)?;
+        }
+        if !model.supports.is_empty() {
+            let supports = PyList::empty(py);
+            for s in self.support_summaries() {
+                supports.append(support_dict(py, &s)?)?;
+            }
+            d.set_item("supports", supports)?;
         }
         // As summary.json: present only when there is something to say.
         let warnings = self.scene.warnings();

@@ -1,4 +1,4 @@
-"""Issue 16: the Python API — scenes, simulations, NumPy results, errors.
+"""The Python API — scenes, simulations, NumPy results, errors.
 
 Run from the repository root: `python -m pytest ancf-python/tests`.
 """
@@ -354,3 +354,31 @@ def test_a_tube_is_a_wire_with_a_bore():
             end_time=0.01,
         )
     assert e.value.field == "layers[0].outer_radius"
+
+
+def test_support_loads_after_a_break_match_the_cli(tmp_path):
+    # A 20 m span sagging between two pins; the right one lets go at t = 0.
+    scene = json.loads(json.dumps(BASE))
+    scene["analysis"].update(end_time=0.05, time_step=1e-3, initial="static", spectral_radius=0.9)
+    scene["wire"].update(length=20.0, elements=20)
+    scene["wire"]["layers"][0]["outer_radius"] = 0.005
+    scene["support"] = [{"node": 0, "kind": "pin"}, {"node": "last", "kind": "pin", "release_time": 0.0}]
+    sim = ancf.Simulation(ancf.Scene.from_dict(scene))
+    sim.run()
+    left, right = sim.supports
+    assert (left["beam"], left["node"], right["node"]) == ("wire", 0, 20)
+    assert left["time"].shape == (51,) and left["force"].shape == (51, 3)
+    # t = 0 is the static equilibrium with both pins: they share the weight.
+    weight = 7800.0 * math.pi * 0.005**2 * 20.0 * 9.81
+    assert abs(left["static_force"][2] + right["static_force"][2] - weight) < 1e-6 * weight
+    assert np.all(left["force"][0] == left["static_force"])
+    # The released pin carries nothing after the break; the other one peaks.
+    assert np.all(right["force"][1:] == 0.0)
+    peak = np.max(np.linalg.norm(left["force"], axis=1))
+    assert left["peak_force"] == peak
+    assert left["ratio_to_static"] == pytest.approx(peak / np.linalg.norm(left["static_force"]), rel=1e-12)
+    cli = ancf.run(ancf.Scene.from_dict(scene), tmp_path / "out")
+    assert [s["peak_force"] for s in cli["supports"]] == [s["peak_force"] for s in sim.summary()["supports"]]
+    table = np.genfromtxt(tmp_path / "out" / "supports.csv", delimiter=",", names=True)
+    assert table.dtype.names == ("time", "s0_fx", "s0_fy", "s0_fz", "s1_fx", "s1_fy", "s1_fz")
+    assert np.allclose(table["s0_fz"], left["force"][:, 2], rtol=1e-9, atol=0.0)

@@ -142,6 +142,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         summary,
         history,
         rod_loads,
+        ..
     } = best.expect("at least one run");
     let samples = (0..history.time.len())
         .map(|k| Sample {

@@ -136,6 +136,11 @@ pub struct Snapshot {
     /// recorded: recorded from there on).
     #[serde(default)]
     pub support_loads: Vec<LoadHistory>,
+    /// The force each support exerts on the wire in the initial state (N,
+    /// model's support order): from an initial static equilibrium, the
+    /// static reaction that a support's peak is compared with.
+    #[serde(default)]
+    pub initial_support_forces: Vec<[f64; 3]>,
     /// Contact so far (`None` without rods).
     #[serde(default)]
     pub contact: Option<ContactRecord>,
@@ -161,15 +166,16 @@ impl Simulation {
         settings: DynamicSettings,
         initial: Initial,
     ) -> Result<Self, SimulationError> {
-        let (q0, static_iterations) = match initial {
-            Initial::Reference => (model.initial_coordinates(), Vec::new()),
+        let (q0, static_iterations, static_reactions) = match initial {
+            Initial::Reference => (model.initial_coordinates(), Vec::new(), None),
             Initial::Static { load_steps } => {
                 let st = StaticSettings {
                     load_steps,
                     ..Default::default()
                 };
                 let res = solve_static(model, &st).map_err(SimulationError::Static)?;
-                (res.q, res.iterations)
+                let reactions = res.reactions.iter().map(|(_, f)| *f).collect::<Vec<_>>();
+                (res.q, res.iterations, Some(reactions))
             }
         };
         let (phases, phase_starts) = Self::phases(model, &settings);
@@ -203,6 +209,10 @@ impl Simulation {
                 released: 0,
                 rod_loads: vec![LoadHistory::default(); rods],
                 support_loads: vec![LoadHistory::default(); model.supports.len()],
+                // Every support holds in the static equilibrium, those
+                // released at t = 0 too: their force before the break.
+                initial_support_forces: static_reactions
+                    .unwrap_or_else(|| integrator.initial_reactions().to_vec()),
                 contact: model.contact().map(|_| ContactRecord::default()),
             },
             phases,
@@ -401,6 +411,15 @@ impl Simulation {
     /// broken-wire load.
     pub fn support_loads(&self) -> &[LoadHistory] {
         &self.progress.support_loads
+    }
+
+    /// The force each support exerts on the wire at t = 0 (N), in the
+    /// model's support order: the static reaction when the run starts from
+    /// a static equilibrium ([`Initial::Static`], every support holding,
+    /// those released at t = 0 too), else the reaction that the reference
+    /// state's initial acceleration implies.
+    pub fn initial_support_forces(&self) -> &[[f64; 3]] {
+        &self.progress.initial_support_forces
     }
 
     /// The wire's contact so far: first touch, largest normal force and

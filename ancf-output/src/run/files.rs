@@ -1,7 +1,7 @@
 //! The files of a run in its output directory, written as the run goes
 //! (so a failed or interrupted run keeps what it computed): timeseries.csv
 //! row by row, VTK frames, checkpoints, and at the end rod_forces.csv,
-//! contact_point.csv, final_nodes.csv and summary.json.
+//! supports.csv, contact_point.csv, final_nodes.csv and summary.json.
 
 use super::Progress;
 use super::history::History;
@@ -121,18 +121,22 @@ impl Files {
     }
 
     /// The end of a dynamic run: VTK's collection, rod_forces.csv (and
-    /// rod_forces.png), the plots, contact_point.csv.
+    /// rod_forces.png), supports.csv, the plots, contact_point.csv.
     pub fn finish(
         &mut self,
         scene: &Scene,
         history: &History,
         loads: &[LoadHistory],
         filtered: &[Filtered],
+        supports: SupportLoads<'_>,
         summary: &Summary,
     ) -> Result<(), String> {
         let dir = &self.dir;
         if let Some(v) = self.vtk.as_mut() {
             v.finish().map_err(|e| io_err(dir, e))?;
+        }
+        if !supports.loads.is_empty() {
+            write_supports(dir, supports).map_err(|e| io_err(dir, e))?;
         }
         if let Some(cs) = &summary.contact {
             write_rod_forces(dir, loads, filtered).map_err(|e| io_err(dir, e))?;
@@ -187,6 +191,43 @@ fn write_rod_forces(
         s.push('\n');
     }
     std::fs::write(out.join("rod_forces.csv"), s)
+}
+
+/// The supports' forces on the body over a run: at t = 0 and after every step.
+#[derive(Clone, Copy)]
+pub struct SupportLoads<'a> {
+    /// Each support's force at t = 0, N (missing entries: zero).
+    pub initial: &'a [[f64; 3]],
+    /// Each support's force at every step, N.
+    pub loads: &'a [LoadHistory],
+}
+
+/// `supports.csv`: `time`, then per support i in the model's order
+/// `s{i}_fx,s{i}_fy,s{i}_fz`, the force it exerts on the body (N); the
+/// first row is t = 0, then one row per step.
+fn write_supports(out: &Path, supports: SupportLoads<'_>) -> std::io::Result<()> {
+    let loads = supports.loads;
+    let mut s = String::from("time");
+    for i in 0..loads.len() {
+        s += &format!(",s{i}_fx,s{i}_fy,s{i}_fz");
+    }
+    s.push('\n');
+    let mut row = |t: f64, force: &dyn Fn(usize) -> [f64; 3]| {
+        s += &format!("{t:.9e}");
+        for i in 0..loads.len() {
+            let f = force(i);
+            s += &format!(",{:.9e},{:.9e},{:.9e}", f[0], f[1], f[2]);
+        }
+        s.push('\n');
+    };
+    row(0.0, &|i| {
+        supports.initial.get(i).copied().unwrap_or([0.0; 3])
+    });
+    let steps = loads.first().map_or(0, |h| h.time.len());
+    for k in 0..steps {
+        row(loads[0].time[k], &|i| loads[i].force[k]);
+    }
+    std::fs::write(out.join("supports.csv"), s)
 }
 
 fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {

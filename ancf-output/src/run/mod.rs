@@ -12,6 +12,7 @@ pub mod files;
 pub mod history;
 mod plots;
 mod progress;
+pub mod supports;
 
 use crate::output::{ContactSummary, EnergySummary, RunStatus, Summary, TipSummary};
 use ancf_core::forces::assembly::ContactForces;
@@ -23,7 +24,7 @@ use ancf_core::solve::cancel::CancelToken;
 use ancf_core::solve::dynamics::{DynamicSettings, Energies};
 use ancf_core::solve::simulation::{Initial, Simulation, SimulationError, Snapshot};
 use ancf_core::solve::statics::{StaticSettings, solve_static};
-use files::{Checkpoint, Files, io_err, write_final};
+use files::{Checkpoint, Files, SupportLoads, io_err, write_final};
 use history::History;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -49,6 +50,8 @@ pub struct RunRecord {
     pub history: History,
     /// Dynamic runs with rods: the force on each rod at every step, N.
     pub rod_loads: Vec<LoadHistory>,
+    /// Dynamic runs: the force each support exerts at every step, N.
+    pub support_loads: Vec<LoadHistory>,
 }
 
 fn effect_names(model: &Model) -> Vec<String> {
@@ -174,6 +177,7 @@ fn execute(
                         .contact
                         .as_ref()
                         .and_then(|cf| static_contact(model, cf));
+                    summary.supports = supports::static_supports(&res.reactions);
                     res.q
                 }
                 Err(e) => {
@@ -202,10 +206,17 @@ fn execute(
                 _ => Initial::Reference,
             };
             let watch = Watch { quiet, cancel };
-            let (q, history, loads) =
-                run_dynamic(scene, settings, initial, out, &watch, &mut summary, resume)?;
+            let (q, history) = run_dynamic(
+                scene,
+                settings,
+                initial,
+                out,
+                &watch,
+                &mut summary,
+                resume,
+                &mut record,
+            )?;
             record.history = history;
-            record.rod_loads = loads;
             q
         }
     };
@@ -254,7 +265,9 @@ fn new_summary(scene: &Scene) -> Summary {
 
 /// The dynamic run's loop: steps the simulation, writes every
 /// `output.every`-th step (and the last) to the history and the files,
-/// checkpoints. Returns the final coordinates, the history and the rod loads.
+/// checkpoints. Returns the final coordinates and the history; the rod and
+/// support loads go to `record`.
+#[allow(clippy::too_many_arguments)]
 fn run_dynamic(
     scene: &Scene,
     settings: &DynamicSettings,
@@ -263,7 +276,8 @@ fn run_dynamic(
     watch: &Watch<'_>,
     summary: &mut Summary,
     resume: Option<Progress>,
-) -> Result<(Vec<f64>, History, Vec<LoadHistory>), String> {
+    record: &mut RunRecord,
+) -> Result<(Vec<f64>, History), String> {
     let model = &scene.model;
     let contact = model.contact();
     let h = settings.time_step;
@@ -288,12 +302,12 @@ fn run_dynamic(
                         e.message,
                         e.likely_cause()
                     );
-                    return Ok((e.last_converged, History::default(), Vec::new()));
+                    return Ok((e.last_converged, History::default()));
                 }
                 Err(e) => {
                     summary.status = RunStatus::Failed;
                     summary.message = e.to_string();
-                    return Ok((model.initial_coordinates(), History::default(), Vec::new()));
+                    return Ok((model.initial_coordinates(), History::default()));
                 }
             };
             let message = if from_static {
@@ -452,10 +466,26 @@ fn run_dynamic(
                 .collect(),
         });
     }
+    let supports = SupportLoads {
+        initial: sim.initial_support_forces(),
+        loads: sim.support_loads(),
+    };
+    let support_filtered: Vec<Filtered> = supports.loads.iter().map(|h| h.filtered(cfc)).collect();
+    summary.supports =
+        supports::dynamic_supports(model, supports.initial, supports.loads, &support_filtered);
     if let Some(f) = files.as_mut() {
-        f.finish(scene, &p.history, sim.rod_loads(), &filtered, summary)?;
+        f.finish(
+            scene,
+            &p.history,
+            sim.rod_loads(),
+            &filtered,
+            supports,
+            summary,
+        )?;
     }
-    Ok((sim.state().q.clone(), p.history, sim.rod_loads().to_vec()))
+    record.rod_loads = sim.rod_loads().to_vec();
+    record.support_loads = sim.support_loads().to_vec();
+    Ok((sim.state().q.clone(), p.history))
 }
 
 /// A rod's entry in the summary: its law and stiffness, and its load.

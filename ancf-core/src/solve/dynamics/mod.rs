@@ -69,6 +69,9 @@ pub struct Integrator {
     kv: Vec<f64>,
     newton_matrix: Vec<f64>,
     work: Workspace,
+    /// Each support's force on the body in the last
+    /// [`Integrator::initial_state`] (N).
+    initial_reactions: Vec<[f64; 3]>,
 }
 
 impl Integrator {
@@ -106,6 +109,7 @@ impl Integrator {
             kv: pattern.zeros(),
             newton_matrix: pattern.zeros(),
             work: Workspace::new(model.reference.len()),
+            initial_reactions: Vec::new(),
             forces,
         })
     }
@@ -135,6 +139,10 @@ impl Integrator {
         self.solver.solve_in_place(&mut a);
         let mut a_full = vec![0.0; q0.len()];
         self.model.scatter_add(&a, 1.0, &mut a_full);
+        let mut ma = vec![0.0; q0.len()];
+        model.mass_times_into(&a_full, &mut ma);
+        let (q, ext) = (self.forces.internal(), self.forces.external());
+        support_forces(&model, &ma, q, ext, &mut self.initial_reactions);
         let state = State {
             time: 0.0,
             q: q0,
@@ -146,6 +154,14 @@ impl Integrator {
         };
         self.set_energy_reference(&state);
         Ok(state)
+    }
+
+    /// Each support's force on the body (N) in the state the last
+    /// [`Integrator::initial_state`] returned: M a₀ + Q − Q_ext on the held
+    /// position coordinates. From a static equilibrium (a₀ = 0) it is the
+    /// static reaction.
+    pub fn initial_reactions(&self) -> &[[f64; 3]] {
+        &self.initial_reactions
     }
 
     /// Drop the kept factorization: the next step refactors. Checkpointed
@@ -428,17 +444,7 @@ impl Integrator {
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         // The supports' forces: the same balance on the held coordinates
         // of each supported node's position (damping acts on unknowns only).
-        info.reactions.clear();
-        info.reactions.extend(model.supports.iter().map(|sup| {
-            std::array::from_fn(|k| {
-                let c = NODE_DOFS * sup.node + k;
-                if model.dof_map[c].is_none() {
-                    ma[c] + q[c] - ext[c]
-                } else {
-                    0.0
-                }
-            })
-        }));
+        support_forces(model, ma, q, ext, &mut info.reactions);
         if let Some((qd, power)) = self.forces.damping() {
             r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);
             info.damping_power = power;
@@ -612,4 +618,22 @@ impl Integrator {
             tolerance: self.settings.tolerance,
         })
     }
+}
+
+/// The force each support of `model` exerts on the body (N), from the
+/// balance M a + Q − Q_ext on the held coordinates of its node's position
+/// (zero on a coordinate the support no longer holds): into `out`, in the
+/// model's support order.
+fn support_forces(model: &Model, ma: &[f64], q: &[f64], ext: &[f64], out: &mut Vec<[f64; 3]>) {
+    out.clear();
+    out.extend(model.supports.iter().map(|sup| {
+        std::array::from_fn(|k| {
+            let c = NODE_DOFS * sup.node + k;
+            if model.dof_map[c].is_none() {
+                ma[c] + q[c] - ext[c]
+            } else {
+                0.0
+            }
+        })
+    }));
 }

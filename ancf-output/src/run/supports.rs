@@ -1,0 +1,56 @@
+//! The supports' loads as a frame or tower designer reads them: the static
+//! force, the peak over the run (raw and CFC-filtered) and their ratio.
+
+use crate::output::SupportSummary;
+use ancf_core::loads::rod_load::{Filtered, LoadHistory};
+use ancf_core::math::vec3::norm;
+use ancf_core::model::Model;
+
+/// A static run's supports: the reaction at equilibrium alone.
+/// `reactions` are `StaticResult::reactions` (node, force), in the model's
+/// support order.
+pub fn static_supports(reactions: &[(usize, [f64; 3])]) -> Vec<SupportSummary> {
+    reactions
+        .iter()
+        .map(|(node, f)| SupportSummary {
+            beam: "wire".into(),
+            node: *node,
+            static_force: *f,
+            ..Default::default()
+        })
+        .collect()
+}
+
+/// A dynamic run's supports: `initial` is each support's force at t = 0
+/// (`Simulation::initial_support_forces`; missing entries count as zero),
+/// `loads` and `filtered` their histories and CFC-filtered magnitudes.
+pub fn dynamic_supports(
+    model: &Model,
+    initial: &[[f64; 3]],
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+) -> Vec<SupportSummary> {
+    model
+        .supports
+        .iter()
+        .zip(loads)
+        .zip(filtered)
+        .enumerate()
+        .map(|(i, ((s, h), f))| {
+            let static_force = initial.get(i).copied().unwrap_or([0.0; 3]);
+            let load = h.summary(f);
+            let reference = norm(static_force);
+            let ratio = |peak: f64| (reference > 0.0).then(|| peak / reference);
+            SupportSummary {
+                beam: "wire".into(),
+                node: s.node,
+                static_force,
+                peak_force: Some(load.peak_force),
+                peak_time: Some(load.peak_time),
+                filtered_peak_force: Some(load.filtered_peak_force),
+                ratio_to_static: ratio(load.peak_force),
+                filtered_ratio_to_static: ratio(load.filtered_peak_force),
+            }
+        })
+        .collect()
+}

@@ -1,30 +1,47 @@
 //! The one place forces are added up ([`ForceSum`]): with every effect at
 //! once — elasticity, gravity, a frictional rod with contact damping inside
-//! a contact event, and Kelvin–Voigt damping — its Jacobians are the
-//! derivatives of its force, and its parts are the ones each effect gives
-//! alone.
+//! a contact event, Kelvin–Voigt damping and an elastic support with a
+//! dashpot — its Jacobians are the derivatives of its force, and its parts
+//! are the ones each effect gives alone.
 
 use ancf_core::forces::assembly::assemble;
 use ancf_core::forces::damping::kelvin_voigt_force;
 use ancf_core::forces::sum::{At, ForceSum};
 use ancf_core::model::damping::Damping;
+use ancf_core::model::spring::Spring;
 use ancf_core::prelude::*;
 
 /// A 1 m two-element wire of radius 1 cm lying along x at z = 0, pressed
-/// 2 mm into a rod across it at x = 0.3 m, with all effects named.
-fn model() -> Model {
+/// 2 mm into a rod across it at x = 0.3 m, with all effects named; with
+/// `spring`, its far end on an elastic support with a dashpot.
+fn model_with(spring: bool) -> Model {
     let steel = Material::st_venant_kirchhoff(7800.0, 2e9, 0.3, 1.0);
     let rod = Rod::line([0.3, 0.0, -0.028], [0.0, 1.0, 0.0], 0.02, 1e7)
         .with_friction(0.3)
         .with_restitution(0.5, RestitutionModel::Exact);
-    WireBuilder::new(1.0, 2)
+    let builder = WireBuilder::new(1.0, 2)
         .layer(steel, 0.01)
         .support(0, SupportKind::Pin)
         .gravity([0.0, 0.0, -9.81])
         .rod(rod)
-        .damping(Damping::KelvinVoigt { coefficient: 1e-3 })
-        .build()
-        .expect("a valid model")
+        .damping(Damping::KelvinVoigt { coefficient: 1e-3 });
+    let builder = if spring {
+        builder.spring(
+            2,
+            Spring {
+                stiffness: [3e4, 1e4, 2e4],
+                rotational_stiffness: 50.0,
+                damping: 20.0,
+            },
+        )
+    } else {
+        builder
+    };
+    builder.build().expect("a valid model")
+}
+
+fn model() -> Model {
+    model_with(false)
 }
 
 /// Coordinates and velocities near the reference, deterministic.
@@ -56,7 +73,7 @@ fn total(sum: &mut ForceSum, model: &Model, q: &[f64], v: &[f64], events: &[f64]
 
 #[test]
 fn jacobians_are_the_derivatives_of_the_sum() {
-    let model = model();
+    let model = model_with(true);
     let mut sum = ForceSum::new(&model);
     let (q, v) = state(&model);
     // Inside a contact event that began at 2 m/s: contact damping acts.
@@ -142,4 +159,37 @@ fn parts_are_the_effects_alone() {
     assert_eq!(p.strain, strain);
     assert_eq!((p.gravity, p.loads), model.external_potential(&q));
     assert!(p.contact > 0.0);
+}
+
+#[test]
+fn an_elastic_support_adds_its_springs_and_dashpot() {
+    let (with, without) = (model_with(true), model());
+    let (q, v) = state(&with);
+    let (mut a, mut b) = (ForceSum::new(&with), ForceSum::new(&without));
+    a.evaluate(&with, At::moving(&q, &v), None, None);
+    b.evaluate(&without, At::moving(&q, &v), None, None);
+    let spring = &with.springs()[0];
+    let mut expected = vec![0.0; q.len()];
+    spring.add_force(&q, &mut expected);
+    for c in 0..q.len() {
+        let added = a.internal()[c] - b.internal()[c];
+        assert!(
+            (added - expected[c]).abs() <= 1e-12 * expected[c].abs().max(1.0),
+            "coordinate {c}: {added} against {}",
+            expected[c]
+        );
+    }
+    assert!(((a.strain_energy() - b.strain_energy()) - spring.energy(&q)).abs() < 1e-12);
+    // The dashpot: c ṙ on the node's position, power c |ṙ|².
+    let r_dot = &v[24..27];
+    let power = 20.0 * r_dot.iter().map(|x| x * x).sum::<f64>();
+    let (pa, pb) = (a.damping().unwrap().1, b.damping().unwrap().1);
+    assert!(((pa - pb) - power).abs() <= 1e-12 * power);
+    // The force on the node: −k Δr − c ṙ.
+    let f = spring.force_on_body(&q, Some(&v));
+    let k = [3e4, 1e4, 2e4];
+    for i in 0..3 {
+        let expected = -k[i] * (q[24 + i] - with.reference[24 + i]) - 20.0 * v[24 + i];
+        assert!((f[i] - expected).abs() <= 1e-12 * expected.abs());
+    }
 }

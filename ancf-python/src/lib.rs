@@ -355,6 +355,27 @@ impl Wire {
         })
     }
 
+    /// An elastic support at `node`: springs `stiffness` [kx, ky, kz]
+    /// (N/m) and `rotational_stiffness` (N m/rad), a dashpot `damping`
+    /// (N s/m), relaxed where the node starts (a post or a clamp).
+    #[pyo3(signature = (node, stiffness, rotational_stiffness = 0.0, damping = 0.0))]
+    fn spring(
+        &self,
+        node: usize,
+        stiffness: Vec<f64>,
+        rotational_stiffness: f64,
+        damping: f64,
+    ) -> PyResult<Wire> {
+        let spring = ancf_core::model::spring::Spring {
+            stiffness: vec3("stiffness", stiffness)?,
+            rotational_stiffness,
+            damping,
+        };
+        Ok(Wire {
+            builder: self.builder.clone().spring(node, spring),
+        })
+    }
+
     /// Gravity acceleration, m/s².
     fn gravity(&self, acceleration: Vec<f64>) -> PyResult<Wire> {
         Ok(Wire {

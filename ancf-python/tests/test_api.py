@@ -382,3 +382,34 @@ def test_support_loads_after_a_break_match_the_cli(tmp_path):
     table = np.genfromtxt(tmp_path / "out" / "supports.csv", delimiter=",", names=True)
     assert table.dtype.names == ("time", "s0_fx", "s0_fy", "s0_fz", "s1_fx", "s1_fy", "s1_fz")
     assert np.allclose(table["s0_fz"], left["force"][:, 2], rtol=1e-9, atol=0.0)
+
+
+def test_a_wire_on_springs_equals_its_scene():
+    # Two elastic posts with dashpots, in code and as a scene: the same bits;
+    # a negative stiffness is refused naming the support's field.
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    wire = (
+        ancf.Wire(2.0, 8)
+        .layer(steel, 0.01)
+        .spring(0, [2e4, 2e4, 2e4], rotational_stiffness=10.0, damping=50.0)
+        .spring(8, [2e4, 2e4, 2e4], rotational_stiffness=10.0, damping=50.0)
+        .gravity([0.0, 0.0, -9.81])
+    )
+    built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.05)
+    scene = json.loads(json.dumps(BASE))
+    scene["analysis"].update(end_time=0.05, time_step=1e-3, spectral_radius=0.9)
+    scene["wire"].update(length=2.0, elements=8)
+    post = {"kind": "spring", "stiffness": [2e4, 2e4, 2e4], "rotational_stiffness": 10.0, "damping": 50.0}
+    scene["support"] = [dict(post, node=0), dict(post, node="last")]
+    from_file = ancf.Simulation(ancf.Scene.from_dict(scene))
+    built.run()
+    from_file.run()
+    assert list(built.tip) == list(from_file.tip)
+    assert built.energies["dissipated"] > 0.0
+    # The posts carry the span's weight between them, less what moves.
+    left, right = built.supports
+    assert left["force"].shape == (51, 3) and left["static_force"] == [0.0, 0.0, 0.0]
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Simulation.from_wire(
+            ancf.Wire(2.0, 8).layer(steel, 0.01).spring(8, [1.0, -1.0, 1.0]), time_step=1e-3, end_time=0.01)
+    assert e.value.field == "supports[0].stiffness[1]"

@@ -166,7 +166,9 @@ impl ForceSum {
     /// damping, structural damping): then the Newton matrix has a
     /// velocity part.
     pub fn velocity_dependent(model: &Model) -> bool {
-        model.contact().is_some_and(|c| c.velocity_dependent()) || model.damping().is_some()
+        model.contact().is_some_and(|c| c.velocity_dependent())
+            || model.damping().is_some()
+            || model.has_spring_damping()
     }
 
     /// Whether the Jacobian is symmetric: not with friction, contact
@@ -194,6 +196,16 @@ impl ForceSum {
             &mut self.internal,
             &mut self.element_energy,
         );
+        let springs = model.springs();
+        if !springs.is_empty() {
+            self.strain_energy += add_springs(
+                model,
+                &self.pattern,
+                at.q,
+                &mut self.internal,
+                kq.as_deref_mut(),
+            );
+        }
         if let (Some(c), Some(ev)) = (model.contact(), &self.evaluator) {
             let kvc = if c.velocity_dependent() {
                 kv.as_deref_mut()
@@ -227,8 +239,17 @@ impl ForceSum {
                 .for_each(|(a, b)| *a -= b);
             self.contact = Some(cf);
         }
-        let Some((damping, v)) = model.damping().zip(at.v) else {
+        let Some(v) = at.v else {
             self.damping.clear();
+            return;
+        };
+        let Some(damping) = model.damping() else {
+            self.damping.clear();
+            self.damping_power = 0.0;
+            if model.has_spring_damping() {
+                self.damping.resize(model.n_unknowns, 0.0);
+                self.damping_power = add_dashpots(model, &self.pattern, v, &mut self.damping, kv);
+            }
             return;
         };
         (self.damping, self.damping_power) = match damping {
@@ -236,16 +257,25 @@ impl ForceSum {
                 let vu = model.gather(v);
                 let mut f = vec![0.0; model.n_unknowns];
                 self.pattern.mul_add(&self.rayleigh, &vu, 1.0, &mut f);
-                if let Some(kv) = kv {
+                if let Some(kv) = kv.as_deref_mut() {
                     kv.iter_mut().zip(&self.rayleigh).for_each(|(a, b)| *a += b);
                 }
                 let power = f.iter().zip(&vu).map(|(a, b)| a * b).sum();
                 (f, power)
             }
-            Damping::KelvinVoigt { coefficient } => {
-                kelvin_voigt_force(model, &self.pattern, *coefficient, at.q, v, kq, kv)
-            }
+            Damping::KelvinVoigt { coefficient } => kelvin_voigt_force(
+                model,
+                &self.pattern,
+                *coefficient,
+                at.q,
+                v,
+                kq,
+                kv.as_deref_mut(),
+            ),
         };
+        if model.has_spring_damping() {
+            self.damping_power += add_dashpots(model, &self.pattern, v, &mut self.damping, kv);
+        }
     }
 
     /// Q = Q_e − Q_c of the last evaluation (all coordinates, N).
@@ -292,7 +322,8 @@ impl ForceSum {
         v: &[f64],
         pairs: Option<&[usize]>,
     ) -> Potentials {
-        let strain = strain_energy(model, q);
+        let strain =
+            strain_energy(model, q) + model.springs().iter().map(|s| s.energy(q)).sum::<f64>();
         let (gravity, loads) = model.external_potential(q);
         let contact = self.evaluator.as_ref().map_or(0.0, |c| {
             let (events, force) = (&[], Vec::new());
@@ -317,4 +348,54 @@ impl ForceSum {
             contact,
         }
     }
+}
+
+/// The elastic supports' forces added to `internal` (all coordinates) and
+/// their constant diagonal stiffness to `kq` (pattern slots, unknowns
+/// only); returns their energy (J), which counts as strain energy.
+fn add_springs(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    internal: &mut [f64],
+    kq: Option<&mut [f64]>,
+) -> f64 {
+    let springs = model.springs();
+    springs.iter().for_each(|s| s.add_force(q, internal));
+    if let Some(kq) = kq {
+        for s in springs {
+            for (c, k) in s.diagonal.iter().enumerate() {
+                if let Some(u) = model.dof_map[s.first_coordinate() + c] {
+                    kq[pattern.diagonal_slot(u)] += k;
+                }
+            }
+        }
+    }
+    springs.iter().map(|s| s.energy(q)).sum()
+}
+
+/// The elastic supports' dashpots c ṙ added to `qd` (unknowns) and c to
+/// `kv`'s diagonal; returns their power (W).
+fn add_dashpots(
+    model: &Model,
+    pattern: &Pattern,
+    v: &[f64],
+    qd: &mut [f64],
+    mut kv: Option<&mut [f64]>,
+) -> f64 {
+    let mut power = 0.0;
+    for s in model.springs() {
+        let c = s.spring.damping;
+        for k in 0..3 {
+            let coord = s.first_coordinate() + k;
+            if let Some(u) = model.dof_map[coord] {
+                qd[u] += c * v[coord];
+                power += c * v[coord] * v[coord];
+                if let Some(kv) = kv.as_deref_mut() {
+                    kv[pattern.diagonal_slot(u)] += c;
+                }
+            }
+        }
+    }
+    power
 }

@@ -106,6 +106,14 @@ impl Pattern {
         }
     }
 
+    /// The value slot of the diagonal entry of unknown `u` (every unknown
+    /// belongs to an element, so its diagonal is in the pattern).
+    pub fn diagonal_slot(&self, u: usize) -> usize {
+        let col_ptr = self.symbolic.col_ptr();
+        let rows = &self.symbolic.row_idx()[col_ptr[u]..col_ptr[u + 1]];
+        col_ptr[u] + rows.binary_search(&u).expect("diagonal in pattern")
+    }
+
     /// Structural non-zeros.
     pub fn nnz(&self) -> usize {
         self.symbolic.row_idx().len()

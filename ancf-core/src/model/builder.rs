@@ -138,6 +138,12 @@ impl WireBuilder {
         self
     }
 
+    /// An elastic support at `node`: `spring`'s springs and dashpot, relaxed
+    /// where the node starts.
+    pub fn spring(self, node: usize, spring: super::spring::Spring) -> Self {
+        self.support(node, SupportKind::Spring(spring))
+    }
+
     /// A support given in full (position, release time).
     pub fn support_with(mut self, support: Support) -> Self {
         self.supports.push(support);
@@ -231,6 +237,17 @@ impl WireBuilder {
             }
             if let Some(t) = s.release_time {
                 crate::check::non_negative("release_time", t).map_err(at)?;
+            }
+            if let SupportKind::Spring(spring) = s.kind {
+                spring.check().map_err(at)?;
+                if s.release_time.is_some() {
+                    return Err(at(ParameterError {
+                        field: "release_time".into(),
+                        message: "a spring support holds for the whole run; release_time is for \
+                                  pin, clamp and fixed supports"
+                            .into(),
+                    }));
+                }
             }
         }
         for (index, l) in self.loads.iter().enumerate() {

@@ -7,6 +7,7 @@ pub mod contact;
 pub mod damping;
 mod mass_product;
 mod mesh;
+pub mod spring;
 pub use builder::{WireBuilder, station_spacing};
 pub use mesh::{ElementGroup, Segment};
 
@@ -30,7 +31,7 @@ pub const DEFAULT_AXIAL_ORDER: usize = 3;
 pub const DEFAULT_SECTION_ORDER: usize = 3;
 
 /// How a node is held (SPEC §4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SupportKind {
     /// r, r_y, r_z and the two components of r_x normal to the wire axis
     /// fixed; the axial component of r_x is free, so the root section may
@@ -40,6 +41,21 @@ pub enum SupportKind {
     Fixed,
     /// r fixed only: a spherical joint.
     Pin,
+    /// Nothing fixed: springs and a dashpot to fixed ground (a post's or a
+    /// clamp's compliance), relaxed where the node starts.
+    Spring(spring::Spring),
+}
+
+impl SupportKind {
+    /// The scene file's name of the kind.
+    pub fn name(&self) -> &'static str {
+        match self {
+            SupportKind::Clamp => "clamp",
+            SupportKind::Fixed => "fixed",
+            SupportKind::Pin => "pin",
+            SupportKind::Spring(_) => "spring",
+        }
+    }
 }
 
 /// A support: which node, how it is held, where, and until when.
@@ -134,6 +150,8 @@ pub enum Effect {
     Contact(contact::Contact),
     /// Structural damping (Kelvin–Voigt or Rayleigh).
     Damping(damping::Damping),
+    /// Elastic supports: springs and dashpots at nodes.
+    Springs(Vec<spring::SpringAt>),
 }
 
 /// A straight wire of `n_elements` elements, in groups of equal length
@@ -331,6 +349,7 @@ fn eliminate(
         match s.kind {
             SupportKind::Fixed => (0..12).for_each(&mut fix),
             SupportKind::Pin => (0..3).for_each(&mut fix),
+            SupportKind::Spring(_) => {}
             SupportKind::Clamp => {
                 let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
                     return Err(ModelError::Support {
@@ -546,7 +565,7 @@ impl Model {
         if !loads.is_empty() {
             effects.push(Effect::PointLoads(loads));
         }
-        Ok(Model {
+        let mut model = Model {
             groups,
             group_of,
             n_elements,
@@ -559,7 +578,23 @@ impl Model {
             axis,
             section_y: ny,
             section_z: nz,
-        })
+        };
+        // Elastic supports relax where their nodes start.
+        let start = model.initial_coordinates();
+        let springs: Vec<spring::SpringAt> = (model.supports.iter().enumerate())
+            .filter_map(|(i, s)| match s.kind {
+                SupportKind::Spring(k) => {
+                    let base = NODE_DOFS * s.node;
+                    let rest = std::array::from_fn(|c| start[base + c]);
+                    Some(spring::SpringAt::new(i, s.node, k, rest))
+                }
+                _ => None,
+            })
+            .collect();
+        if !springs.is_empty() {
+            model.effects.push(Effect::Springs(springs));
+        }
+        Ok(model)
     }
 
     /// The integration of element `el` (its length is the element's).
@@ -830,6 +865,22 @@ impl Model {
         })
     }
 
+    /// The elastic supports (empty without any).
+    pub fn springs(&self) -> &[spring::SpringAt] {
+        self.effects
+            .iter()
+            .find_map(|e| match e {
+                Effect::Springs(s) => Some(&s[..]),
+                _ => None,
+            })
+            .unwrap_or(&[])
+    }
+
+    /// Whether an elastic support has a dashpot.
+    pub fn has_spring_damping(&self) -> bool {
+        self.springs().iter().any(|s| s.spring.damping > 0.0)
+    }
+
     /// The damping effect, when the scene names one.
     pub fn damping(&self) -> Option<&damping::Damping> {
         self.effects.iter().find_map(|e| match e {
@@ -892,7 +943,10 @@ impl Model {
                         }
                     }
                 }
-                Effect::Elasticity { .. } | Effect::Contact(_) | Effect::Damping(_) => {}
+                Effect::Elasticity { .. }
+                | Effect::Contact(_)
+                | Effect::Damping(_)
+                | Effect::Springs(_) => {}
             }
         }
         f

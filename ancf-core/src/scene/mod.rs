@@ -12,6 +12,7 @@ use crate::check::ParameterError;
 use crate::material::{Material, MaterialModel};
 use crate::model::contact::{ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod};
 use crate::model::damping::Damping;
+use crate::model::spring::Spring;
 use crate::model::{Model, ModelError, PointLoad, Segment, Support, SupportKind, WireBuilder};
 use crate::solve::dynamics::{DynamicSettings, NewtonKind};
 use crate::solve::statics::StaticSettings;
@@ -316,7 +317,33 @@ impl Scene {
                 SupportKindSpec::Clamp => SupportKind::Clamp,
                 SupportKindSpec::Fixed => SupportKind::Fixed,
                 SupportKindSpec::Pin => SupportKind::Pin,
+                SupportKindSpec::Spring => SupportKind::Spring(Spring {
+                    stiffness: s.stiffness.ok_or_else(|| {
+                        err(
+                            format!("support[{i}].stiffness"),
+                            "missing: a spring support needs stiffness = [kx, ky, kz] (N/m)",
+                        )
+                    })?,
+                    rotational_stiffness: s.rotational_stiffness.unwrap_or(0.0),
+                    damping: s.damping.unwrap_or(0.0),
+                }),
             };
+            if s.kind != SupportKindSpec::Spring {
+                let given = [
+                    ("stiffness", s.stiffness.is_some()),
+                    ("rotational_stiffness", s.rotational_stiffness.is_some()),
+                    ("damping", s.damping.is_some()),
+                ];
+                if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                    return Err(err(
+                        format!("support[{i}].{key}"),
+                        format!(
+                            "only a kind = \"spring\" support has it (this one is \"{}\")",
+                            kind.name()
+                        ),
+                    ));
+                }
+            }
             if s.release_time.is_some() && f.analysis.kind == AnalysisKind::Static {
                 return Err(err(
                     format!("support[{i}].release_time"),

@@ -224,6 +224,8 @@ pub enum SupportKindSpec {
     Fixed,
     /// r held (a spherical joint).
     Pin,
+    /// Springs and a dashpot to fixed ground.
+    Spring,
 }
 
 /// `[[support]]`.
@@ -238,6 +240,12 @@ pub struct SupportSpec {
     pub position: Option<[f64; 3]>,
     /// When it lets go (s); dynamic runs only.
     pub release_time: Option<f64>,
+    /// `kind = "spring"`: translational stiffness along x, y, z (N/m).
+    pub stiffness: Option<[f64; 3]>,
+    /// `kind = "spring"`: rotational stiffness (N m/rad); default 0.
+    pub rotational_stiffness: Option<f64>,
+    /// `kind = "spring"`: dashpot on the position (N s/m); default 0.
+    pub damping: Option<f64>,
 }
 
 /// `[[load]]`: a constant force at a node.

@@ -233,14 +233,15 @@ pub fn solve_static_from(
     forces.set_load_factor(model, 1.0);
     forces.evaluate(model, At::rest(&q), None, None);
     let (qe, ext) = (forces.internal(), forces.external());
-    let reactions = model
-        .supports
-        .iter()
-        .map(|s| {
-            (
+    // An elastic support's force is its springs' −k (r − r⁰).
+    let springs = model.springs();
+    let reactions = (model.supports.iter().enumerate())
+        .map(|(i, s)| match springs.iter().find(|sp| sp.support == i) {
+            Some(sp) => (s.node, sp.force_on_body(&q, None)),
+            None => (
                 s.node,
                 std::array::from_fn(|k| qe[NODE_DOFS * s.node + k] - ext[NODE_DOFS * s.node + k]),
-            )
+            ),
         })
         .collect();
     Ok(StaticResult {

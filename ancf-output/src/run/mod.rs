@@ -71,6 +71,7 @@ fn effect_names(model: &Model) -> Vec<String> {
             }
             Effect::Contact(c) => format!("contact ({} rods, frictionless)", c.rods.len()),
             Effect::Damping(d) => format!("damping ({d:?})"),
+            Effect::Springs(s) => format!("elastic supports ({})", s.len()),
         })
         .collect()
 }

@@ -142,7 +142,14 @@ impl Integrator {
         let mut ma = vec![0.0; q0.len()];
         model.mass_times_into(&a_full, &mut ma);
         let (q, ext) = (self.forces.internal(), self.forces.external());
-        support_forces(&model, &ma, q, ext, &mut self.initial_reactions);
+        support_forces(
+            &model,
+            (&q0, Some(&v0)),
+            &ma,
+            q,
+            ext,
+            &mut self.initial_reactions,
+        );
         let state = State {
             time: 0.0,
             q: q0,
@@ -444,7 +451,7 @@ impl Integrator {
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         // The supports' forces: the same balance on the held coordinates
         // of each supported node's position (damping acts on unknowns only).
-        support_forces(model, ma, q, ext, &mut info.reactions);
+        support_forces(model, (qm, Some(vm)), ma, q, ext, &mut info.reactions);
         if let Some((qd, power)) = self.forces.damping() {
             r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);
             info.damping_power = power;
@@ -622,11 +629,23 @@ impl Integrator {
 
 /// The force each support of `model` exerts on the body (N), from the
 /// balance M a + Q − Q_ext on the held coordinates of its node's position
-/// (zero on a coordinate the support no longer holds): into `out`, in the
-/// model's support order.
-fn support_forces(model: &Model, ma: &[f64], q: &[f64], ext: &[f64], out: &mut Vec<[f64; 3]>) {
+/// (zero on a coordinate the support no longer holds), an elastic support's
+/// from its springs and dashpot at `at` (coordinates, velocities): into
+/// `out`, in the model's support order.
+fn support_forces(
+    model: &Model,
+    at: (&[f64], Option<&[f64]>),
+    ma: &[f64],
+    q: &[f64],
+    ext: &[f64],
+    out: &mut Vec<[f64; 3]>,
+) {
     out.clear();
-    out.extend(model.supports.iter().map(|sup| {
+    let springs = model.springs();
+    out.extend(model.supports.iter().enumerate().map(|(i, sup)| {
+        if let Some(s) = springs.iter().find(|s| s.support == i) {
+            return s.force_on_body(at.0, at.1);
+        }
         std::array::from_fn(|k| {
             let c = NODE_DOFS * sup.node + k;
             if model.dof_map[c].is_none() {

@@ -1,4 +1,4 @@
-//! Element kernel timings (issue 2 §6): force and Jacobian per element,
+//! Element kernel timings: force and Jacobian per element,
 //! generated vs generic, for (a) a rectangle with 3 axial × 2×2 section
 //! points and (b) a two-layer circle, 3 axial points, ring rule n = 3.
 //! Run: `cargo bench --bench element`

@@ -1,4 +1,4 @@
-//! ancf-core embedded in a program (issue 15): a two-layer conductor built
+//! ancf-core embedded in a program: a two-layer conductor built
 //! in code, falling onto a rod, run with `Simulation` — no scene file, no
 //! output files. Prints time, tip position and the force on the rod every
 //! millisecond, then when the wire first touched the rod.

@@ -1,5 +1,5 @@
 //! Wall time per time step of the flexible pendulum against the element
-//! count, full and modified Newton (issue 3; numbers in BENCHMARKS.md).
+//! count, full and modified Newton (numbers in BENCHMARKS.md).
 //! Each case runs after a 5-step warm-up, with the time step of the
 //! 4-element scene (1e-3 s) and ρ∞ = 1, on the global rayon pool (all cores;
 //! `ancf bench` measures single-threaded).

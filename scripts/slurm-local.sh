@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Slurm on this one machine, to try `ancf sweep --executor slurm` without a
-# cluster (issue 17).
+# cluster.
 #
 #   sudo bash scripts/slurm-local.sh start    # install, configure, start
 #   bash scripts/slurm-local.sh status        # sinfo and the queue

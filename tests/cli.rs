@@ -300,7 +300,7 @@ fn impact_run_writes_contact_outputs_vtk_and_plots() {
     }
     // 64 elements × 4 stations + 1 rings of 16 points.
     assert!(vtu.contains("NumberOfPoints=\"4112\""));
-    // Issue 14: per-rod loads, raw and filtered, at every step.
+    // Per-rod loads, raw and filtered, at every step.
     let rod = &contact["rods"][0];
     assert_eq!(rod["law"], "line");
     for key in [
@@ -364,7 +364,7 @@ fn bench_json_has_the_documented_keys() {
     }
 }
 
-/// Issue 6 §5: Ctrl-C keeps everything computed so far and says so.
+/// Ctrl-C keeps everything computed so far and says so.
 #[test]
 fn interrupted_run_keeps_its_output() {
     let dir = tmp("interrupt");
@@ -399,7 +399,7 @@ fn interrupted_run_keeps_its_output() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 6 §5: a run interrupted after a checkpoint and continued with
+/// A run interrupted after a checkpoint and continued with
 /// `ancf run --resume DIR` ends bit for bit like an uninterrupted run.
 #[test]
 fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
@@ -459,7 +459,7 @@ fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 14 §7: static contact with every law. A stiff wire pinned at x = 0
+/// Static contact with every law. A stiff wire pinned at x = 0
 /// rests on a rod at x = a under its weight W: the rod carries W (L/2)/a
 /// (moment about the pin), reported as the rod's peak force of the static run.
 #[test]

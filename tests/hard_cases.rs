@@ -1,4 +1,4 @@
-//! Issue 6 §2: hard cases finish, or stop with a message naming the step,
+//! Hard cases finish, or stop with a message naming the step,
 //! the time and the cause — never a NaN written silently. (The 10 s impact
 //! run and h = 1e-2 s take minutes; their results are in the issue notes.)
 

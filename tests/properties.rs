@@ -1,4 +1,4 @@
-//! Issue 6 §3: properties over random states and random scene files.
+//! Properties over random states and random scene files.
 
 #[path = "../ancf-core/tests/common/mod.rs"]
 mod common;

@@ -1,5 +1,5 @@
 //! Bad input is refused before any work, with a message naming the field:
-//! a table of malformed scenes (issue 6 §4), through the library and the CLI.
+//! a table of malformed scenes, through the library and the CLI.
 
 use ancf_core::scene::Scene;
 use std::process::Command;
@@ -316,11 +316,11 @@ fn cli_refuses_bad_scenes_without_leaving_output() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 8 regression: 10 cm tubes slipped between contact test stations
+/// Regression: 10 cm tubes slipped between contact test stations
 /// 12.5 cm apart and the wire fell through the frame. A rod thinner than the
 /// station spacing is refused, naming the field and the stations needed.
 #[test]
-fn issue8_rod_thinner_than_station_spacing_is_refused() {
+fn rod_thinner_than_station_spacing_is_refused() {
     let rod = "\n[[rod]]\ncenter = [0.5, 0.0, -0.3]\naxis = [0.0, 1.0, 0.0]\nradius = 0.01\ncontact_law = \"surface\"\ncontact_stiffness = 1e10\n";
     let err = Scene::from_toml(&(BASE.to_string() + rod)).expect_err("refused");
     assert_eq!(err.field, "contact.stations");
@@ -329,12 +329,12 @@ fn issue8_rod_thinner_than_station_spacing_is_refused() {
     Scene::from_toml(&fine).expect("enough stations");
 }
 
-/// Issue 14: contact laws. A stiffness without a law (the old N/m³ meaning)
+/// Contact laws. A stiffness without a law (the old N/m³ meaning)
 /// is refused naming `contact_law`; each law's bad values (and an unknown
 /// rod material under any law, and bad contact damping) name their field;
 /// the line law needs no station rule, and hertz derives its stiffness.
 #[test]
-fn issue14_contact_laws_are_validated_naming_the_field() {
+fn contact_laws_are_validated_naming_the_field() {
     let rod = |body: &str| {
         format!(
             "{BASE}\n[[material]]\nname = \"rod-steel\"\nmodel = \"st-venant-kirchhoff\"\ndensity = 7850.0\n\

@@ -1,4 +1,4 @@
-//! Issue 18: one binary, three instruction-set paths. The shipped scenes run
+//! One binary, three instruction-set paths. The shipped scenes run
 //! on every path this CPU supports (`ancf --simd PATH`) and agree with the
 //! baseline path to round-off; the summary names the path that ran; a path
 //! the CPU lacks is refused before any work.

@@ -1,4 +1,4 @@
-//! Issue 3: the two-layer cantilever against beam theory (SPEC §8), the
+//! The two-layer cantilever against beam theory (SPEC §8), the
 //! slower axial convergence of `fixed`, and the large-deflection elastica.
 
 #[path = "../ancf-core/tests/common/mod.rs"]

@@ -1,4 +1,4 @@
-//! Issue 5: `ancf study` on a user's own scene — a reduced study (`--level
+//! `ancf study` on a user's own scene — a reduced study (`--level
 //! quick`) of a small static and a small dynamic scene: the report has its
 //! parts, and the error falls as the resolution rises.
 
@@ -75,7 +75,7 @@ fn assert_report_parts(report: &str, out: &Path) {
 }
 
 #[test]
-fn issue5_static_study_reports_errors_that_fall_with_the_mesh() {
+fn static_study_reports_errors_that_fall_with_the_mesh() {
     let out = tmp("static");
     let report = study(Path::new("scenes/two_layer_cantilever.toml"), &out);
     assert_report_parts(&report, &out);
@@ -103,7 +103,7 @@ fn issue5_static_study_reports_errors_that_fall_with_the_mesh() {
 }
 
 #[test]
-fn issue5_dynamic_study_reports_errors_that_fall_with_resolution() {
+fn dynamic_study_reports_errors_that_fall_with_resolution() {
     let out = tmp("dynamic");
     let scene = out.join("small_pendulum.toml");
     std::fs::write(
@@ -157,11 +157,11 @@ kind = "pin"
     assert!(fine < coarse / 2.0, "coarse {coarse:e}, fine {fine:e}");
 }
 
-/// Issue 14, item 5: `--level refinement` on a graded wire striking two
+/// `--level refinement` on a graded wire striking two
 /// rods refines h, the elements (every segment) and the zone points three
 /// levels each, and reports each rod's first impact with an error band.
 #[test]
-fn issue14_refinement_study_gives_each_rods_loads_with_a_band() {
+fn refinement_study_gives_each_rods_loads_with_a_band() {
     let out = tmp("refinement");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(root.join("scenes/wire_rod_impact.toml"))

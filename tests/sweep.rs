@@ -1,4 +1,4 @@
-//! `ancf sweep` as a user runs it (issue 17): variants checked before any
+//! `ancf sweep` as a user runs it: variants checked before any
 //! work, run on the local executor, one failing without stopping the
 //! others, Ctrl-C keeping what is done, reruns doing only what is missing,
 //! and results.csv holding each variant's own summary numbers.

@@ -1,4 +1,4 @@
-//! `ancf sweep --executor slurm` against a real Slurm (issue 17): the
+//! `ancf sweep --executor slurm` against a real Slurm: the
 //! example sweep at a coarse setting is submitted as a job array, one task
 //! is killed while it runs, `--collect` reports it with its Slurm state,
 //! rerunning the command resubmits only that variant, and results.csv then

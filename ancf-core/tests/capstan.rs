@@ -1,4 +1,4 @@
-//! Issue 14: friction on the line law obeys the capstan equation. A
+//! Friction on the line law obeys the capstan equation. A
 //! bendless wire hangs over a rod with tension T₁ on one end and
 //! T₂ = 1.01 e^{μπ} T₁ on the other, so it slides slowly toward T₂. A
 //! flexible rope sliding over a fixed drum transmits T_out = e^{μθ} T_in

@@ -221,7 +221,7 @@ fn far_elements_are_skipped_by_the_broad_phase() {
     assert!(q.iter().chain(kq.iter()).all(|x| *x == 0.0));
 }
 
-/// Issue 8: the Kelvin–Voigt force's Jacobians against central differences.
+/// The Kelvin–Voigt force's Jacobians against central differences.
 #[test]
 fn kelvin_voigt_jacobians_match_finite_differences() {
     use ancf_core::forces::damping::kelvin_voigt_element;
@@ -245,7 +245,7 @@ fn kelvin_voigt_jacobians_match_finite_differences() {
     assert!(rel(&fv, &kv) < 1e-6, "∂Q/∂v {:e}", rel(&fv, &kv));
 }
 
-/// Issue 18: a time step finds its candidate (element, rod) pairs once, at
+/// A time step finds its candidate (element, rod) pairs once, at
 /// its start, with a margin; its Newton iterates visit only them while their
 /// centerline stays within the margin. Within it the contact must be the
 /// same, bit for bit, as with every pair visited — also for iterates that

@@ -1,4 +1,4 @@
-//! Issue 14: contact damping with a coefficient of restitution. A straight
+//! Contact damping with a coefficient of restitution. A straight
 //! wire dropped flat onto a parallel rod, without gravity, moves as one
 //! body: every point has the same penetration δ and rate δ̇, so the line
 //! law's force is μ_L-independent Hunt–Crossley, F = K δ (1 + χ δ̇), on a

@@ -1,4 +1,4 @@
-//! Issue 4 §4: a model holds only the effects its scene names. Contact
+//! A model holds only the effects its scene names. Contact
 //! code runs only through `Model::contact()`, friction only where a rod has
 //! μ > 0, the centerline term only for layers with ω < 1, and the
 //! Mooney–Rivlin law only in layers that use it.

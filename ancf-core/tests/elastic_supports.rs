@@ -59,28 +59,33 @@ fn a_tip_spring_shares_a_cantilevers_load() {
     );
 }
 
-/// A cantilever on a pin with a rotational spring k_θ at its root (a
-/// semi-rigid clamp): the tip load adds the root's rigid rotation P L / k_θ
-/// to the beam's own bending, δ = P L³ / (3 EI) + P L² / k_θ.
+/// A cantilever whose tip is held against turning by a rotational spring
+/// k_θ (on the tangent, SPEC §9): beam theory's tip flexibility with the
+/// restoring moment M = k_θ θ gives θ = (P L² / 2EI) / (1 + k_θ L / EI) and
+/// δ = P L³ / 3EI − M L² / 2EI.
 #[test]
-fn a_rotational_spring_makes_a_semi_rigid_clamp() {
+fn a_rotational_spring_holds_a_tip_against_turning() {
     let n = 16;
-    let k_theta = 3.0 * ei() / L;
+    let k_theta = ei() / L;
     let p = 0.1;
     let model = WireBuilder::new(L, n)
         .layer(steel(), R)
-        .support(0, SupportKind::Pin)
-        .spring(0, spring([0.0; 3], k_theta, 0.0))
+        .support(0, SupportKind::Clamp)
+        .spring(n, spring([0.0; 3], k_theta, 0.0))
         .load(n, [0.0, 0.0, -p])
         .build()
         .unwrap();
     let res = solve_static(&model, &StaticSettings::default()).unwrap();
     let tip = model.node_position(&res.q, n)[2];
-    let expected = -(p * L.powi(3) / (3.0 * ei()) + p * L * L / k_theta);
+    let theta = (p * L * L / (2.0 * ei())) / (1.0 + k_theta * L / ei());
+    let expected = -(p * L.powi(3) / (3.0 * ei()) - k_theta * theta * L * L / (2.0 * ei()));
     assert!(
         (tip / expected - 1.0).abs() < 5e-3,
         "tip {tip:e} m against {expected:e} m"
     );
+    // Without the spring the tip goes down by P L³ / 3EI: the spring
+    // takes 3/8 of that off.
+    assert!((expected / (p * L.powi(3) / (3.0 * ei())) + 0.625).abs() < 1e-12);
 }
 
 /// A span hanging from two elastic supports with dashpots, dropped from its

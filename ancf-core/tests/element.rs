@@ -1,4 +1,4 @@
-//! Issue 2 §2, §5: the element's force is the gradient of its energy, its
+//! The element's force is the gradient of its energy, its
 //! Jacobian the gradient of the force, both vanish under rigid motion, the
 //! generated kernel equals the generic one, and the mass and gravity are exact.
 
@@ -216,7 +216,7 @@ fn mass_matrix_translation_rotation_and_gravity() {
     assert!(quad(&w) > 0.0);
 }
 
-/// Issue 7: linear (SVK) laws are pre-integrated over the section — no
+/// Linear (SVK) laws are pre-integrated over the section — no
 /// section points, whatever the section order and number of layers — and
 /// equal the per-layer point quadrature to 1e-12.
 #[test]

@@ -1,4 +1,4 @@
-//! Graded meshes (issue 14, item 5): one wire with elements of several
+//! Graded meshes: one wire with elements of several
 //! lengths — fine where it meets a rod, coarse elsewhere. The mass and the
 //! weight are the wire's exactly; a "graded" mesh whose segments share one
 //! element length is the uniform mesh bit for bit (the group boundaries

@@ -1,4 +1,4 @@
-//! Issue 4: the wire–rod impact conserves energy (with friction: total +
+//! The wire–rod impact conserves energy (with friction: total +
 //! dissipated), a stiff wire first touches the rod when a rigid pendulum
 //! would, and penetration falls as the contact stiffness rises.
 
@@ -177,13 +177,13 @@ fn penetration_falls_as_contact_stiffness_rises() {
     }
 }
 
-/// Issue 6 regression: with a time step 50× too coarse for the contact
+/// Regression: with a time step 50× too coarse for the contact
 /// (h = 5e-3 s), converged steps used to pump energy into the wire (196 J on
 /// an 8 J swing at h = 1e-2 s) until Newton failed. Steps that create energy
 /// or drive the wire through the rod are now rejected and halved: the run
 /// completes, finite, and never gains energy.
 #[test]
-fn issue6_coarse_steps_through_contact_do_not_gain_energy() {
+fn coarse_steps_through_contact_do_not_gain_energy() {
     let s = scene(|t| t.replace("time_step = 1e-4", "time_step = 5e-3"));
     let r = run(&s, 0.4);
     assert!(r.first_contact.is_some());
@@ -199,7 +199,7 @@ fn issue6_coarse_steps_through_contact_do_not_gain_energy() {
     }
 }
 
-/// Issue 14: with ρ∞ = 1 the frictionless impact's energy error is the
+/// With ρ∞ = 1 the frictionless impact's energy error is the
 /// integrator's, second order in h: the line law's potential is smooth in
 /// the coordinates (V ∝ δ^{5/2} at a crossing), so nothing in the contact
 /// spoils the order. 16 elements keep the test short; the window runs

@@ -1,4 +1,4 @@
-//! Issue 14: the line law against closed forms. A straight wire crossing a
+//! The line law against closed forms. A straight wire crossing a
 //! rod at 90° carries the exact resultant of SPEC §7.2.4; the crossing
 //! sliding along the wire (through an element end) keeps that force to
 //! round-off, where the surface test points jump; a wrap at constant gap

@@ -1,4 +1,4 @@
-//! Issue 6 §1: the locking remedies (the default) against beam theory, the
+//! The locking remedies (the default) against beam theory, the
 //! paper's plain formulation kept selectable, uniform stretch unchanged.
 
 mod common;

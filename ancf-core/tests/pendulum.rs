@@ -1,4 +1,4 @@
-//! Issue 3: the flexible pendulum conserves energy with ρ∞ = 1 and its tip
+//! The flexible pendulum conserves energy with ρ∞ = 1 and its tip
 //! trajectory converges at second order in the time step.
 
 mod common;
@@ -110,13 +110,13 @@ fn tip_trajectory_converges_at_second_order() {
     );
 }
 
-/// Issue 3 regression: with fine meshes the residual's round-off floor
+/// Regression: with fine meshes the residual's round-off floor
 /// (ε · EA / l_e) exceeds a tolerance relative to the force norms; Newton
 /// then stagnated, cut the step ten times and failed at 32 elements. The
 /// stiffness-scaled round-off test makes every step converge in a few
 /// iterations without cutting.
 #[test]
-fn issue3_fine_meshes_converge_without_step_cuts() {
+fn fine_meshes_converge_without_step_cuts() {
     for n in [32, 256] {
         let model = pendulum(n);
         for newton in [NewtonKind::Full, NewtonKind::Modified] {
@@ -135,7 +135,7 @@ fn issue3_fine_meshes_converge_without_step_cuts() {
     }
 }
 
-/// Issue 7: parallel assembly gives the same bits with 1 and 2 threads,
+/// Parallel assembly gives the same bits with 1 and 2 threads,
 /// for a pre-integrated SVK section (260 elements) and a plain Mooney–Rivlin
 /// cover (section points, 130 elements): not multiples of the chunk size.
 #[test]
@@ -182,7 +182,7 @@ fn parallel_assembly_is_deterministic_with(n: usize, cover: ancf_core::material:
     );
 }
 
-/// Issue 7: the Newton predictor a₁ = a₋₁ follows the stiff modes whose
+/// The Newton predictor a₁ = a₋₁ follows the stiff modes whose
 /// acceleration flips sign every step with ρ∞ = 1 (at 1024 elements the
 /// node next to the pin flips by ±8 m/s²). With the old predictor a₁ = a₀
 /// modified Newton needed 4–5 iterations per step here (6–7 and a
@@ -190,7 +190,7 @@ fn parallel_assembly_is_deterministic_with(n: usize, cover: ancf_core::material:
 /// factorization converges in at most 3 and is never refreshed (ρ∞ = 1:
 /// the predictor is a₋₁).
 #[test]
-fn issue7_predictor_follows_the_flipping_stiff_modes() {
+fn predictor_follows_the_flipping_stiff_modes() {
     let model = pendulum(1024);
     let (mut integ, mut s) = start(&model, 1e-3, NewtonKind::Modified);
     let mut per_step = Vec::new();
@@ -218,12 +218,12 @@ fn issue7_predictor_follows_the_flipping_stiff_modes() {
     );
 }
 
-/// Issue 7: the predictor a₁ = (1 − ρ∞) a₀ + ρ∞ a₋₁ is exact for a
+/// The predictor a₁ = (1 − ρ∞) a₀ + ρ∞ a₋₁ is exact for a
 /// constant acceleration plus a stiff component that generalized-α carries
 /// as x → −ρ∞ x → ρ∞² x; prescribed coordinates keep a₀, and a previous
 /// step of another size is ignored.
 #[test]
-fn issue7_predictor_is_exact_for_constant_and_stiff_parts() {
+fn predictor_is_exact_for_constant_and_stiff_parts() {
     use ancf_core::solve::dynamics::{PreviousStep, predict};
     let model = pendulum(4);
     let n = model.reference.len();

@@ -1,4 +1,4 @@
-//! Issue 2 §1: the ring/disk rule and Gauss–Legendre are exact where theory
+//! The ring/disk rule and Gauss–Legendre are exact where theory
 //! says, and only there.
 
 use ancf_core::math::quadrature::{gauss_legendre_unit, ring_monomial_integral, ring_rule};

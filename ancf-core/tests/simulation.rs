@@ -1,4 +1,4 @@
-//! The core's front door (issue 15): a simulation run through `Simulation`
+//! The core's front door: a simulation run through `Simulation`
 //! alone — no files — switches phase at a support release, keeps the rod
 //! loads, and a simulation resumed from a snapshot ends bit for bit like
 //! the uninterrupted one.

@@ -1,4 +1,4 @@
-//! Issue 8: a hanging span against the elastic catenary, the release of a
+//! A hanging span against the elastic catenary, the release of a
 //! support, and the static initial state of a dynamic run — through the
 //! core's `solve_static` and `Simulation`.
 

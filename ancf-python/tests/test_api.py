@@ -322,7 +322,8 @@ def test_ctrl_c_stops_ancf_run_and_keeps_the_output(tmp_path):
     import signal
     import threading
 
-    text = IMPACT.read_text().replace("elements = 64", "elements = 16")
+    # Long enough (several seconds) to be running when the signal comes.
+    text = IMPACT.read_text().replace("end_time = 1.0", "end_time = 5.0")
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     try:

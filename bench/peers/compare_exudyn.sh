@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Side-by-side pendulum timing, ancf against Exudyn's ANCF cable (issue 7).
+# Side-by-side pendulum timing, ancf against Exudyn's ANCF cable.
 # Installs Exudyn from PyPI into a throw-away virtual environment, runs the
 # same pendulum (scenes/pendulum.toml geometry and material, rho_inf = 1,
 # modified Newton, h = 1e-3 s) in both, and prints the cost per unknown per

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Python side by side (issue 16): the pendulum through ancf's Python API and
+# Python side by side: the pendulum through ancf's Python API and
 # through Exudyn's, in one process. Builds ancf-python and installs Exudyn
 # from PyPI into a throw-away virtual environment. Run from the repository
 # root:  bash bench/peers/compare_python.sh

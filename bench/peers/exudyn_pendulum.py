@@ -1,4 +1,4 @@
-"""Exudyn side of the pendulum comparison (issue 7): the flexible pendulum of
+"""Exudyn side of the pendulum comparison: the flexible pendulum of
 scenes/pendulum.toml — L = 1 m, circular section R = 0.02 m, E = 2 GPa,
 rho = 7200 kg/m^3, pinned at one end, released horizontally, gravity -z —
 with Exudyn's 3D ANCF cable (12 DOF per element), generalized-alpha with

@@ -1,4 +1,4 @@
-"""Python side by side (issue 16): the pendulum of scenes/pendulum.toml
+"""Python side by side: the pendulum of scenes/pendulum.toml
 through ancf's Python API and through Exudyn's (its ANCF cable, as in
 exudyn_pendulum.py), in one process. For ancf: time per step when Python
 calls `sim.step()` each step, and when `sim.run()` steps inside Rust — their

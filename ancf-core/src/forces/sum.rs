@@ -351,8 +351,9 @@ impl ForceSum {
 }
 
 /// The elastic supports' forces added to `internal` (all coordinates) and
-/// their constant diagonal stiffness to `kq` (pattern slots, unknowns
-/// only); returns their energy (J), which counts as strain energy.
+/// their stiffness — K on the position, the rotational spring's 3 × 3 block
+/// on r_x — to `kq` (pattern slots, unknowns only); returns their energy
+/// (J), which counts as strain energy.
 fn add_springs(
     model: &Model,
     pattern: &Pattern,
@@ -363,10 +364,26 @@ fn add_springs(
     let springs = model.springs();
     springs.iter().for_each(|s| s.add_force(q, internal));
     if let Some(kq) = kq {
+        // Every unknown of one node is coupled with the others by its
+        // elements: the slots exist.
+        let mut add = |a: usize, b: usize, v: f64| {
+            if let (Some(r), Some(c)) = (model.dof_map[a], model.dof_map[b]) {
+                kq[pattern
+                    .slot(r, c)
+                    .expect("a node's block is in the pattern")] += v;
+            }
+        };
         for s in springs {
-            for (c, k) in s.diagonal.iter().enumerate() {
-                if let Some(u) = model.dof_map[s.first_coordinate() + c] {
-                    kq[pattern.diagonal_slot(u)] += k;
+            let base = s.first_coordinate();
+            for (k, stiffness) in s.spring.stiffness.iter().enumerate() {
+                add(base + k, base + k, *stiffness);
+            }
+            if s.spring.rotational_stiffness != 0.0 {
+                let h = s.rotational_jacobian(q);
+                for (i, row) in h.iter().enumerate() {
+                    for (j, v) in row.iter().enumerate() {
+                        add(base + 3 + i, base + 3 + j, *v);
+                    }
                 }
             }
         }
@@ -392,7 +409,7 @@ fn add_dashpots(
                 qd[u] += c * v[coord];
                 power += c * v[coord] * v[coord];
                 if let Some(kv) = kv.as_deref_mut() {
-                    kv[pattern.diagonal_slot(u)] += c;
+                    kv[pattern.slot(u, u).expect("a diagonal is in the pattern")] += c;
                 }
             }
         }

@@ -106,12 +106,12 @@ impl Pattern {
         }
     }
 
-    /// The value slot of the diagonal entry of unknown `u` (every unknown
-    /// belongs to an element, so its diagonal is in the pattern).
-    pub fn diagonal_slot(&self, u: usize) -> usize {
+    /// The value slot of entry (`row`, `col`) of the unknowns, `None` when
+    /// it is not in the pattern (two unknowns no element couples).
+    pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
         let col_ptr = self.symbolic.col_ptr();
-        let rows = &self.symbolic.row_idx()[col_ptr[u]..col_ptr[u + 1]];
-        col_ptr[u] + rows.binary_search(&u).expect("diagonal in pattern")
+        let rows = &self.symbolic.row_idx()[col_ptr[col]..col_ptr[col + 1]];
+        rows.binary_search(&row).ok().map(|p| col_ptr[col] + p)
     }
 
     /// Structural non-zeros.

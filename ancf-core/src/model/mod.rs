@@ -585,7 +585,7 @@ impl Model {
             .filter_map(|(i, s)| match s.kind {
                 SupportKind::Spring(k) => {
                     let base = NODE_DOFS * s.node;
-                    let rest = std::array::from_fn(|c| start[base + c]);
+                    let rest = &start[base..base + NODE_DOFS];
                     Some(spring::SpringAt::new(i, s.node, k, rest))
                 }
                 _ => None,

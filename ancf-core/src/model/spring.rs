@@ -1,23 +1,20 @@
-//! Elastic supports: a node held by translational and rotational springs,
-//! with dashpots, whose far ends are fixed — a post's or a clamp's
-//! compliance, which a pin or a clamp idealises away.
+//! Elastic supports: a node held by translational springs, a rotational
+//! spring and a dashpot whose far ends are fixed — a post's or a clamp's
+//! compliance, which a pin or a clamp idealises away (SPEC §9).
 //!
-//! The translational spring acts on the node's position r, the rotational
-//! one on its gradients r_x, r_y, r_z, each from its rest value (the node's
-//! starting coordinates): the energy is
+//! The force on the node is f = −K (r − r⁰) − C ṙ, K = diag(k_x, k_y, k_z),
+//! r⁰ where the node starts. The rotational spring acts on the unit tangent
+//! t = r_x / |r_x|: V = ½ k_θ |t − t⁰|², which is ½ k_θ θ² for a small
+//! rotation θ of the tangent — a bending spring about both axes normal to
+//! the member, free in torsion (a clamp that also holds torsion is a
+//! `clamp` support) and blind to the section's stretch. Its gradient and
+//! Hessian with respect to r_x, with n = |r_x|, c = t · t⁰ and
+//! w = t⁰ − c t:
 //!
-//! ½ Σ_k k_k (r_k − r⁰_k)² + ¼ k_θ Σ_i |r_i − r⁰_i|² / |r⁰_i|²,
-//!
-//! a constant, diagonal stiffness. A small rotation δθ of an orthonormal
-//! triad moves each r_i by δθ × r_i, and Σ_i |δθ × r̂_i|² = 2 |δθ|², so the
-//! second term is ½ k_θ |δθ|²: a rotational spring of k_θ (N m/rad) about
-//! every axis, the same convention as a point load's moment
-//! ([`super::PointLoad::moment_forces`]). It also resists a change of the
-//! gradients' length (the section's stretch at the node) with k_θ / (2 |r⁰_i|²);
-//! for clamp stiffnesses far below the wire's EA times its element length
-//! that is negligible. The dashpot (N s/m) acts on the position's velocity.
+//! ∂V/∂r_x = −(k_θ / n) w,  ∂²V/∂r_x² = (k_θ / n²) (c (I − t tᵀ) + t wᵀ + w tᵀ).
 
 use crate::check::{ParameterError, non_negative};
+use crate::math::vec3::{dot, norm};
 use crate::model::NODE_DOFS;
 
 /// The springs and dashpot of an elastic support.
@@ -48,7 +45,7 @@ impl Spring {
 }
 
 /// An elastic support placed on the model: its node, its springs and the
-/// node's rest coordinates.
+/// node's rest position and tangent.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpringAt {
     /// The support (index into the model's supports).
@@ -57,29 +54,25 @@ pub struct SpringAt {
     pub node: usize,
     /// Its springs and dashpot.
     pub spring: Spring,
-    /// The node's twelve coordinates where the springs are relaxed.
-    pub rest: [f64; NODE_DOFS],
-    /// The stiffness on each of the twelve coordinates (N/m on r, N on the
-    /// gradients: k_θ / (2 |r⁰_i|²)).
-    pub diagonal: [f64; NODE_DOFS],
+    /// Where the springs are relaxed: the node's position (m) …
+    pub rest: [f64; 3],
+    /// … and its unit tangent.
+    pub rest_tangent: [f64; 3],
 }
 
 impl SpringAt {
-    /// The support `support` of `spring` at `node`, relaxed at `rest`.
-    pub fn new(support: usize, node: usize, spring: Spring, rest: [f64; NODE_DOFS]) -> Self {
-        let mut diagonal = [0.0; NODE_DOFS];
-        diagonal[..3].copy_from_slice(&spring.stiffness);
-        for i in 0..3 {
-            let g = &rest[3 + 3 * i..6 + 3 * i];
-            let k = 0.5 * spring.rotational_stiffness / g.iter().map(|x| x * x).sum::<f64>();
-            diagonal[3 + 3 * i..6 + 3 * i].fill(k);
-        }
+    /// The support `support` of `spring` at `node`, relaxed at the node's
+    /// coordinates `start` (its twelve).
+    pub fn new(support: usize, node: usize, spring: Spring, start: &[f64]) -> Self {
+        let rest = [start[0], start[1], start[2]];
+        let rx = [start[3], start[4], start[5]];
+        let n = norm(rx);
         SpringAt {
             support,
             node,
             spring,
             rest,
-            diagonal,
+            rest_tangent: rx.map(|x| x / n),
         }
     }
 
@@ -88,34 +81,130 @@ impl SpringAt {
         NODE_DOFS * self.node
     }
 
-    /// The springs' energy at coordinates `q` (all of the model's), J.
-    pub fn energy(&self, q: &[f64]) -> f64 {
-        let base = self.first_coordinate();
-        (0..NODE_DOFS)
-            .map(|c| {
-                let d = q[base + c] - self.rest[c];
-                0.5 * self.diagonal[c] * d * d
-            })
-            .sum()
+    fn position(&self, q: &[f64]) -> [f64; 3] {
+        let b = self.first_coordinate();
+        [q[b], q[b + 1], q[b + 2]]
     }
 
-    /// Adds the springs' generalized force ∂E/∂q (the internal-force sign
+    fn gradient(&self, q: &[f64]) -> [f64; 3] {
+        let b = self.first_coordinate() + 3;
+        [q[b], q[b + 1], q[b + 2]]
+    }
+
+    /// The springs' energy at coordinates `q` (all of the model's), J.
+    pub fn energy(&self, q: &[f64]) -> f64 {
+        let r = self.position(q);
+        let k = &self.spring.stiffness;
+        let translation: f64 = (0..3)
+            .map(|i| 0.5 * k[i] * (r[i] - self.rest[i]).powi(2))
+            .sum();
+        if self.spring.rotational_stiffness == 0.0 {
+            return translation;
+        }
+        let rx = self.gradient(q);
+        let n = norm(rx);
+        let d: f64 = (0..3)
+            .map(|i| (rx[i] / n - self.rest_tangent[i]).powi(2))
+            .sum();
+        translation + 0.5 * self.spring.rotational_stiffness * d
+    }
+
+    /// The rotational spring's t, n, c = t · t⁰ and w = t⁰ − c t at `q`.
+    fn tangent_terms(&self, q: &[f64]) -> ([f64; 3], f64, f64, [f64; 3]) {
+        let rx = self.gradient(q);
+        let n = norm(rx);
+        let t = rx.map(|x| x / n);
+        let c = dot(t, self.rest_tangent);
+        let w = std::array::from_fn(|i| self.rest_tangent[i] - c * t[i]);
+        (t, n, c, w)
+    }
+
+    /// Adds the springs' generalized force ∂V/∂q (the internal-force sign
     /// convention: the body feels its negative) to `out`.
     pub fn add_force(&self, q: &[f64], out: &mut [f64]) {
         let base = self.first_coordinate();
-        for c in 0..NODE_DOFS {
-            out[base + c] += self.diagonal[c] * (q[base + c] - self.rest[c]);
+        let r = self.position(q);
+        for i in 0..3 {
+            out[base + i] += self.spring.stiffness[i] * (r[i] - self.rest[i]);
+        }
+        let k = self.spring.rotational_stiffness;
+        if k != 0.0 {
+            let (_, n, _, w) = self.tangent_terms(q);
+            for i in 0..3 {
+                out[base + 3 + i] -= k / n * w[i];
+            }
         }
     }
 
-    /// The force the support exerts on the node (N): −k (r − r⁰), less the
-    /// dashpot's c ṙ when velocities `v` are given.
+    /// ∂²V/∂r_x² (row-major 3 × 3) at `q`: the rotational spring's
+    /// stiffness on the node's r_x (the translational one is K, constant).
+    pub fn rotational_jacobian(&self, q: &[f64]) -> [[f64; 3]; 3] {
+        let k = self.spring.rotational_stiffness;
+        if k == 0.0 {
+            return [[0.0; 3]; 3];
+        }
+        let (t, n, c, w) = self.tangent_terms(q);
+        let s = k / (n * n);
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let p = if i == j { 1.0 } else { 0.0 } - t[i] * t[j];
+                s * (c * p + t[i] * w[j] + w[i] * t[j])
+            })
+        })
+    }
+
+    /// The force the support exerts on the node (N): −K (r − r⁰), less the
+    /// dashpot's C ṙ when velocities `v` are given.
     pub fn force_on_body(&self, q: &[f64], v: Option<&[f64]>) -> [f64; 3] {
         let base = self.first_coordinate();
+        let r = self.position(q);
         std::array::from_fn(|k| {
-            let c = base + k;
-            let damping = v.map_or(0.0, |v| self.spring.damping * v[c]);
-            -self.diagonal[k] * (q[c] - self.rest[k]) - damping
+            let damping = v.map_or(0.0, |v| self.spring.damping * v[base + k]);
+            -self.spring.stiffness[k] * (r[k] - self.rest[k]) - damping
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rotational spring's force and Jacobian are the derivatives of
+    /// its energy, at a tangent turned 0.4 rad and stretched.
+    #[test]
+    fn rotational_spring_derivatives_match_differences() {
+        let spring = Spring {
+            stiffness: [0.0; 3],
+            rotational_stiffness: 7.0,
+            damping: 0.0,
+        };
+        let mut start = [0.0; NODE_DOFS];
+        start[3..6].copy_from_slice(&[0.6, 0.0, 0.8]);
+        let s = SpringAt::new(0, 0, spring, &start);
+        let mut q = start;
+        q[3..6].copy_from_slice(&[0.9, 0.3, 0.4]);
+        let h = 1e-6;
+        let mut force = [0.0; NODE_DOFS];
+        s.add_force(&q, &mut force);
+        let jac = s.rotational_jacobian(&q);
+        for j in 0..3 {
+            let (mut up, mut down) = (q, q);
+            up[3 + j] += h;
+            down[3 + j] -= h;
+            let de = (s.energy(&up) - s.energy(&down)) / (2.0 * h);
+            assert!((de - force[3 + j]).abs() < 1e-8, "∂V/∂r_x[{j}]");
+            let (mut fu, mut fd) = ([0.0; NODE_DOFS], [0.0; NODE_DOFS]);
+            s.add_force(&up, &mut fu);
+            s.add_force(&down, &mut fd);
+            for i in 0..3 {
+                let d = (fu[3 + i] - fd[3 + i]) / (2.0 * h);
+                assert!((d - jac[i][j]).abs() < 1e-7, "∂²V/∂r_x[{i}]∂r_x[{j}]");
+            }
+        }
+        // Small rotations: ½ k_θ θ².
+        let theta: f64 = 1e-3;
+        let (c, sn) = (theta.cos(), theta.sin());
+        q[3..6].copy_from_slice(&[0.6 * c - 0.8 * sn, 0.0, 0.6 * sn + 0.8 * c]);
+        assert!((s.energy(&q) / (0.5 * 7.0 * theta * theta) - 1.0).abs() < 1e-6);
     }
 }

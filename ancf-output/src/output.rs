@@ -94,6 +94,18 @@ pub struct SupportSummary {
     pub filtered_ratio_to_static: Option<f64>,
 }
 
+/// How close the wire came to a clearance zone (`[[clearance]]`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct ClearanceSummary {
+    /// "box" or "half-space".
+    pub kind: String,
+    /// The smallest distance of the wire's surface (m; negative: how deep
+    /// it entered), its time (s) and the centerline point (m); whether the
+    /// wire entered the zone.
+    #[serde(flatten)]
+    pub record: ancf_core::loads::clearance_record::ClearanceRecord,
+}
+
 /// How a run ended (summary.json's `status`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -165,6 +177,9 @@ pub struct Summary {
     /// without supports).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub supports: Vec<SupportSummary>,
+    /// Per clearance zone, in the scene's order (absent without any).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub clearance: Vec<ClearanceSummary>,
     /// What the scene will likely do badly, known before the run
     /// ([`ancf_core::scene::Scene::warnings`]); absent when there is
     /// nothing to say.

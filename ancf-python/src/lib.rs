@@ -3,6 +3,7 @@
 //! `Simulation`; results come back as NumPy arrays. Every error is a Python
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
 
+use ancf_core::loads::clearance_record::ClearanceRecord;
 use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
 use ancf_core::solve::simulation::{
     Initial, Simulation as CoreSimulation, SimulationError as CoreSimError,
@@ -450,6 +451,8 @@ impl Wire {
 pub struct Simulation {
     scene: CoreScene,
     sim: CoreSimulation,
+    /// How close the wire came to each of the scene's clearance zones.
+    clearance: Vec<ClearanceRecord>,
 }
 
 /// A core error as `SimulationError`, with the core's likely cause.
@@ -458,6 +461,26 @@ fn simulation_error(e: &CoreSimError) -> PyErr {
 }
 
 impl Simulation {
+    /// A simulation of `scene` at its initial state, its clearance zones
+    /// observed there.
+    fn started(scene: CoreScene, sim: CoreSimulation) -> Self {
+        let mut s = Simulation {
+            clearance: vec![ClearanceRecord::default(); scene.clearance.len()],
+            scene,
+            sim,
+        };
+        s.observe_clearance();
+        s
+    }
+
+    /// Observe the clearance zones at the current state.
+    fn observe_clearance(&mut self) {
+        let state = self.sim.state();
+        for (zone, record) in self.scene.clearance.iter().zip(&mut self.clearance) {
+            record.observe(zone, &self.scene.model, &state.q, state.time);
+        }
+    }
+
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
         let m = self.sim.model();
         (0..m.n_nodes()).map(|n| m.node_position(v, n)).collect()
@@ -478,10 +501,9 @@ impl Simulation {
 
     /// One step; the error names the step and the time.
     fn advance(&mut self) -> Result<(), PyErr> {
-        self.sim
-            .step()
-            .map(|_| ())
-            .map_err(|e| simulation_error(&e))
+        self.sim.step().map_err(|e| simulation_error(&e))?;
+        self.observe_clearance();
+        Ok(())
     }
 }
 
@@ -567,10 +589,7 @@ impl Simulation {
         let sim = py
             .detach(move || CoreSimulation::new(&model, settings, initial))
             .map_err(|e| simulation_error(&e))?;
-        Ok(Simulation {
-            scene: scene.inner.clone(),
-            sim,
-        })
+        Ok(Simulation::started(scene.inner.clone(), sim))
     }
 
     /// Starts a wire built in code at rest, stepping `time_step` (s) up to
@@ -614,12 +633,13 @@ impl Simulation {
                 plots: false,
                 cfc: ancf_core::loads::rod_load::DEFAULT_CFC,
             },
+            clearance: Vec::new(),
         };
         let model = scene.model.clone();
         let sim = py
             .detach(move || CoreSimulation::new(&model, settings, Initial::Reference))
             .map_err(|e| simulation_error(&e))?;
-        Ok(Simulation { scene, sim })
+        Ok(Simulation::started(scene, sim))
     }
 
     /// Advances one time step (the last one ends at the end time).
@@ -667,13 +687,18 @@ impl Simulation {
                     break;
                 }
                 // Up to `every` steps without the GIL, then a record.
-                let sim = &mut this.sim;
+                let this = &mut *this;
+                let (sim, scene, clearance) = (&mut this.sim, &this.scene, &mut this.clearance);
                 let outcome = py.detach(|| {
                     for _ in 0..every {
                         if done(sim) {
                             break;
                         }
                         sim.step()?;
+                        let state = sim.state();
+                        for (zone, record) in scene.clearance.iter().zip(clearance.iter_mut()) {
+                            record.observe(zone, &scene.model, &state.q, state.time);
+                        }
                     }
                     Ok(())
                 });
@@ -800,7 +825,8 @@ impl Simulation {
     /// first_contact_time, first_impact_filtered_peak, first_impact_impulse]};
     /// with supports, supports [beam, node, static_force, peak_force,
     /// peak_time, filtered_peak_force, ratio_to_static,
-    /// filtered_ratio_to_static].
+    /// filtered_ratio_to_static]; with clearance zones, clearance [kind,
+    /// min_distance, time, position, entered].
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = self.sim.progress();
         let model = &self.scene.model;
@@ -859,6 +885,19 @@ impl Simulation {
                 supports.append(support_dict(py, &s)?)?;
             }
             d.set_item("supports", supports)?;
+        }
+        if !self.clearance.is_empty() {
+            let zones = PyList::empty(py);
+            for (zone, r) in self.scene.clearance.iter().zip(&self.clearance) {
+                let z = PyDict::new(py);
+                z.set_item("kind", zone.kind())?;
+                z.set_item("min_distance", r.min_distance)?;
+                z.set_item("time", r.time)?;
+                z.set_item("position", r.position.to_vec())?;
+                z.set_item("entered", r.entered)?;
+                zones.append(z)?;
+            }
+            d.set_item("clearance", zones)?;
         }
         // As summary.json: present only when there is something to say.
         let warnings = self.scene.warnings();

@@ -414,3 +414,15 @@ def test_a_wire_on_springs_equals_its_scene():
         ancf.Simulation.from_wire(
             ancf.Wire(2.0, 8).layer(steel, 0.01).spring(8, [1.0, -1.0, 1.0]), time_step=1e-3, end_time=0.01)
     assert e.value.field == "supports[0].stiffness[1]"
+
+
+def test_clearance_in_python_equals_the_cli(tmp_path):
+    # The pendulum's tip swings below z = -0.5 m: the zone is entered.
+    text = PENDULUM.read_text().replace("end_time = 1.0", "end_time = 0.6") + (
+        '\n[[clearance]]\nkind = "half-space"\npoint = [0.0, 0.0, -0.5]\nnormal = [0.0, 0.0, 1.0]\n')
+    sim = ancf.Simulation(ancf.Scene.from_toml(text))
+    sim.run(every=50)
+    (ours,) = sim.summary()["clearance"]
+    (cli,) = ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")["clearance"]
+    assert ours == cli
+    assert ours["entered"] and ours["min_distance"] < -0.3

@@ -1,7 +1,9 @@
 //! Loads as impact engineers report them: the CFC filter, a rod's force
 //! history (peaks, impulse, duration) and the run's contact record (first
-//! touch, largest force and penetration).
+//! touch, largest force and penetration); how close the wire came to each
+//! clearance zone.
 
 pub mod cfc;
+pub mod clearance_record;
 pub mod contact_record;
 pub mod rod_load;

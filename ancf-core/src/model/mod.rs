@@ -3,6 +3,7 @@
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
 mod builder;
+pub mod clearance;
 pub mod contact;
 pub mod damping;
 mod mass_product;

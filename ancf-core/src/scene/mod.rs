@@ -10,6 +10,7 @@ pub use schema::*;
 
 use crate::check::ParameterError;
 use crate::material::{Material, MaterialModel};
+use crate::model::clearance::ClearanceZone;
 use crate::model::contact::{ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod};
 use crate::model::damping::Damping;
 use crate::model::spring::Spring;
@@ -95,6 +96,9 @@ pub struct Scene {
     pub analysis: Analysis,
     /// What to write.
     pub output: OutputSettings,
+    /// Regions the wire must stay out of (`[[clearance]]`): a run reports
+    /// how close it came to each.
+    pub clearance: Vec<ClearanceZone>,
 }
 
 /// A scene that cannot be run, with the field at fault.
@@ -396,13 +400,60 @@ impl Scene {
         let model = builder
             .build()
             .map_err(|e| model_error(&e, &layer_materials, &f.material))?;
+        let clearance = clearance_zones(&f.clearance)?;
         Ok(Scene {
             source: String::new(),
             model,
             analysis,
             output,
+            clearance,
         })
     }
+}
+
+/// The `[[clearance]]` zones, each with its own shape's keys, checked.
+fn clearance_zones(specs: &[ClearanceSpec]) -> Result<Vec<ClearanceZone>, SceneError> {
+    specs
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let field = |key: &str| format!("clearance[{i}].{key}");
+            let need = |key: &str, v: Option<[f64; 3]>| {
+                v.ok_or_else(|| err(field(key), "missing: this kind of zone needs it"))
+            };
+            let refuse_extra = |keys: &[(&str, bool)], kind: &str| match keys.iter().find(|k| k.1) {
+                Some((key, _)) => Err(err(
+                    field(key),
+                    format!("a kind = \"{kind}\" zone has no {key}"),
+                )),
+                None => Ok(()),
+            };
+            let zone = match c.kind {
+                ClearanceKindSpec::Box => {
+                    refuse_extra(
+                        &[("point", c.point.is_some()), ("normal", c.normal.is_some())],
+                        "box",
+                    )?;
+                    ClearanceZone::Box {
+                        min: need("min", c.min)?,
+                        max: need("max", c.max)?,
+                    }
+                }
+                ClearanceKindSpec::HalfSpace => {
+                    refuse_extra(
+                        &[("min", c.min.is_some()), ("max", c.max.is_some())],
+                        "half-space",
+                    )?;
+                    ClearanceZone::HalfSpace {
+                        point: need("point", c.point)?,
+                        normal: need("normal", c.normal)?,
+                    }
+                }
+            };
+            zone.check().map_err(|e| err(field(&e.field), e.message))?;
+            Ok(zone)
+        })
+        .collect()
 }
 
 /// The mesh of `[wire]`: `elements` equal elements, or the `segments` of a

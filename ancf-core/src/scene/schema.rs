@@ -349,4 +349,33 @@ pub struct SceneFile {
     pub damping: Option<DampingSpec>,
     /// `[output]`.
     pub output: Option<OutputSpec>,
+    #[serde(default)]
+    /// `[[clearance]]`.
+    pub clearance: Vec<ClearanceSpec>,
+}
+
+/// `[[clearance]] kind`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClearanceKindSpec {
+    /// An axis-aligned box: `min`, `max`.
+    Box,
+    /// A half-space: `point`, `normal` (out of the zone).
+    HalfSpace,
+}
+
+/// `[[clearance]]`: a region the wire must stay out of.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClearanceSpec {
+    /// Which shape.
+    pub kind: ClearanceKindSpec,
+    /// Box: the corner of least x, y, z (m).
+    pub min: Option<[f64; 3]>,
+    /// Box: the corner of largest x, y, z (m).
+    pub max: Option<[f64; 3]>,
+    /// Half-space: a point of its plane (m).
+    pub point: Option<[f64; 3]>,
+    /// Half-space: the plane's normal, out of the zone.
+    pub normal: Option<[f64; 3]>,
 }

@@ -14,8 +14,11 @@ mod plots;
 mod progress;
 pub mod supports;
 
-use crate::output::{ContactSummary, EnergySummary, RunStatus, Summary, TipSummary};
+use crate::output::{
+    ClearanceSummary, ContactSummary, EnergySummary, RunStatus, Summary, TipSummary,
+};
 use ancf_core::forces::assembly::ContactForces;
+use ancf_core::loads::clearance_record::ClearanceRecord;
 use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
@@ -179,6 +182,12 @@ fn execute(
                         .as_ref()
                         .and_then(|cf| static_contact(model, cf));
                     summary.supports = supports::static_supports(&res.reactions);
+                    let mut records = vec![ClearanceRecord::default(); scene.clearance.len()];
+                    observe_clearance(scene, &mut records, &res.q, 0.0);
+                    summary.clearance = clearance_summary(scene, &records);
+                    if let Some(note) = clearance_note(&records) {
+                        summary.message.push_str(&format!("; {note}"));
+                    }
                     res.q
                 }
                 Err(e) => {
@@ -249,6 +258,49 @@ pub struct Progress {
     e0: Energies,
     last: Energies,
     vtk_frames: Vec<(f64, String)>,
+    /// How close the wire came to each clearance zone so far.
+    #[serde(default)]
+    clearance: Vec<ClearanceRecord>,
+}
+
+/// Observe every clearance zone of `scene` at coordinates `q`, time `t`.
+fn observe_clearance(scene: &Scene, records: &mut [ClearanceRecord], q: &[f64], t: f64) {
+    for (zone, record) in scene.clearance.iter().zip(records) {
+        record.observe(zone, &scene.model, q, t);
+    }
+}
+
+/// summary.json's `clearance`; the run's message says which zones the wire entered.
+fn clearance_summary(scene: &Scene, records: &[ClearanceRecord]) -> Vec<ClearanceSummary> {
+    scene
+        .clearance
+        .iter()
+        .zip(records)
+        .map(|(zone, record)| ClearanceSummary {
+            kind: zone.kind().into(),
+            record: *record,
+        })
+        .collect()
+}
+
+/// What the message adds for the zones the wire entered (`None`: none).
+fn clearance_note(records: &[ClearanceRecord]) -> Option<String> {
+    let entered: Vec<String> = records
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.entered)
+        .map(|(i, r)| {
+            format!(
+                "clearance[{i}] ({:.3} m deep at t = {:.4} s, at [{:.2}, {:.2}, {:.2}] m)",
+                -r.min_distance.unwrap_or(0.0),
+                r.time,
+                r.position[0],
+                r.position[1],
+                r.position[2]
+            )
+        })
+        .collect();
+    (!entered.is_empty()).then(|| format!("the wire entered {}", entered.join(", ")))
 }
 
 fn new_summary(scene: &Scene) -> Summary {
@@ -328,6 +380,8 @@ fn run_dynamic(
             }
             history.push(model, state, &e0);
             history.push_shape(model, state);
+            let mut clearance = vec![ClearanceRecord::default(); scene.clearance.len()];
+            observe_clearance(scene, &mut clearance, &state.q, state.time);
             let p = Progress {
                 sim: sim.snapshot(),
                 message,
@@ -336,10 +390,14 @@ fn run_dynamic(
                 e0,
                 last: e0,
                 vtk_frames: Vec::new(),
+                clearance,
             };
             (p, sim, files)
         }
     };
+    // A checkpoint from before the zones were recorded: from here on.
+    p.clearance
+        .resize(scene.clearance.len(), ClearanceRecord::default());
     let (done, n_steps) = sim.steps();
     summary.unknowns = model.holding_at(0.0).n_unknowns;
     let (quiet, cancel) = (watch.quiet, watch.cancel);
@@ -385,6 +443,7 @@ fn run_dynamic(
             }
         };
         let state = sim.state();
+        observe_clearance(scene, &mut p.clearance, &state.q, state.time);
         if k % scene.output.every == 0 || k == n_steps {
             let e = sim.energies();
             if !e.total().is_finite() {
@@ -445,6 +504,10 @@ fn run_dynamic(
         summary.message.push_str(&format!("; {note}"));
     }
     summary.time = progress.state.time;
+    summary.clearance = clearance_summary(scene, &p.clearance);
+    if let Some(note) = clearance_note(&p.clearance) {
+        summary.message.push_str(&format!("; {note}"));
+    }
     summary.energy = Some(EnergySummary {
         last: p.last,
         total: p.last.total(),

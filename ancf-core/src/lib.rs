@@ -90,7 +90,9 @@ pub mod prelude {
     pub use crate::math::simd::SimdPath;
     pub use crate::model::contact::{ContactLaw, ContactSettings, RestitutionModel, Rod};
     pub use crate::model::damping::Damping;
-    pub use crate::model::{Model, ModelError, Support, SupportKind, WireBuilder};
+    pub use crate::model::{
+        BeamBuilder, Model, ModelError, PointLoad, Support, SupportKind, WireBuilder,
+    };
     #[cfg(feature = "scene")]
     pub use crate::scene::{Analysis, Scene, SceneError};
     pub use crate::solve::cancel::CancelToken;

@@ -265,6 +265,9 @@ fn builder_field(e: &ancf_core::model::ModelError) -> String {
         ModelError::Rod { index, field, .. } => format!("rods[{index}].{}", rod_argument(field)),
         ModelError::Contact { field, .. } => format!("contact.{field}"),
         ModelError::Damping { field, .. } => format!("damping.{field}"),
+        ModelError::Member { index, error, .. } => {
+            format!("members[{index}].{}", builder_field(error))
+        }
     }
 }
 

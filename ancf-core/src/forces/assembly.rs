@@ -377,6 +377,10 @@ fn add_element_window(
     force: &mut [f64],
     values: Option<&mut (&mut [f64], usize)>,
 ) -> f64 {
+    // The gap between two beams is no element.
+    if model.is_gap(el) {
+        return 0.0;
+    }
     let e = model.element_coordinates(q, el);
     let mut qe = [0.0; 24];
     let local = part.local();
@@ -414,8 +418,10 @@ fn windows_mut<T>(mut data: &mut [T], ranges: impl Iterator<Item = Range<usize>>
 /// The mass matrix values in the pattern's slots.
 pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
     let mut v = pattern.zeros();
-    for el in 0..model.n_elements {
-        pattern.add_element(&mut v, el, model.element_mass(el));
+    for group in &model.groups {
+        for el in group.elements.clone() {
+            pattern.add_element(&mut v, el, &group.mass);
+        }
     }
     v
 }
@@ -500,9 +506,10 @@ pub fn assemble_contact_reusing(
     // calls are residuals: zeroing 9 KB each was memset in perf).
     let mut kq = jac_q.as_ref().map(|_| [0.0; 576]);
     let mut kv = jac_v.as_ref().map(|_| [0.0; 576]);
+    // The wire's elements touch the rods (they come first, from 0 on).
     let visit: Box<dyn Iterator<Item = usize>> = match pairs {
         Some(p) => Box::new(p.iter().copied()),
-        None => Box::new(0..model.n_elements * rods),
+        None => Box::new(0..model.wire().elements.end * rods),
     };
     // The coordinates of the element last visited (pairs come element by element).
     let (mut loaded, mut e, mut ve) = (None, [0.0; 24], [0.0; 24]);
@@ -577,7 +584,7 @@ pub fn contact_candidates(
 ) {
     out.clear();
     let rods = contact.rods.len();
-    for el in 0..model.n_elements {
+    for el in model.wire().elements.clone() {
         let e = model.element_coordinates(q, el);
         for (ri, rod) in contact.rods.iter().enumerate() {
             if contact.may_touch_within(model.group(el), rod, &e, margin) {

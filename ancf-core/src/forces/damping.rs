@@ -106,7 +106,7 @@ pub fn kelvin_voigt_force(
     let mut full = vec![0.0; q.len()];
     let mut power = 0.0;
     let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
-    for el in 0..model.n_elements {
+    for el in (0..model.n_elements).filter(|&el| !model.is_gap(el)) {
         let e = model.element_coordinates(q, el);
         let ve = model.element_coordinates(v, el);
         let mut qe = [0.0; 24];

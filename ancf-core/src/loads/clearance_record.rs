@@ -38,7 +38,8 @@ impl ClearanceRecord {
             }
             self.entered |= d < 0.0;
         };
-        for el in 0..model.n_elements {
+        let wire = model.wire();
+        for el in wire.elements.clone() {
             let e = model.element_coordinates(q, el);
             let l = model.element(el).length;
             for k in 0..SAMPLES_PER_ELEMENT {
@@ -51,6 +52,6 @@ impl ClearanceRecord {
                 ));
             }
         }
-        visit(model.node_position(q, model.n_elements));
+        visit(model.node_position(q, wire.last_node()));
     }
 }

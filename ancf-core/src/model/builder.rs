@@ -22,7 +22,7 @@
 
 use super::contact::{ContactLaw, ContactSettings, Rod};
 use super::damping::Damping;
-use super::{Model, ModelError, PointLoad, Segment, Support, SupportKind};
+use super::{BeamLayout, Model, ModelError, PointLoad, Segment, Support, SupportKind};
 use crate::check::{ParameterError, count_in, finite3, positive};
 use crate::element::ElementIntegration;
 use crate::material::Material;
@@ -37,9 +37,11 @@ enum SectionSpec {
     Rectangle(Material, f64, f64),
 }
 
-/// A wire described in code; [`WireBuilder::build`] checks it and makes the [`Model`].
+/// One beam's geometry and section described in code: the wire's (inside
+/// a [`WireBuilder`]) or a frame member's ([`WireBuilder::member`]).
 #[derive(Clone, Debug)]
-pub struct WireBuilder {
+pub struct BeamBuilder {
+    name: String,
     length: f64,
     elements: usize,
     /// A graded mesh (replaces `length` and `elements`).
@@ -51,19 +53,14 @@ pub struct WireBuilder {
     bore: f64,
     axial_order: usize,
     section_order: usize,
-    supports: Vec<Support>,
-    gravity: Option<[f64; 3]>,
-    loads: Vec<PointLoad>,
-    rods: Vec<Rod>,
-    contact: ContactSettings,
-    damping: Option<Damping>,
 }
 
-impl WireBuilder {
-    /// A straight wire of `length` (m) in `elements` elements, along x from
-    /// the origin, with the scene defaults (axial and section order 3).
-    pub fn new(length: f64, elements: usize) -> Self {
-        WireBuilder {
+impl BeamBuilder {
+    /// A straight beam `name` of `length` (m) in `elements` elements, along
+    /// x from the origin, with the scene defaults (axial and section order 3).
+    pub fn new(name: &str, length: f64, elements: usize) -> Self {
+        BeamBuilder {
+            name: name.into(),
             length,
             elements,
             segments: None,
@@ -73,18 +70,17 @@ impl WireBuilder {
             bore: 0.0,
             axial_order: super::DEFAULT_AXIAL_ORDER,
             section_order: super::DEFAULT_SECTION_ORDER,
-            supports: Vec::new(),
-            gravity: None,
-            loads: Vec::new(),
-            rods: Vec::new(),
-            contact: ContactSettings::default(),
-            damping: None,
         }
     }
 
-    /// A graded mesh: the wire is the `segments` in order, each with its
+    /// Its name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// A graded mesh: the beam is the `segments` in order, each with its
     /// own element length (fine where the wire meets a rod, coarse
-    /// elsewhere). Replaces the length and element count of [`WireBuilder::new`].
+    /// elsewhere). Replaces the length and element count of [`BeamBuilder::new`].
     pub fn graded(mut self, segments: &[Segment]) -> Self {
         self.length = segments.iter().map(|s| s.length).sum();
         self.elements = segments.iter().map(|s| s.elements).sum();
@@ -92,7 +88,7 @@ impl WireBuilder {
         self
     }
 
-    /// Where the wire starts (m) and its direction (normalised).
+    /// Where the beam starts (m) and its direction (normalised).
     pub fn placed(mut self, origin: [f64; 3], direction: [f64; 3]) -> Self {
         self.origin = origin;
         self.direction = direction;
@@ -132,10 +128,208 @@ impl WireBuilder {
         self
     }
 
-    /// A support at `node` (0 … elements) holding it in its reference place.
-    pub fn support(mut self, node: usize, kind: SupportKind) -> Self {
-        self.supports.push(Support::new(node, kind));
+    /// The beam's length, elements, placement, quadrature, section and
+    /// mesh checked (errors in the wire's terms: [`ModelError::Wire`],
+    /// `Layer`, `Segment`), as the model's layout.
+    fn layout(&self) -> Result<BeamLayout, ModelError> {
+        let wire = |what: &str| {
+            let what = what.to_string();
+            move |e: ParameterError| ModelError::Wire {
+                what: what.clone(),
+                message: e.message,
+            }
+        };
+        positive("length", self.length).map_err(wire("length"))?;
+        if self.elements == 0 {
+            return Err(ModelError::wire("elements", "need at least one element"));
+        }
+        let named = |e: ParameterError| ModelError::Wire {
+            what: e.field,
+            message: e.message,
+        };
+        finite3("origin", self.origin).map_err(named)?;
+        crate::check::direction("direction", self.direction).map_err(named)?;
+        count_in("axial", self.axial_order, 1..=16).map_err(wire("quadrature.axial"))?;
+        count_in("section", self.section_order, 1..=16).map_err(wire("quadrature.section"))?;
+        let section = self.section()?;
+        let element = ElementIntegration::new(
+            self.length / self.elements as f64,
+            self.axial_order,
+            section,
+        );
+        let groups = match &self.segments {
+            Some(segments) => super::graded_groups(&element, segments)?,
+            None => vec![(element, self.elements)],
+        };
+        Ok(BeamLayout {
+            name: self.name.clone(),
+            groups,
+            origin: self.origin,
+            direction: self.direction,
+        })
+    }
+
+    /// The section, each layer's radius and material checked.
+    fn section(&self) -> Result<Section, ModelError> {
+        let layer = |index: usize| {
+            move |e: ParameterError| ModelError::Layer {
+                index,
+                field: e.field,
+                message: e.message,
+            }
+        };
+        match &self.section {
+            SectionSpec::Layers(layers) => {
+                if layers.is_empty() {
+                    return Err(ModelError::wire(
+                        "layers",
+                        "a wire needs at least one layer",
+                    ));
+                }
+                let mut inner =
+                    crate::check::non_negative("inner_radius", self.bore).map_err(layer(0))?;
+                let mut section_layers = Vec::new();
+                for (i, (material, outer)) in layers.iter().enumerate() {
+                    let outer = positive("outer_radius", *outer).map_err(layer(i))?;
+                    if outer <= inner {
+                        return Err(ModelError::Layer {
+                            index: i,
+                            field: "outer_radius".into(),
+                            message: format!(
+                                "{outer} m must exceed the layer's inner radius {inner} m ({})",
+                                if i == 0 {
+                                    "its inner_radius"
+                                } else {
+                                    "the previous outer radius"
+                                }
+                            ),
+                        });
+                    }
+                    material.check().map_err(layer(i))?;
+                    section_layers.push((inner, outer, material.clone()));
+                    inner = outer;
+                }
+                Ok(Section::circular(&section_layers, self.section_order))
+            }
+            SectionSpec::Rectangle(material, width, height) => {
+                let width = positive("width", *width).map_err(layer(0))?;
+                let height = positive("height", *height).map_err(layer(0))?;
+                material.check().map_err(layer(0))?;
+                Ok(Section::rectangular(
+                    width,
+                    height,
+                    material.clone(),
+                    self.section_order,
+                ))
+            }
+        }
+    }
+}
+
+/// A wire described in code, with any frame members; [`WireBuilder::build`]
+/// checks it and makes the [`Model`].
+#[derive(Clone, Debug)]
+pub struct WireBuilder {
+    wire: BeamBuilder,
+    members: Vec<BeamBuilder>,
+    supports: Vec<Support>,
+    /// Each support's beam by name (`None`: the wire), its node local to it.
+    support_beams: Vec<Option<String>>,
+    gravity: Option<[f64; 3]>,
+    loads: Vec<PointLoad>,
+    /// Each load's beam by name (`None`: the wire), its node local to it.
+    load_beams: Vec<Option<String>>,
+    rods: Vec<Rod>,
+    contact: ContactSettings,
+    damping: Option<Damping>,
+}
+
+impl WireBuilder {
+    /// A straight wire of `length` (m) in `elements` elements, along x from
+    /// the origin, with the scene defaults (axial and section order 3).
+    pub fn new(length: f64, elements: usize) -> Self {
+        WireBuilder {
+            wire: BeamBuilder::new(super::WIRE, length, elements),
+            members: Vec::new(),
+            supports: Vec::new(),
+            support_beams: Vec::new(),
+            gravity: None,
+            loads: Vec::new(),
+            load_beams: Vec::new(),
+            rods: Vec::new(),
+            contact: ContactSettings::default(),
+            damping: None,
+        }
+    }
+
+    /// A graded mesh: the wire is the `segments` in order, each with its
+    /// own element length (fine where the wire meets a rod, coarse
+    /// elsewhere). Replaces the length and element count of [`WireBuilder::new`].
+    pub fn graded(mut self, segments: &[Segment]) -> Self {
+        self.wire = self.wire.graded(segments);
         self
+    }
+
+    /// Where the wire starts (m) and its direction (normalised).
+    pub fn placed(mut self, origin: [f64; 3], direction: [f64; 3]) -> Self {
+        self.wire = self.wire.placed(origin, direction);
+        self
+    }
+
+    /// The next concentric layer outward, up to `outer_radius` (m)
+    /// (replaces a rectangle).
+    pub fn layer(mut self, material: Material, outer_radius: f64) -> Self {
+        self.wire = self.wire.layer(material, outer_radius);
+        self
+    }
+
+    /// A hollow section: the first layer starts at `inner_radius` (m)
+    /// instead of the centre — a tube, the paper's ring quadrature.
+    pub fn bore(mut self, inner_radius: f64) -> Self {
+        self.wire = self.wire.bore(inner_radius);
+        self
+    }
+
+    /// A rectangular section of `width` along y and `height` along z (m),
+    /// one material (replaces any layers).
+    pub fn rectangle(mut self, material: Material, width: f64, height: f64) -> Self {
+        self.wire = self.wire.rectangle(material, width, height);
+        self
+    }
+
+    /// Gauss points along the element and the ring-rule order of the section.
+    pub fn quadrature(mut self, axial: usize, section: usize) -> Self {
+        self.wire = self.wire.quadrature(axial, section);
+        self
+    }
+
+    /// A frame member: another beam of the same element, after the wire
+    /// and the members before it. Its supports and loads are given with
+    /// [`WireBuilder::support_on`] and [`WireBuilder::load_on`].
+    pub fn member(mut self, member: BeamBuilder) -> Self {
+        self.members.push(member);
+        self
+    }
+
+    /// A support on beam `beam` (a member's name, or "wire"), its `node`
+    /// counted on that beam.
+    pub fn support_on(mut self, beam: &str, support: Support) -> Self {
+        self.supports.push(support);
+        self.support_beams.push(Some(beam.into()));
+        self
+    }
+
+    /// A load on beam `beam` (a member's name, or "wire"), its `node`
+    /// counted on that beam.
+    pub fn load_on(mut self, beam: &str, load: PointLoad) -> Self {
+        self.loads.push(load);
+        self.load_beams.push(Some(beam.into()));
+        self
+    }
+
+    /// A support at `node` (0 … elements) holding it in its reference place.
+    pub fn support(self, node: usize, kind: SupportKind) -> Self {
+        self.support_with(Support::new(node, kind))
     }
 
     /// An elastic support at `node`: `spring`'s springs and dashpot, relaxed
@@ -147,6 +341,7 @@ impl WireBuilder {
     /// A support given in full (position, release time).
     pub fn support_with(mut self, support: Support) -> Self {
         self.supports.push(support);
+        self.support_beams.push(None);
         self
     }
 
@@ -157,29 +352,28 @@ impl WireBuilder {
     }
 
     /// A constant force (N) at a node.
-    pub fn load(mut self, node: usize, force: [f64; 3]) -> Self {
-        self.loads.push(PointLoad {
+    pub fn load(self, node: usize, force: [f64; 3]) -> Self {
+        self.load_with(PointLoad {
             node,
             force,
             ..Default::default()
-        });
-        self
+        })
     }
 
     /// A constant moment (N m) at a node, applied through its gradient
     /// coordinates ([`PointLoad::moment_forces`]).
-    pub fn moment(mut self, node: usize, moment: [f64; 3]) -> Self {
-        self.loads.push(PointLoad {
+    pub fn moment(self, node: usize, moment: [f64; 3]) -> Self {
+        self.load_with(PointLoad {
             node,
             moment,
             ..Default::default()
-        });
-        self
+        })
     }
 
     /// A load given in full (force and moment).
     pub fn load_with(mut self, load: PointLoad) -> Self {
         self.loads.push(load);
+        self.load_beams.push(None);
         self
     }
 
@@ -206,26 +400,27 @@ impl WireBuilder {
     /// layer (its radius and material), the supports, loads and gravity,
     /// each rod, the contact settings and the damping.
     pub fn build(self) -> Result<Model, ModelError> {
-        let wire = |what: &str| {
-            let what = what.to_string();
-            move |e: ParameterError| ModelError::Wire {
-                what: what.clone(),
-                message: e.message,
+        let mut layouts = vec![self.wire.layout()?];
+        for (i, m) in self.members.iter().enumerate() {
+            let member = |error: ModelError| ModelError::Member {
+                index: i,
+                name: m.name.clone(),
+                error: Box::new(error),
+            };
+            if m.name == super::WIRE
+                || m.name.is_empty()
+                || self.members[..i].iter().any(|o| o.name == m.name)
+            {
+                return Err(member(ModelError::wire(
+                    "name",
+                    format!(
+                        "\"{}\" cannot name a member: names are unique, not empty and not \"wire\"",
+                        m.name
+                    ),
+                )));
             }
-        };
-        positive("length", self.length).map_err(wire("length"))?;
-        if self.elements == 0 {
-            return Err(ModelError::wire("elements", "need at least one element"));
+            layouts.push(m.layout().map_err(member)?);
         }
-        let named = |e: ParameterError| ModelError::Wire {
-            what: e.field,
-            message: e.message,
-        };
-        finite3("origin", self.origin).map_err(named)?;
-        crate::check::direction("direction", self.direction).map_err(named)?;
-        count_in("axial", self.axial_order, 1..=16).map_err(wire("quadrature.axial"))?;
-        count_in("section", self.section_order, 1..=16).map_err(wire("quadrature.section"))?;
-        let section = self.section()?;
         for (index, s) in self.supports.iter().enumerate() {
             let at = |e: ParameterError| ModelError::Support {
                 index,
@@ -283,31 +478,56 @@ impl WireBuilder {
                 message: e.message,
             })?;
         }
-        let element = ElementIntegration::new(
-            self.length / self.elements as f64,
-            self.axial_order,
-            section,
-        );
-        let model = match &self.segments {
-            Some(segments) => Model::graded(
-                element,
-                segments,
-                self.origin,
-                self.direction,
-                self.supports,
-                self.gravity,
-                self.loads,
-            ),
-            None => Model::new(
-                element,
-                self.elements,
-                self.origin,
-                self.direction,
-                self.supports,
-                self.gravity,
-                self.loads,
-            ),
-        }?;
+        // Each beam's first node and element count, by name.
+        let mut next = 0;
+        let starts: Vec<(&str, usize, usize)> = layouts
+            .iter()
+            .map(|l| {
+                let elements: usize = l.groups.iter().map(|g| g.1).sum();
+                let start = next;
+                next += elements + 1;
+                (l.name.as_str(), start, elements)
+            })
+            .collect();
+        let place = |beam: &Option<String>, node: usize| -> Result<usize, (&'static str, String)> {
+            let name = beam.as_deref().unwrap_or(super::WIRE);
+            let Some(&(_, start, elements)) = starts.iter().find(|(n, ..)| *n == name) else {
+                let names: Vec<&str> = starts.iter().map(|s| s.0).collect();
+                return Err((
+                    "beam",
+                    format!("no beam is named \"{name}\" (there are {names:?})"),
+                ));
+            };
+            if node > elements {
+                let whose = if name == super::WIRE {
+                    "the wire".to_string()
+                } else {
+                    format!("member \"{name}\"")
+                };
+                return Err((
+                    "node",
+                    format!("node {node} does not exist ({whose} has nodes 0..={elements})"),
+                ));
+            }
+            Ok(start + node)
+        };
+        let mut supports = self.supports.clone();
+        for (index, (s, beam)) in supports.iter_mut().zip(&self.support_beams).enumerate() {
+            s.node = place(beam, s.node).map_err(|(what, message)| ModelError::Support {
+                index,
+                what: what.into(),
+                message,
+            })?;
+        }
+        let mut loads = self.loads.clone();
+        for (index, (l, beam)) in loads.iter_mut().zip(&self.load_beams).enumerate() {
+            l.node = place(beam, l.node).map_err(|(what, message)| ModelError::Load {
+                index,
+                what: what.into(),
+                message,
+            })?;
+        }
+        let model = Model::from_beams(layouts, supports, self.gravity, loads)?;
         surface_stations_resolve_rods(&self.rods, &self.contact, &model).map_err(contact)?;
         if model.n_unknowns == 0 {
             return Err(ModelError::NothingToSolve);
@@ -315,62 +535,6 @@ impl WireBuilder {
         Ok(model
             .with_rods(self.rods, self.contact)
             .with_damping(self.damping))
-    }
-
-    /// The section, each layer's radius and material checked.
-    fn section(&self) -> Result<Section, ModelError> {
-        let layer = |index: usize| {
-            move |e: ParameterError| ModelError::Layer {
-                index,
-                field: e.field,
-                message: e.message,
-            }
-        };
-        match &self.section {
-            SectionSpec::Layers(layers) => {
-                if layers.is_empty() {
-                    return Err(ModelError::wire(
-                        "layers",
-                        "a wire needs at least one layer",
-                    ));
-                }
-                let mut inner =
-                    crate::check::non_negative("inner_radius", self.bore).map_err(layer(0))?;
-                let mut section_layers = Vec::new();
-                for (i, (material, outer)) in layers.iter().enumerate() {
-                    let outer = positive("outer_radius", *outer).map_err(layer(i))?;
-                    if outer <= inner {
-                        return Err(ModelError::Layer {
-                            index: i,
-                            field: "outer_radius".into(),
-                            message: format!(
-                                "{outer} m must exceed the layer's inner radius {inner} m ({})",
-                                if i == 0 {
-                                    "its inner_radius"
-                                } else {
-                                    "the previous outer radius"
-                                }
-                            ),
-                        });
-                    }
-                    material.check().map_err(layer(i))?;
-                    section_layers.push((inner, outer, material.clone()));
-                    inner = outer;
-                }
-                Ok(Section::circular(&section_layers, self.section_order))
-            }
-            SectionSpec::Rectangle(material, width, height) => {
-                let width = positive("width", *width).map_err(layer(0))?;
-                let height = positive("height", *height).map_err(layer(0))?;
-                material.check().map_err(layer(0))?;
-                Ok(Section::rectangular(
-                    width,
-                    height,
-                    material.clone(),
-                    self.section_order,
-                ))
-            }
-        }
     }
 }
 

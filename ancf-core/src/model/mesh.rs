@@ -12,7 +12,7 @@ use crate::model::mass_product::PairedMass;
 /// Consecutive elements of one length.
 #[derive(Clone, Debug)]
 pub struct ElementGroup {
-    /// The elements of the group (indices into the wire's elements).
+    /// The elements of the group (indices into the model's elements).
     pub elements: Range<usize>,
     /// Their integration (its `length` is the group's element length, m).
     pub integration: ElementIntegration,
@@ -27,7 +27,7 @@ pub struct ElementGroup {
     /// is symmetric about its centre (see `mass_product`), built once here
     /// rather than at every product.
     pub(crate) paired_mass: Option<PairedMass>,
-    /// Arc length (m, reference configuration) from the wire's first node
+    /// Arc length (m, reference configuration) from its beam's first node
     /// to the group's first node.
     pub start: f64,
 }

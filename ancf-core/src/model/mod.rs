@@ -1,7 +1,9 @@
-//! The assembled model of one wire: its elements, supports (eliminated
-//! coordinates), loads and the list of effects it contains. Built from a
+//! The assembled model of one wire and any frame members ([`beam`]): their
+//! elements, supports (eliminated coordinates), loads and the list of
+//! effects it contains. Built from a
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
+pub mod beam;
 mod builder;
 pub mod clearance;
 pub mod contact;
@@ -9,7 +11,8 @@ pub mod damping;
 mod mass_product;
 mod mesh;
 pub mod spring;
-pub use builder::{WireBuilder, station_spacing};
+pub use beam::{Beam, BeamLayout};
+pub use builder::{BeamBuilder, WireBuilder, station_spacing};
 pub use mesh::{ElementGroup, Segment};
 
 use crate::element::{ElementIntegration, ElementMatrix, ElementVector, reference_coordinates};
@@ -155,16 +158,24 @@ pub enum Effect {
     Springs(Vec<spring::SpringAt>),
 }
 
+/// Marks an element index between two beams in `Model::group_of`.
+const GAP: u32 = u32::MAX;
+
 /// A straight wire of `n_elements` elements, in groups of equal length
-/// (one group: a uniform mesh).
+/// (one group: a uniform mesh), and any frame members after it
+/// ([`beam`]: one coordinate vector, a gap element between two beams).
 #[derive(Clone, Debug)]
 pub struct Model {
-    /// The elements by length, in wire order, covering 0..n_elements.
+    /// The elements by length, beam after beam, covering every element but
+    /// the gaps between beams.
     pub groups: Vec<ElementGroup>,
-    /// Each element's group.
+    /// Each element's group (`GAP` between beams).
     group_of: Vec<u32>,
-    /// Number of elements (all groups).
+    /// Number of element indices: the beams' elements and the gaps between
+    /// them (nodes: one more).
     pub n_elements: usize,
+    /// The beams: the wire (beam 0) and the members.
+    pub beams: Vec<Beam>,
     /// Reference coordinates, 12 per node.
     pub reference: Vec<f64>,
     /// For each coordinate, its unknown index, or `None` when eliminated.
@@ -236,6 +247,17 @@ pub enum ModelError {
     },
     /// Every coordinate is held: there is nothing to solve.
     NothingToSolve,
+    /// Frame member `index` (0-based, in the order given), named `name`:
+    /// `error` is about its own geometry or section, in the wire's terms
+    /// (`Wire { what: "length" }`, `Layer`, `Segment`).
+    Member {
+        /// The member (0-based).
+        index: usize,
+        /// Its name.
+        name: String,
+        /// What is wrong with it.
+        error: Box<ModelError>,
+    },
     /// Point load `index`: `what` is "node" or "force".
     Load {
         /// The load (0-based).
@@ -298,6 +320,7 @@ impl ModelError {
             | ModelError::Contact { message, .. }
             | ModelError::Damping { message, .. } => message.clone(),
             ModelError::NothingToSolve => "every coordinate is fixed: nothing to solve".into(),
+            ModelError::Member { error, .. } => error.message(),
         }
     }
 }
@@ -316,6 +339,7 @@ impl std::fmt::Display for ModelError {
             ModelError::Rod { index, field, .. } => write!(f, "rod {index}, {field}: {m}"),
             ModelError::Contact { field, .. } => write!(f, "contact {field}: {m}"),
             ModelError::Damping { field, .. } => write!(f, "damping {field}: {m}"),
+            ModelError::Member { name, error, .. } => write!(f, "member \"{name}\": {error}"),
         }
     }
 }
@@ -326,7 +350,7 @@ impl std::error::Error for ModelError {}
 fn eliminate(
     n_nodes: usize,
     supports: &[Support],
-    axis: [f64; 3],
+    beams: &[Beam],
     active: impl Fn(&Support) -> bool,
 ) -> Result<(Vec<Option<usize>>, usize), ModelError> {
     let mut fixed = vec![false; NODE_DOFS * n_nodes];
@@ -352,6 +376,10 @@ fn eliminate(
             SupportKind::Pin => (0..3).for_each(&mut fix),
             SupportKind::Spring(_) => {}
             SupportKind::Clamp => {
+                let axis = beams
+                    .iter()
+                    .find(|b| b.nodes.contains(&s.node))
+                    .map_or([1.0, 0.0, 0.0], |b| b.axis);
                 let Some(along) = (0..3).find(|&k| (axis[k].abs() - 1.0).abs() < 1e-12) else {
                     return Err(ModelError::Support {
                         index: i,
@@ -405,6 +433,42 @@ fn rotate_between(from: [f64; 3], to: [f64; 3], v: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|i| v[i] * c + kv[i] * s + k[i] * kkv * (1.0 - c))
 }
 
+/// The wire's name as a beam.
+pub const WIRE: &str = "wire";
+
+/// The element groups of a graded mesh: each segment's elements at its own
+/// length, with `element`'s section and quadrature.
+pub fn graded_groups(
+    element: &ElementIntegration,
+    segments: &[Segment],
+) -> Result<Vec<(ElementIntegration, usize)>, ModelError> {
+    if segments.is_empty() {
+        return Err(ModelError::wire("segments", "name at least one segment"));
+    }
+    let mut groups = Vec::new();
+    for (i, s) in segments.iter().enumerate() {
+        if s.elements == 0 {
+            return Err(ModelError::Segment {
+                index: i,
+                what: "elements",
+                message: "need at least one element".into(),
+            });
+        }
+        if !(s.length.is_finite() && s.length > 0.0) {
+            return Err(ModelError::Segment {
+                index: i,
+                what: "length",
+                message: format!("must be > 0 m, got {}", s.length),
+            });
+        }
+        groups.push((
+            element.with_length(s.length / s.elements as f64),
+            s.elements,
+        ));
+    }
+    Ok(groups)
+}
+
 /// Two unit vectors completing `axis` to a right-handed frame; for the
 /// default axis x they are y and z.
 pub fn section_frame(axis: [f64; 3]) -> ([f64; 3], [f64; 3]) {
@@ -434,14 +498,13 @@ impl Model {
         if n_elements == 0 {
             return Err(ModelError::wire("elements", "need at least one element"));
         }
-        Self::from_groups(
-            vec![(element, n_elements)],
+        let wire = BeamLayout {
+            name: WIRE.into(),
+            groups: vec![(element, n_elements)],
             origin,
             direction,
-            supports,
-            gravity,
-            loads,
-        )
+        };
+        Self::from_beams(vec![wire], supports, gravity, loads)
     }
 
     /// A straight wire meshed by `segments` in order (a graded mesh: each
@@ -456,80 +519,93 @@ impl Model {
         gravity: Option<[f64; 3]>,
         loads: Vec<PointLoad>,
     ) -> Result<Self, ModelError> {
-        if segments.is_empty() {
-            return Err(ModelError::wire("segments", "name at least one segment"));
-        }
-        let mut groups = Vec::new();
-        for (i, s) in segments.iter().enumerate() {
-            if s.elements == 0 {
-                return Err(ModelError::Segment {
-                    index: i,
-                    what: "elements",
-                    message: "need at least one element".into(),
-                });
-            }
-            if !(s.length.is_finite() && s.length > 0.0) {
-                return Err(ModelError::Segment {
-                    index: i,
-                    what: "length",
-                    message: format!("must be > 0 m, got {}", s.length),
-                });
-            }
-            groups.push((
-                element.with_length(s.length / s.elements as f64),
-                s.elements,
-            ));
-        }
-        Self::from_groups(groups, origin, direction, supports, gravity, loads)
+        let groups = graded_groups(&element, segments)?;
+        let wire = BeamLayout {
+            name: WIRE.into(),
+            groups,
+            origin,
+            direction,
+        };
+        Self::from_beams(vec![wire], supports, gravity, loads)
     }
 
-    fn from_groups(
-        integrations: Vec<(ElementIntegration, usize)>,
-        origin: [f64; 3],
-        direction: [f64; 3],
+    /// A model of several beams: the wire first (`beams[0]`), then the
+    /// members, in order. Supports and loads name the model's nodes (a
+    /// member's node `k` is `model.beams[i].node(k)`); a model built this
+    /// way is checked only as far as [`Model::new`] checks (the builder
+    /// checks everything).
+    pub fn from_beams(
+        layouts: Vec<BeamLayout>,
         supports: Vec<Support>,
         gravity: Option<[f64; 3]>,
         loads: Vec<PointLoad>,
     ) -> Result<Self, ModelError> {
-        let dn = (direction.iter().map(|v| v * v).sum::<f64>()).sqrt();
-        if !(dn > 0.0 && dn.is_finite()) {
-            return Err(ModelError::wire(
-                "direction",
-                "must be a non-zero finite vector",
-            ));
-        }
-        let axis = direction.map(|v| v / dn);
-        let (ny, nz) = section_frame(axis);
         let mut groups: Vec<ElementGroup> = Vec::new();
         let mut group_of = Vec::new();
-        for (g, (integration, count)) in integrations.into_iter().enumerate() {
-            let (first, start) = match groups.last() {
-                Some(p) => (p.elements.end, p.arc(p.elements.len())),
-                None => (0, 0.0),
-            };
-            groups.push(ElementGroup::new(integration, first..first + count, start));
-            group_of.extend(std::iter::repeat_n(g as u32, count));
+        let mut beams = Vec::new();
+        let mut reference = Vec::new();
+        for (b, layout) in layouts.into_iter().enumerate() {
+            let direction = layout.direction;
+            let dn = (direction.iter().map(|v| v * v).sum::<f64>()).sqrt();
+            if !(dn > 0.0 && dn.is_finite()) {
+                return Err(ModelError::wire(
+                    "direction",
+                    "must be a non-zero finite vector",
+                ));
+            }
+            let axis = direction.map(|v| v / dn);
+            let (ny, nz) = section_frame(axis);
+            if b > 0 {
+                // The gap between this beam and the previous one.
+                group_of.push(GAP);
+            }
+            let first_element = group_of.len();
+            let first_group = groups.len();
+            for (integration, count) in layout.groups {
+                let (first, start) = match groups.last() {
+                    Some(p) if groups.len() > first_group => {
+                        (p.elements.end, p.arc(p.elements.len()))
+                    }
+                    _ => (group_of.len(), 0.0),
+                };
+                let g = groups.len() as u32;
+                groups.push(ElementGroup::new(integration, first..first + count, start));
+                group_of.extend(std::iter::repeat_n(g, count));
+            }
+            let elements = first_element..group_of.len();
+            let nodes = first_element..group_of.len() + 1;
+            reference.resize(NODE_DOFS * nodes.end, 0.0);
+            let origin = layout.origin;
+            for g in &groups[first_group..] {
+                let l = g.integration.length;
+                for (j, el) in g.elements.clone().enumerate() {
+                    // A beam's first group keeps the uniform mesh's product
+                    // order (axis · l · j), so a uniform wire's bits do not
+                    // change.
+                    let start = std::array::from_fn(|k| {
+                        if g.start == 0.0 {
+                            origin[k] + axis[k] * l * j as f64
+                        } else {
+                            origin[k] + axis[k] * g.arc(j)
+                        }
+                    });
+                    let e = reference_coordinates(start, axis, ny, nz, l);
+                    reference[NODE_DOFS * el..NODE_DOFS * el + 24].copy_from_slice(&e);
+                }
+            }
+            beams.push(Beam {
+                name: layout.name,
+                elements,
+                nodes,
+                axis,
+                section_y: ny,
+                section_z: nz,
+            });
         }
         let n_elements = group_of.len();
         let n_nodes = n_elements + 1;
-        let mut reference = vec![0.0; NODE_DOFS * n_nodes];
-        for g in &groups {
-            let l = g.integration.length;
-            for (j, el) in g.elements.clone().enumerate() {
-                // The first group keeps the uniform mesh's product order
-                // (axis · l · j), so a uniform wire's bits do not change.
-                let start = std::array::from_fn(|k| {
-                    if g.start == 0.0 {
-                        origin[k] + axis[k] * l * j as f64
-                    } else {
-                        origin[k] + axis[k] * g.arc(j)
-                    }
-                });
-                let e = reference_coordinates(start, axis, ny, nz, l);
-                reference[NODE_DOFS * el..NODE_DOFS * el + 24].copy_from_slice(&e);
-            }
-        }
-        let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, axis, |_| true)?;
+        let (axis, ny, nz) = (beams[0].axis, beams[0].section_y, beams[0].section_z);
+        let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, &beams, |_| true)?;
         for (i, ld) in loads.iter().enumerate() {
             if ld.node >= n_nodes {
                 return Err(ModelError::Load {
@@ -543,10 +619,10 @@ impl Model {
                 });
             }
         }
-        let section = &groups[0].integration.section;
+        let sections = || groups.iter().map(|g| &g.integration.section);
         let mut effects = vec![Effect::Elasticity {
-            mooney_rivlin: section.has_mooney_rivlin(),
-            centerline: section.layers.iter().any(|l| l.laws.centerline.is_some()),
+            mooney_rivlin: sections().any(|s| s.has_mooney_rivlin()),
+            centerline: sections().any(|s| s.layers.iter().any(|l| l.laws.centerline.is_some())),
         }];
         if let Some(g) = gravity {
             let mut force = vec![0.0; reference.len()];
@@ -570,6 +646,7 @@ impl Model {
             groups,
             group_of,
             n_elements,
+            beams,
             reference,
             free: free_runs(&dof_map),
             dof_map,
@@ -598,9 +675,32 @@ impl Model {
         Ok(model)
     }
 
-    /// The integration of element `el` (its length is the element's).
+    /// The integration of element `el` (its length is the element's; not
+    /// a gap, see [`Model::is_gap`]).
     pub fn element(&self, el: usize) -> &ElementIntegration {
         &self.groups[self.group_of[el] as usize].integration
+    }
+
+    /// Whether element index `el` is the gap between two beams (no element).
+    pub fn is_gap(&self, el: usize) -> bool {
+        self.group_of[el] == GAP
+    }
+
+    /// The wire: beam 0.
+    pub fn wire(&self) -> &Beam {
+        &self.beams[0]
+    }
+
+    /// The beam named `name`, with its index.
+    pub fn beam(&self, name: &str) -> Option<(usize, &Beam)> {
+        self.beams.iter().enumerate().find(|(_, b)| b.name == name)
+    }
+
+    /// The beam holding node `n` and the node's index in it.
+    pub fn beam_of_node(&self, n: usize) -> Option<(usize, usize)> {
+        (self.beams.iter().enumerate())
+            .find(|(_, b)| b.nodes.contains(&n))
+            .map(|(i, b)| (i, n - b.nodes.start))
     }
 
     /// The group of element `el` (an index into [`Model::groups`]).
@@ -625,36 +725,36 @@ impl Model {
 
     /// Reference (unstretched) arc length of node `n` from node 0 (m).
     pub fn node_arc(&self, n: usize) -> f64 {
-        match self.groups.iter().find(|g| n < g.elements.end) {
-            Some(g) => g.arc(n - g.elements.start),
-            None => {
-                let g = &self.groups[self.groups.len() - 1];
-                g.arc(g.elements.len())
-            }
-        }
+        // A node between two groups of one beam has the same arc in both.
+        let g = (self.groups.iter())
+            .find(|g| g.elements.start <= n && n <= g.elements.end)
+            .expect("every node belongs to a group");
+        g.arc(n - g.elements.start)
     }
 
     /// Reference arc length between nodes `a` ≤ `b` (m); within one group
     /// the product of the element length and the element count.
     pub fn arc_between(&self, a: usize, b: usize) -> f64 {
-        let g = &self.groups[self.group_of[a.min(self.n_elements - 1)] as usize];
-        if b <= g.elements.end {
-            (b - a) as f64 * g.integration.length
-        } else {
-            self.node_arc(b) - self.node_arc(a)
+        let el = a.min(self.n_elements - 1);
+        if !self.is_gap(el) {
+            let g = &self.groups[self.group_of[el] as usize];
+            if b <= g.elements.end {
+                return (b - a) as f64 * g.integration.length;
+            }
         }
+        self.node_arc(b) - self.node_arc(a)
     }
 
     /// The wire's reference (unstretched) length (m).
     pub fn length(&self) -> f64 {
-        self.node_arc(self.n_elements)
+        self.node_arc(self.wire().last_node())
     }
 
     /// The model with only the supports still holding at time `t` (those
     /// without a release time, or released later): a release phase. The
     /// coordinates a released support held become unknowns.
     pub fn holding_at(&self, t: f64) -> Model {
-        let (dof_map, n_unknowns) = eliminate(self.n_nodes(), &self.supports, self.axis, |s| {
+        let (dof_map, n_unknowns) = eliminate(self.n_nodes(), &self.supports, &self.beams, |s| {
             s.release_time.is_none_or(|r| r > t)
         })
         .expect("supports were validated when the model was built");
@@ -689,21 +789,33 @@ impl Model {
     /// supports move rigidly with them.
     pub fn initial_coordinates(&self) -> Vec<f64> {
         let mut q = self.reference.clone();
+        for beam in &self.beams {
+            self.lay_beam(beam, &mut q);
+        }
+        q
+    }
+
+    /// [`Model::initial_coordinates`] of one beam: its nodes between its
+    /// supports.
+    fn lay_beam(&self, beam: &Beam, q: &mut [f64]) {
+        let on_beam = |s: &&Support| beam.nodes.contains(&s.node);
         let moved: Vec<(usize, [f64; 3])> = self
             .supports
             .iter()
+            .filter(on_beam)
             .filter_map(|s| s.position.map(|p| (s.node, p)))
             .collect();
         if moved.iter().all(|(n, p)| {
             let r = self.node_position(&self.reference, *n);
             dot(sub(*p, r), sub(*p, r)) == 0.0
         }) {
-            return q;
+            return;
         }
         // Every supported node with its target position, by node index.
         let mut held: Vec<(usize, [f64; 3])> = self
             .supports
             .iter()
+            .filter(on_beam)
             .map(|s| {
                 (
                     s.node,
@@ -721,8 +833,8 @@ impl Model {
         };
         let set_node = |q: &mut [f64], n: usize, p: [f64; 3], tangent: [f64; 3], stretch: f64| {
             let base = NODE_DOFS * n;
-            let ny = rotate_between(self.axis, tangent, self.section_y);
-            let nz = rotate_between(self.axis, tangent, self.section_z);
+            let ny = rotate_between(beam.axis, tangent, beam.section_y);
+            let nz = rotate_between(beam.axis, tangent, beam.section_z);
             for k in 0..3 {
                 q[base + k] = p[k];
                 q[base + 3 + k] = stretch * tangent[k];
@@ -740,13 +852,13 @@ impl Model {
         };
         let (first, last) = (held[0], held[held.len() - 1]);
         shift(
-            &mut q,
-            0..first.0 + 1,
+            q,
+            beam.nodes.start..first.0 + 1,
             sub(first.1, self.node_position(&self.reference, first.0)),
         );
         shift(
-            &mut q,
-            last.0..self.n_nodes(),
+            q,
+            last.0..beam.nodes.end,
             sub(last.1, self.node_position(&self.reference, last.0)),
         );
         for pair in held.windows(2) {
@@ -762,7 +874,7 @@ impl Model {
                 for n in na..=nb {
                     let f = (n - na) as f64 / (nb - na) as f64;
                     set_node(
-                        &mut q,
+                        q,
                         n,
                         std::array::from_fn(|k| pa[k] + f * chord[k]),
                         u,
@@ -775,7 +887,7 @@ impl Model {
             let mut w = sub(down, u.map(|x| x * dot(down, u)));
             let wn = dot(w, w).sqrt();
             if wn < 1e-9 {
-                w = self.section_y;
+                w = beam.section_y;
             } else {
                 w = w.map(|x| x / wn);
             }
@@ -816,10 +928,9 @@ impl Model {
                 let d: [f64; 3] =
                     std::array::from_fn(|k| c * u[k] + 4.0 * f * (1.0 - 2.0 * t) * w[k]);
                 let dn = dot(d, d).sqrt();
-                set_node(&mut q, n, p, d.map(|x| x / dn), 1.0);
+                set_node(q, n, p, d.map(|x| x / dn), 1.0);
             }
         }
-        q
     }
 
     /// Number of nodes (elements + 1).
@@ -1057,12 +1168,14 @@ impl Model {
         100.0 * f64::EPSILON * kmax * qmax
     }
 
-    /// Total mass (kg).
+    /// Total mass (kg), every beam's.
     pub fn total_mass(&self) -> f64 {
-        let m = self.section().mass_per_length();
         self.groups
             .iter()
-            .map(|g| m * g.integration.length * g.elements.len() as f64)
+            .map(|g| {
+                let m = g.integration.section.mass_per_length();
+                m * g.integration.length * g.elements.len() as f64
+            })
             .sum()
     }
 }

@@ -534,6 +534,10 @@ fn model_error(
         ModelError::Rod { index, field, .. } => format!("rod[{index}].{field}"),
         ModelError::Contact { field, .. } => format!("contact.{field}"),
         ModelError::Damping { field, .. } => format!("damping.{field}"),
+        ModelError::Member { index, error, .. } => {
+            let inner = model_error(error, layer_materials, materials).field;
+            inner.replacen("wire.", &format!("beam[{index}]."), 1)
+        }
     };
     err(field, e.message())
 }

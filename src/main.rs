@@ -177,7 +177,7 @@ fn main() -> ExitCode {
                 println!(
                     "{}: valid ({} elements, {} unknowns, {})",
                     scene.display(),
-                    s.model.n_elements,
+                    s.model.element_count(),
                     s.model.n_unknowns,
                     s.model.element(0).kernel_path()
                 );

@@ -68,9 +68,9 @@ pub struct RodSummary {
 /// load and `ratio_to_static` its dynamic amplification.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct SupportSummary {
-    /// The body held: "wire".
+    /// The body held: "wire" or a member's name.
     pub beam: String,
-    /// The node held.
+    /// The node held, counted on that beam.
     pub node: usize,
     /// The force in the static equilibrium (N): a static run's result; in a
     /// dynamic run, the force at t = 0 (the static reaction when the run
@@ -255,9 +255,10 @@ impl Table {
     }
 }
 
-/// `final_nodes.csv`: node positions at the end of the run.
-pub fn write_final_nodes(dir: &Path, positions: &[[f64; 3]]) -> std::io::Result<()> {
-    let mut f = BufWriter::new(File::create(dir.join("final_nodes.csv"))?);
+/// `final_nodes.csv` (or a member's `final_nodes_NAME.csv`) at `path`: a
+/// beam's node positions at the end of the run.
+pub fn write_final_nodes(path: &Path, positions: &[[f64; 3]]) -> std::io::Result<()> {
+    let mut f = BufWriter::new(File::create(path)?);
     writeln!(f, "node,x,y,z")?;
     for (i, p) in positions.iter().enumerate() {
         writeln!(f, "{i},{:.12e},{:.12e},{:.12e}", p[0], p[1], p[2])?;

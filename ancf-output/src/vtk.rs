@@ -296,13 +296,13 @@ fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
     s
 }
 
-/// One frame of the wire: the tube surface with displacement, velocity and
-/// Green–Lagrange strain at its points.
+/// One frame of the wire (frame members are in their own files): the tube
+/// surface with displacement, velocity and Green–Lagrange strain at its points.
 fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Result<()> {
     let radius = model.section().outer_radius();
     let mut points = Vec::new();
     let (mut disp, mut vel, mut strain) = (Vec::new(), Vec::new(), Vec::new());
-    for el in 0..model.n_elements {
+    for el in model.wire().elements.clone() {
         let l = model.element(el).length;
         let e = model.element_coordinates(q, el);
         let e0 = model.element_coordinates(&model.reference, el);

@@ -140,7 +140,7 @@ impl Scene {
     /// Number of elements.
     #[getter]
     fn elements(&self) -> usize {
-        self.inner.model.n_elements
+        self.inner.model.element_count()
     }
 
     /// Unknowns of the model (coordinates not fixed by supports).
@@ -486,7 +486,7 @@ impl Simulation {
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
         let m = self.sim.model();
-        (0..m.n_nodes()).map(|n| m.node_position(v, n)).collect()
+        m.wire().nodes.clone().map(|n| m.node_position(v, n)).collect()
     }
 
     /// The supports' summary so far, as summary.json's `supports`.
@@ -730,7 +730,7 @@ impl Simulation {
         self.sim.steps()
     }
 
-    /// Node positions, (n + 1) × 3, m.
+    /// The wire's node positions, (n + 1) × 3, m.
     #[getter]
     fn nodes<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         matrix(py, &self.positions(&self.sim.state().q))
@@ -748,7 +748,8 @@ impl Simulation {
         let m = self.sim.model();
         PyArray1::from_vec(
             py,
-            m.node_position(&self.sim.state().q, m.n_elements).to_vec(),
+            m.node_position(&self.sim.state().q, m.wire().last_node())
+                .to_vec(),
         )
     }
 
@@ -843,7 +844,7 @@ impl Simulation {
             },
         )?;
         d.set_item("analysis", "dynamic")?;
-        d.set_item("elements", model.n_elements)?;
+        d.set_item("elements", model.element_count())?;
         d.set_item("unknowns", model.n_unknowns)?;
         d.set_item("time", p.state.time)?;
         d.set_item("steps", p.step)?;
@@ -853,8 +854,9 @@ impl Simulation {
         d.set_item("kernel", model.element(0).kernel_path().to_string())?;
         d.set_item("simd", ancf_core::math::simd::path().name())?;
         let tip = PyDict::new(py);
-        let position = model.node_position(&p.state.q, model.n_elements);
-        let start = model.node_position(&model.reference, model.n_elements);
+        let tip_node = model.wire().last_node();
+        let position = model.node_position(&p.state.q, tip_node);
+        let start = model.node_position(&model.reference, tip_node);
         tip.set_item("position", position.to_vec())?;
         tip.set_item(
             "displacement",
@@ -951,7 +953,7 @@ impl RunResult {
         let e = s.sim.energies();
         self.rods = rods;
         self.time.push(state.time);
-        self.tip.push(m.node_position(&state.q, m.n_elements));
+        self.tip.push(m.node_position(&state.q, m.wire().last_node()));
         self.kinetic.push(e.kinetic);
         self.strain.push(e.strain);
         self.gravity.push(e.gravity);

@@ -63,7 +63,7 @@ impl Setting {
             ancf_core::scene::Analysis::Static { .. } => (None, None, None, None),
         };
         Setting {
-            elements: m.n_elements,
+            elements: m.element_count(),
             axial: m.element(0).axial.nodes.len(),
             section: m.section().order,
             time_step,

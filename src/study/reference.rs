@@ -53,7 +53,8 @@ pub fn analytic(scene: &Scene) -> Option<Analytic> {
     let [load] = m.point_loads() else {
         return None;
     };
-    if load.node != m.n_elements
+    if m.beams.len() > 1
+        || load.node != m.n_elements
         || m.effects
             .iter()
             .any(|e| !matches!(e, Effect::Elasticity { .. } | Effect::PointLoads(_)))

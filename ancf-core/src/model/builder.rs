@@ -262,6 +262,15 @@ impl WireBuilder {
         }
     }
 
+    /// A wire of the geometry and section `wire` describes (named "wire").
+    pub fn from_beam(mut wire: BeamBuilder) -> Self {
+        wire.name = super::WIRE.into();
+        WireBuilder {
+            wire,
+            ..WireBuilder::new(0.0, 0)
+        }
+    }
+
     /// A graded mesh: the wire is the `segments` in order, each with its
     /// own element length (fine where the wire meets a rod, coarse
     /// elsewhere). Replaces the length and element count of [`WireBuilder::new`].

@@ -933,7 +933,12 @@ impl Model {
         }
     }
 
-    /// Number of nodes (elements + 1).
+    /// Number of elements, every beam's (the gaps between beams not counted).
+    pub fn element_count(&self) -> usize {
+        self.groups.iter().map(|g| g.elements.len()).sum()
+    }
+
+    /// Number of nodes (element indices + 1: every beam's nodes).
     pub fn n_nodes(&self) -> usize {
         self.n_elements + 1
     }

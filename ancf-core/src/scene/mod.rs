@@ -14,7 +14,9 @@ use crate::model::clearance::ClearanceZone;
 use crate::model::contact::{ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod};
 use crate::model::damping::Damping;
 use crate::model::spring::Spring;
-use crate::model::{Model, ModelError, PointLoad, Segment, Support, SupportKind, WireBuilder};
+use crate::model::{
+    BeamBuilder, Model, ModelError, PointLoad, Segment, Support, SupportKind, WireBuilder,
+};
 use crate::solve::dynamics::{DynamicSettings, NewtonKind};
 use crate::solve::statics::StaticSettings;
 
@@ -225,97 +227,57 @@ impl Scene {
                 })
         };
 
-        let w = &f.wire;
-        let length = positive("wire.length", w.length)?;
-        let segments = mesh_segments(w, length)?;
-        let n_elements: usize = segments.iter().map(|s| s.elements).sum();
-        if n_elements > defaults::MAX_ELEMENTS {
-            return Err(err(
-                if w.segments.is_some() {
-                    "wire.segments"
-                } else {
-                    "wire.elements"
-                },
-                format!(
-                    "{n_elements} elements is more than this code is meant for (≤ {:.0e})",
-                    defaults::MAX_ELEMENTS as f64
-                ),
-            ));
-        }
-        let mut builder = WireBuilder::new(length, n_elements)
-            .placed(
-                w.origin.unwrap_or([0.0; 3]),
-                w.direction.unwrap_or([1.0, 0.0, 0.0]),
-            )
-            .quadrature(
-                w.quadrature
-                    .as_ref()
-                    .and_then(|q| q.axial)
-                    .unwrap_or(crate::model::DEFAULT_AXIAL_ORDER),
-                w.quadrature
-                    .as_ref()
-                    .and_then(|q| q.section)
-                    .unwrap_or(crate::model::DEFAULT_SECTION_ORDER),
-            );
-        if w.segments.is_some() {
-            builder = builder.graded(&segments);
-        }
-        // The materials of the layers, by layer, for mapping errors back.
-        let mut layer_materials = Vec::new();
-        let outer_material = match (&w.layers, &w.rectangle) {
-            (Some(_), Some(_)) => {
-                return Err(err("wire", "give either `layers` or `rectangle`, not both"));
-            }
-            (None, None) => {
+        let (wire, layer_materials, outer_material, n_elements) =
+            beam_description(&f.wire, "wire", crate::model::WIRE, &find)?;
+        let mut builder = WireBuilder::from_beam(wire);
+        // Frame members: their descriptions, and each one's node count by name.
+        let mut beam_nodes = vec![(crate::model::WIRE.to_string(), n_elements + 1)];
+        for (i, b) in f.beam.iter().enumerate() {
+            let table = format!("beam[{i}]");
+            if b.name == crate::model::WIRE
+                || b.name.is_empty()
+                || beam_nodes.iter().any(|(n, _)| *n == b.name)
+            {
                 return Err(err(
-                    "wire.layers",
-                    "missing: the cross section (layers or rectangle)",
+                    format!("{table}.name"),
+                    format!(
+                        "\"{}\": a member's name is unique, not empty and not \"wire\"",
+                        b.name
+                    ),
                 ));
             }
-            (Some(layers), None) => {
-                if layers.is_empty() {
-                    return Err(err("wire.layers", "needs at least one layer"));
+            let (member, _, _, elements) = beam_description(&b.geometry(), &table, &b.name, &find)?;
+            builder = builder.member(member);
+            beam_nodes.push((b.name.clone(), elements + 1));
+        }
+        // A node of the wire or of the member named `beam`: its index on that beam.
+        let node =
+            |table: String, beam: &Option<String>, n: NodeRef| -> Result<usize, SceneError> {
+                let name = beam.as_deref().unwrap_or(crate::model::WIRE);
+                let Some((_, n_nodes)) = beam_nodes.iter().find(|(b, _)| b == name) else {
+                    let known: Vec<&str> = beam_nodes.iter().map(|(b, _)| b.as_str()).collect();
+                    return Err(err(
+                        format!("{table}.beam"),
+                        format!("unknown beam \"{name}\" (defined: {known:?})"),
+                    ));
+                };
+                let whose = if beam.is_none() {
+                    "the wire".to_string()
+                } else {
+                    format!("beam \"{name}\"")
+                };
+                match n {
+                    NodeRef::Last => Ok(n_nodes - 1),
+                    NodeRef::Index(i) if i < *n_nodes => Ok(i),
+                    NodeRef::Index(i) => Err(err(
+                        format!("{table}.node"),
+                        format!(
+                            "node {i} does not exist ({whose} has nodes 0..={}, or \"last\")",
+                            n_nodes - 1
+                        ),
+                    )),
                 }
-                for (i, l) in layers.iter().enumerate() {
-                    match (i, l.inner_radius) {
-                        (0, Some(r)) => builder = builder.bore(r),
-                        (_, Some(_)) => {
-                            return Err(err(
-                                format!("wire.layers[{i}].inner_radius"),
-                                "only the first layer has one: each other layer starts at the previous \
-                                 outer radius",
-                            ));
-                        }
-                        (_, None) => {}
-                    }
-                    let m = find(&format!("wire.layers[{i}].material"), &l.material)?;
-                    builder = builder.layer(m, l.outer_radius);
-                    layer_materials.push(l.material.clone());
-                }
-                let last = &layers[layers.len() - 1].material;
-                find("wire.layers", last)?
-            }
-            (None, Some(r)) => {
-                let m = find("wire.rectangle.material", &r.material)?;
-                builder = builder.rectangle(m.clone(), r.width, r.height);
-                layer_materials.push(r.material.clone());
-                m
-            }
-        };
-        let n_nodes = n_elements + 1;
-        let node = |field: String, n: NodeRef| -> Result<usize, SceneError> {
-            match n {
-                NodeRef::Last => Ok(n_nodes - 1),
-                NodeRef::Index(i) if i < n_nodes => Ok(i),
-                NodeRef::Index(i) => Err(err(
-                    field,
-                    format!(
-                        "node {i} does not exist (the wire has nodes 0..={}, or \"last\")",
-                        n_nodes - 1
-                    ),
-                )),
-            }
-        };
+            };
         for (i, s) in f.support.iter().enumerate() {
             let kind = match s.kind {
                 SupportKindSpec::Clamp => SupportKind::Clamp,
@@ -354,12 +316,16 @@ impl Scene {
                     "a release time needs kind = \"dynamic\"",
                 ));
             }
-            builder = builder.support_with(Support {
-                node: node(format!("support[{i}].node"), s.node)?,
+            let support = Support {
+                node: node(format!("support[{i}]"), &s.beam, s.node)?,
                 kind,
                 position: s.position,
                 release_time: s.release_time,
-            });
+            };
+            builder = match &s.beam {
+                Some(beam) => builder.support_on(beam, support),
+                None => builder.support_with(support),
+            };
         }
         for (i, l) in f.load.iter().enumerate() {
             if l.force.is_none() && l.moment.is_none() {
@@ -368,11 +334,15 @@ impl Scene {
                     "missing: give a force (N), a moment (N m) or both",
                 ));
             }
-            builder = builder.load_with(PointLoad {
-                node: node(format!("load[{i}].node"), l.node)?,
+            let load = PointLoad {
+                node: node(format!("load[{i}]"), &l.beam, l.node)?,
                 force: l.force.unwrap_or_default(),
                 moment: l.moment.unwrap_or_default(),
-            });
+            };
+            builder = match &l.beam {
+                Some(beam) => builder.load_on(beam, load),
+                None => builder.load_with(load),
+            };
         }
         if let Some(g) = &f.gravity {
             builder = builder.gravity(g.acceleration);
@@ -380,6 +350,7 @@ impl Scene {
         if f.contact.is_some() && f.rod.is_empty() {
             return Err(err("contact", "contact settings without any [[rod]]"));
         }
+        let w = &f.wire;
         let wire_radius = match &w.rectangle {
             Some(r) => crate::section::rectangle_outer_radius(r.width, r.height),
             None => w
@@ -458,31 +429,36 @@ fn clearance_zones(specs: &[ClearanceSpec]) -> Result<Vec<ClearanceZone>, SceneE
 
 /// The mesh of `[wire]`: `elements` equal elements, or the `segments` of a
 /// graded mesh (each checked, their lengths adding up to `length`).
-fn mesh_segments(w: &WireSpec, length: f64) -> Result<Vec<Segment>, SceneError> {
+fn mesh_segments(w: &WireSpec, length: f64, table: &str) -> Result<Vec<Segment>, SceneError> {
     match (w.elements, &w.segments) {
         (Some(_), Some(_)) => Err(err(
-            "wire.segments",
-            "give either wire.elements (equal elements) or wire.segments (a graded mesh), not both",
+            format!("{table}.segments"),
+            format!(
+                "give either {table}.elements (equal elements) or {table}.segments (a graded mesh), not both"
+            ),
         )),
         (None, None) => Err(err(
-            "wire.elements",
-            "missing: give the number of elements (or wire.segments for a graded mesh)",
+            format!("{table}.elements"),
+            format!("missing: give the number of elements (or {table}.segments for a graded mesh)"),
         )),
-        (Some(0), None) => Err(err("wire.elements", "must be at least 1")),
+        (Some(0), None) => Err(err(format!("{table}.elements"), "must be at least 1")),
         (Some(n), None) => Ok(vec![Segment {
             length,
             elements: n,
         }]),
         (None, Some(list)) => {
             if list.is_empty() {
-                return Err(err("wire.segments", "name at least one segment"));
+                return Err(err(
+                    format!("{table}.segments"),
+                    "name at least one segment",
+                ));
             }
             let mut out = Vec::new();
             for (i, s) in list.iter().enumerate() {
-                let l = positive(&format!("wire.segments[{i}].length"), s.length)?;
+                let l = positive(&format!("{table}.segments[{i}].length"), s.length)?;
                 if s.elements == 0 {
                     return Err(err(
-                        format!("wire.segments[{i}].elements"),
+                        format!("{table}.segments[{i}].elements"),
                         "must be at least 1",
                     ));
                 }
@@ -494,9 +470,9 @@ fn mesh_segments(w: &WireSpec, length: f64) -> Result<Vec<Segment>, SceneError> 
             let sum: f64 = out.iter().map(|s| s.length).sum();
             if (sum - length).abs() > 1e-9 * length {
                 return Err(err(
-                    "wire.segments",
+                    format!("{table}.segments"),
                     format!(
-                        "the segments' lengths add up to {sum} m, but wire.length is {length} m"
+                        "the segments' lengths add up to {sum} m, but {table}.length is {length} m"
                     ),
                 ));
             }
@@ -889,4 +865,96 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
         out.push((m.name.clone(), material));
     }
     Ok(out)
+}
+
+/// A beam's geometry and section as the file gives it (`[wire]` or a
+/// `[[beam]]`, `table` naming it in errors): its description, the
+/// materials of its layers by layer (to map errors back), the material of
+/// its outer surface and its element count.
+fn beam_description(
+    w: &WireSpec,
+    table: &str,
+    name: &str,
+    find: &dyn Fn(&str, &str) -> Result<Material, SceneError>,
+) -> Result<(BeamBuilder, Vec<String>, Material, usize), SceneError> {
+    let length = positive(&format!("{table}.length"), w.length)?;
+    let segments = mesh_segments(w, length, table)?;
+    let n_elements: usize = segments.iter().map(|s| s.elements).sum();
+    if n_elements > defaults::MAX_ELEMENTS {
+        return Err(err(
+            format!(
+                "{table}.{}",
+                if w.segments.is_some() {
+                    "segments"
+                } else {
+                    "elements"
+                }
+            ),
+            format!(
+                "{n_elements} elements is more than this code is meant for (≤ {:.0e})",
+                defaults::MAX_ELEMENTS as f64
+            ),
+        ));
+    }
+    let mut builder = BeamBuilder::new(name, length, n_elements)
+        .placed(
+            w.origin.unwrap_or([0.0; 3]),
+            w.direction.unwrap_or([1.0, 0.0, 0.0]),
+        )
+        .quadrature(
+            w.quadrature
+                .as_ref()
+                .and_then(|q| q.axial)
+                .unwrap_or(crate::model::DEFAULT_AXIAL_ORDER),
+            w.quadrature
+                .as_ref()
+                .and_then(|q| q.section)
+                .unwrap_or(crate::model::DEFAULT_SECTION_ORDER),
+        );
+    if w.segments.is_some() {
+        builder = builder.graded(&segments);
+    }
+    // The materials of the layers, by layer, for mapping errors back.
+    let mut layer_materials = Vec::new();
+    let outer_material = match (&w.layers, &w.rectangle) {
+        (Some(_), Some(_)) => {
+            return Err(err(table, "give either `layers` or `rectangle`, not both"));
+        }
+        (None, None) => {
+            return Err(err(
+                format!("{table}.layers"),
+                "missing: the cross section (layers or rectangle)",
+            ));
+        }
+        (Some(layers), None) => {
+            if layers.is_empty() {
+                return Err(err(format!("{table}.layers"), "needs at least one layer"));
+            }
+            for (i, l) in layers.iter().enumerate() {
+                match (i, l.inner_radius) {
+                    (0, Some(r)) => builder = builder.bore(r),
+                    (_, Some(_)) => {
+                        return Err(err(
+                            format!("{table}.layers[{i}].inner_radius"),
+                            "only the first layer has one: each other layer starts at the previous \
+                                 outer radius",
+                        ));
+                    }
+                    (_, None) => {}
+                }
+                let m = find(&format!("{table}.layers[{i}].material"), &l.material)?;
+                builder = builder.layer(m, l.outer_radius);
+                layer_materials.push(l.material.clone());
+            }
+            let last = &layers[layers.len() - 1].material;
+            find(&format!("{table}.layers"), last)?
+        }
+        (None, Some(r)) => {
+            let m = find(&format!("{table}.rectangle.material"), &r.material)?;
+            builder = builder.rectangle(m.clone(), r.width, r.height);
+            layer_materials.push(r.material.clone());
+            m
+        }
+    };
+    Ok((builder, layer_materials, outer_material, n_elements))
 }

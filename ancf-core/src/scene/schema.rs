@@ -204,6 +204,47 @@ pub struct WireSpec {
     pub quadrature: Option<QuadratureSpec>,
 }
 
+/// `[[beam]]`: a frame member, a beam of the wire's element with its own
+/// name, geometry and section (the keys of `[wire]`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamSpec {
+    /// Its name (unique, not "wire"): supports and loads name it.
+    pub name: String,
+    /// Reference length (m).
+    pub length: f64,
+    /// Equal elements over the length; or `segments`.
+    pub elements: Option<usize>,
+    /// A graded mesh.
+    pub segments: Option<Vec<SegmentSpec>>,
+    /// Position of its node 0 (m).
+    pub origin: Option<[f64; 3]>,
+    /// Its axis (normalised).
+    pub direction: Option<[f64; 3]>,
+    /// Concentric layers from the centre out (a tube: `inner_radius` on the first).
+    pub layers: Option<Vec<LayerSpec>>,
+    /// A rectangular section instead of layers.
+    pub rectangle: Option<RectangleSpec>,
+    /// Quadrature orders.
+    pub quadrature: Option<QuadratureSpec>,
+}
+
+impl BeamSpec {
+    /// Its geometry and section as `[wire]` has them.
+    pub fn geometry(&self) -> WireSpec {
+        WireSpec {
+            length: self.length,
+            elements: self.elements,
+            segments: self.segments.clone(),
+            origin: self.origin,
+            direction: self.direction,
+            layers: self.layers.clone(),
+            rectangle: self.rectangle.clone(),
+            quadrature: self.quadrature.clone(),
+        }
+    }
+}
+
 /// One region of a graded mesh (`[wire] segments`).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -240,6 +281,8 @@ pub struct SupportSpec {
     pub position: Option<[f64; 3]>,
     /// When it lets go (s); dynamic runs only.
     pub release_time: Option<f64>,
+    /// The `[[beam]]` it holds, by name (absent: the wire).
+    pub beam: Option<String>,
     /// `kind = "spring"`: translational stiffness along x, y, z (N/m).
     pub stiffness: Option<[f64; 3]>,
     /// `kind = "spring"`: rotational stiffness (N m/rad); default 0.
@@ -254,6 +297,8 @@ pub struct SupportSpec {
 pub struct LoadSpec {
     /// The node.
     pub node: NodeRef,
+    /// The `[[beam]]` it loads, by name (absent: the wire).
+    pub beam: Option<String>,
     /// The force (N).
     pub force: Option<[f64; 3]>,
     /// The moment (N m), applied through the node's gradient coordinates.
@@ -334,6 +379,9 @@ pub struct SceneFile {
     pub material: Vec<MaterialSpec>,
     /// `[wire]`.
     pub wire: WireSpec,
+    #[serde(default)]
+    /// `[[beam]]`: frame members.
+    pub beam: Vec<BeamSpec>,
     #[serde(default)]
     /// `[[support]]`.
     pub support: Vec<SupportSpec>,

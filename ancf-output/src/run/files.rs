@@ -74,7 +74,7 @@ impl Files {
         iterations: usize,
         contact: Option<&ContactSample>,
     ) -> Result<(), String> {
-        let p = model.node_position(&s.q, model.n_elements);
+        let p = model.node_position(&s.q, model.wire().last_node());
         let mut row = vec![
             s.time,
             p[0],
@@ -154,9 +154,22 @@ impl Files {
     }
 }
 
-/// final_nodes.csv and summary.json.
-pub fn write_final(dir: &Path, nodes: &[[f64; 3]], summary: &Summary) -> Result<(), String> {
-    write_final_nodes(dir, nodes).map_err(|e| io_err(dir, e))?;
+/// final_nodes.csv (the wire), final_nodes_NAME.csv (each frame member)
+/// and summary.json; `beams` is each beam's name and node positions, the
+/// wire first.
+pub fn write_final(
+    dir: &Path,
+    beams: &[(String, Vec<[f64; 3]>)],
+    summary: &Summary,
+) -> Result<(), String> {
+    for (i, (name, nodes)) in beams.iter().enumerate() {
+        let file = if i == 0 {
+            "final_nodes.csv".to_string()
+        } else {
+            format!("final_nodes_{name}.csv")
+        };
+        write_final_nodes(&dir.join(file), nodes).map_err(|e| io_err(dir, e))?;
+    }
     summary.write(dir).map_err(|e| io_err(dir, e))
 }
 

@@ -28,7 +28,8 @@ impl History {
     pub fn push(&mut self, model: &Model, s: &State, e: &Energies) {
         self.time.push(s.time);
         self.energies.push(*e);
-        self.tip.push(model.node_position(&s.q, model.n_elements));
+        self.tip
+            .push(model.node_position(&s.q, model.wire().last_node()));
     }
 
     /// Record the first contact point's displacement and strains at `s`.
@@ -45,10 +46,10 @@ impl History {
     }
 }
 
-/// Centerline in the x–z plane, 8 points per element.
+/// The wire's centerline in the x–z plane, 8 points per element.
 fn centerline(model: &Model, q: &[f64]) -> Vec<(f64, f64)> {
     let mut pts = Vec::new();
-    for el in 0..model.n_elements {
+    for el in model.wire().elements.clone() {
         let l = model.element(el).length;
         let e = model.element_coordinates(q, el);
         for k in usize::from(el > 0)..=8 {

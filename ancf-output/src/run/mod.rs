@@ -80,7 +80,7 @@ fn effect_names(model: &Model) -> Vec<String> {
 }
 
 fn tip(model: &Model, q: &[f64]) -> TipSummary {
-    let n = model.n_elements;
+    let n = model.wire().last_node();
     let p = model.node_position(q, n);
     let p0 = model.node_position(&model.reference, n);
     TipSummary {
@@ -89,9 +89,13 @@ fn tip(model: &Model, q: &[f64]) -> TipSummary {
     }
 }
 
-fn node_positions(model: &Model, q: &[f64]) -> Vec<[f64; 3]> {
-    (0..model.n_nodes())
-        .map(|n| model.node_position(q, n))
+/// Each beam's node positions (the wire first), with its name.
+fn node_positions(model: &Model, q: &[f64]) -> Vec<(String, Vec<[f64; 3]>)> {
+    (model.beams.iter())
+        .map(|b| {
+            let nodes = b.nodes.clone().map(|n| model.node_position(q, n));
+            (b.name.clone(), nodes.collect())
+        })
         .collect()
 }
 
@@ -181,7 +185,7 @@ fn execute(
                         .contact
                         .as_ref()
                         .and_then(|cf| static_contact(model, cf));
-                    summary.supports = supports::static_supports(&res.reactions);
+                    summary.supports = supports::static_supports(model, &res.reactions);
                     let mut records = vec![ClearanceRecord::default(); scene.clearance.len()];
                     observe_clearance(scene, &mut records, &res.q, 0.0);
                     summary.clearance = clearance_summary(scene, &records);
@@ -306,7 +310,7 @@ fn clearance_note(records: &[ClearanceRecord]) -> Option<String> {
 fn new_summary(scene: &Scene) -> Summary {
     let model = &scene.model;
     Summary {
-        elements: model.n_elements,
+        elements: model.element_count(),
         unknowns: model.n_unknowns,
         kernel: model.element(0).kernel_path().to_string(),
         simd: ancf_core::math::simd::path().name().into(),

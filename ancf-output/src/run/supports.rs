@@ -9,16 +9,27 @@ use ancf_core::model::Model;
 /// A static run's supports: the reaction at equilibrium alone.
 /// `reactions` are `StaticResult::reactions` (node, force), in the model's
 /// support order.
-pub fn static_supports(reactions: &[(usize, [f64; 3])]) -> Vec<SupportSummary> {
+pub fn static_supports(model: &Model, reactions: &[(usize, [f64; 3])]) -> Vec<SupportSummary> {
     reactions
         .iter()
-        .map(|(node, f)| SupportSummary {
-            beam: "wire".into(),
-            node: *node,
-            static_force: *f,
-            ..Default::default()
+        .map(|(node, f)| {
+            let (beam, node) = beam_and_node(model, *node);
+            SupportSummary {
+                beam,
+                node,
+                static_force: *f,
+                ..Default::default()
+            }
         })
         .collect()
+}
+
+/// The beam holding the model's node `n` (its name) and the node's index on it.
+fn beam_and_node(model: &Model, n: usize) -> (String, usize) {
+    let (b, local) = model
+        .beam_of_node(n)
+        .expect("a support's node is on a beam");
+    (model.beams[b].name.clone(), local)
 }
 
 /// A dynamic run's supports: `initial` is each support's force at t = 0
@@ -41,9 +52,10 @@ pub fn dynamic_supports(
             let load = h.summary(f);
             let reference = norm(static_force);
             let ratio = |peak: f64| (reference > 0.0).then(|| peak / reference);
+            let (beam, node) = beam_and_node(model, s.node);
             SupportSummary {
-                beam: "wire".into(),
-                node: s.node,
+                beam,
+                node,
                 static_force,
                 peak_force: Some(load.peak_force),
                 peak_time: Some(load.peak_time),

@@ -259,3 +259,33 @@ fn bad_members_are_refused_naming_the_part() {
     let e = build(wire().member(tube("a", 4)).support(21, SupportKind::Pin));
     assert!(e.to_string().contains("the wire has nodes 0..=20"), "{e}");
 }
+
+/// A member that overlaps the wire where both start is refused, naming it.
+#[test]
+fn a_member_overlapping_the_wire_is_refused() {
+    // The wire lies along x at z = 0; a tube across it 3 cm below the axis
+    // (radii 1 cm + 5 cm) overlaps, 7 cm below it does not.
+    let across = |z: f64| {
+        BeamBuilder::new("tube", 4.0, 8)
+            .placed([5.03, -2.0, z], [0.0, 1.0, 0.0])
+            .layer(steel(0.3), R)
+            .bore(BORE)
+    };
+    let e = wire().member(across(-0.03)).build().unwrap_err();
+    match &e {
+        ModelError::Member {
+            index: 0,
+            name,
+            error,
+        } => {
+            assert_eq!(name, "tube");
+            assert!(
+                matches!(&**error, ModelError::Wire { what, .. } if what == "origin"),
+                "{e}"
+            );
+            assert!(e.to_string().contains("0.0300 m apart"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(wire().member(across(-0.07)).build().is_ok());
+}

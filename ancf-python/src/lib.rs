@@ -341,8 +341,37 @@ impl Wire {
         }
     }
 
-    /// A support at `node`: kind "pin" (position), "clamp" or "fixed".
-    fn support(&self, node: usize, kind: &str) -> PyResult<Wire> {
+    /// A frame member `name`: a beam of the same element, `length` (m) in
+    /// `elements` elements from `origin` along `direction`, its section
+    /// the `layers` [(material, outer_radius), …] from `inner_radius` (m;
+    /// 0: solid) out. Hold and load it with `beam=name`.
+    #[pyo3(signature = (name, length, elements, origin, direction, layers, inner_radius = 0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn member(
+        &self,
+        name: &str,
+        length: f64,
+        elements: usize,
+        origin: Vec<f64>,
+        direction: Vec<f64>,
+        layers: Vec<(PyRef<'_, Material>, f64)>,
+        inner_radius: f64,
+    ) -> PyResult<Wire> {
+        let mut beam = ancf_core::model::BeamBuilder::new(name, length, elements)
+            .placed(vec3("origin", origin)?, vec3("direction", direction)?)
+            .bore(inner_radius);
+        for (material, outer_radius) in layers {
+            beam = beam.layer(material.inner.clone(), outer_radius);
+        }
+        Ok(Wire {
+            builder: self.builder.clone().member(beam),
+        })
+    }
+
+    /// A support at `node`: kind "pin" (position), "clamp" or "fixed"; on
+    /// the member named `beam` (default: the wire).
+    #[pyo3(signature = (node, kind, beam = None))]
+    fn support(&self, node: usize, kind: &str, beam: Option<&str>) -> PyResult<Wire> {
         use ancf_core::model::SupportKind;
         let kind = match kind {
             "pin" => SupportKind::Pin,
@@ -354,8 +383,13 @@ impl Wire {
                 )));
             }
         };
+        let support = ancf_core::model::Support::new(node, kind);
+        let builder = self.builder.clone();
         Ok(Wire {
-            builder: self.builder.clone().support(node, kind),
+            builder: match beam {
+                Some(beam) => builder.support_on(beam, support),
+                None => builder.support_with(support),
+            },
         })
     }
 
@@ -390,10 +424,20 @@ impl Wire {
         })
     }
 
-    /// A constant force (N) at a node.
-    fn load(&self, node: usize, force: Vec<f64>) -> PyResult<Wire> {
+    /// A constant force (N) at a node (of the member named `beam`; default: the wire).
+    #[pyo3(signature = (node, force, beam = None))]
+    fn load(&self, node: usize, force: Vec<f64>, beam: Option<&str>) -> PyResult<Wire> {
+        let load = ancf_core::model::PointLoad {
+            node,
+            force: vec3("force", force)?,
+            ..Default::default()
+        };
+        let builder = self.builder.clone();
         Ok(Wire {
-            builder: self.builder.clone().load(node, vec3("force", force)?),
+            builder: match beam {
+                Some(beam) => builder.load_on(beam, load),
+                None => builder.load_with(load),
+            },
         })
     }
 

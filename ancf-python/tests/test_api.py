@@ -426,3 +426,38 @@ def test_clearance_in_python_equals_the_cli(tmp_path):
     (cli,) = ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")["clearance"]
     assert ours == cli
     assert ours["entered"] and ours["min_distance"] < -0.3
+
+
+def test_a_member_in_code_equals_its_scene(tmp_path):
+    # A tube member beside the wire, built in code and read from a scene:
+    # the same supports' loads, named by beam.
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    wire = (
+        ancf.Wire(2.0, 4)
+        .layer(steel, 0.01)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+        .member("tube", 4.0, 8, [1.0, -2.0, -2.0], [0.0, 1.0, 0.0], [(steel, 0.05)], inner_radius=0.046)
+        .support(0, "clamp", beam="tube")
+        .support(8, "pin", beam="tube")
+        .load(4, [0.0, 0.0, -1000.0], beam="tube")
+    )
+    built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.01)
+    scene = json.loads(json.dumps(BASE))
+    scene["analysis"].update(end_time=0.01, time_step=1e-3, spectral_radius=0.9)
+    scene["wire"].update(length=2.0, elements=4)
+    scene["beam"] = [{"name": "tube", "length": 4.0, "elements": 8, "origin": [1.0, -2.0, -2.0],
+                      "direction": [0.0, 1.0, 0.0],
+                      "layers": [{"material": "steel", "inner_radius": 0.046, "outer_radius": 0.05}]}]
+    scene["support"] = [{"node": 0, "kind": "pin"}, {"beam": "tube", "node": 0, "kind": "clamp"},
+                        {"beam": "tube", "node": "last", "kind": "pin"}]
+    scene["load"] = [{"beam": "tube", "node": 4, "force": [0.0, 0.0, -1000.0]}]
+    from_file = ancf.Simulation(ancf.Scene.from_dict(scene))
+    built.run()
+    from_file.run()
+    assert [(s["beam"], s["node"]) for s in built.supports] == [("wire", 0), ("tube", 0), ("tube", 8)]
+    assert [list(s["force"][-1]) for s in built.supports] == [list(s["force"][-1]) for s in from_file.supports]
+    assert built.summary()["elements"] == 12
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Simulation.from_wire(wire.support(9, "pin", beam="tube"), time_step=1e-3, end_time=0.01)
+    assert e.value.field == "supports[3].node"

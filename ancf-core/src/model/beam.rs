@@ -10,7 +10,8 @@
 //! block tridiagonal by nodes (with zero blocks at the gaps): the wire's
 //! band and block solvers run unchanged.
 
-use crate::element::ElementIntegration;
+use crate::element::{ElementIntegration, position};
+use crate::math::vec3::{dot, sub};
 use std::ops::Range;
 
 /// One beam of a model.
@@ -55,4 +56,57 @@ pub struct BeamLayout {
     pub origin: [f64; 3],
     /// Its direction (any length but zero).
     pub direction: [f64; 3],
+}
+
+/// Points along beam `beam`'s centerline at coordinates `q`, `per_element`
+/// to an element (from each element's first node on) and its last node.
+pub fn centerline_points(
+    model: &super::Model,
+    beam: &Beam,
+    q: &[f64],
+    per_element: usize,
+) -> Vec<[f64; 3]> {
+    let mut points = Vec::new();
+    for el in beam.elements.clone() {
+        let e = model.element_coordinates(q, el);
+        let l = model.element(el).length;
+        for k in 0..per_element {
+            points.push(position(&e, k as f64 / per_element as f64, 0.0, 0.0, l));
+        }
+    }
+    points.push(model.node_position(q, beam.last_node()));
+    points
+}
+
+/// The distance (m) between the segments from `p0` to `p1` and from `q0`
+/// to `q1` (closest points clamped to both segments).
+pub fn segment_distance(p0: [f64; 3], p1: [f64; 3], q0: [f64; 3], q1: [f64; 3]) -> f64 {
+    let (d1, d2, r) = (sub(p1, p0), sub(q1, q0), sub(p0, q0));
+    let (a, e, f) = (dot(d1, d1), dot(d2, d2), dot(d2, r));
+    let (c, b) = (dot(d1, r), dot(d1, d2));
+    let denom = a * e - b * b;
+    // The closest point on the first segment's line to the second's, clamped.
+    let mut s = if a > 0.0 && denom > 1e-14 * a * e {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut t = if e > 0.0 { (b * s + f) / e } else { 0.0 };
+    if t < 0.0 {
+        t = 0.0;
+        s = if a > 0.0 {
+            (-c / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+    } else if t > 1.0 {
+        t = 1.0;
+        s = if a > 0.0 {
+            ((b - c) / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+    }
+    let d: [f64; 3] = std::array::from_fn(|k| p0[k] + s * d1[k] - q0[k] - t * d2[k]);
+    dot(d, d).sqrt()
 }

@@ -537,6 +537,7 @@ impl WireBuilder {
             })?;
         }
         let model = Model::from_beams(layouts, supports, self.gravity, loads)?;
+        members_clear_of_the_wire(&model)?;
         surface_stations_resolve_rods(&self.rods, &self.contact, &model).map_err(contact)?;
         if model.n_unknowns == 0 {
             return Err(ModelError::NothingToSolve);
@@ -586,4 +587,50 @@ fn surface_stations_resolve_rods(
             r.radius
         ),
     )
+}
+
+/// Centerline points an element is sampled at when members are checked
+/// against the wire.
+const OVERLAP_SAMPLES: usize = 8;
+
+/// Every member clear of the wire where both start (their starting
+/// shapes): a member whose surface overlaps the wire's would start in deep
+/// contact, or inside it.
+fn members_clear_of_the_wire(model: &Model) -> Result<(), ModelError> {
+    use super::beam::{centerline_points, segment_distance};
+    if model.beams.len() < 2 {
+        return Ok(());
+    }
+    let q = model.initial_coordinates();
+    let wire = centerline_points(model, model.wire(), &q, OVERLAP_SAMPLES);
+    let radius = |b: &super::Beam| model.element(b.elements.start).section.outer_radius();
+    let wire_radius = radius(model.wire());
+    for (i, member) in model.beams.iter().enumerate().skip(1) {
+        let line = centerline_points(model, member, &q, OVERLAP_SAMPLES);
+        let clearance = wire_radius + radius(member);
+        let closest = wire
+            .windows(2)
+            .flat_map(|w| {
+                line.windows(2)
+                    .map(move |m| (segment_distance(w[0], w[1], m[0], m[1]), w[0]))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((d, p)) = closest
+            && d < clearance
+        {
+            return Err(ModelError::Member {
+                index: i - 1,
+                name: member.name.clone(),
+                error: Box::new(ModelError::wire(
+                    "origin",
+                    format!(
+                        "the member overlaps the wire where they start: their centerlines come {d:.4} m \
+                         apart near [{:.3}, {:.3}, {:.3}] m, less than their radii's sum {clearance:.4} m",
+                        p[0], p[1], p[2]
+                    ),
+                )),
+            });
+        }
+    }
+    Ok(())
 }

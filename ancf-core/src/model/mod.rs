@@ -339,7 +339,10 @@ impl std::fmt::Display for ModelError {
             ModelError::Rod { index, field, .. } => write!(f, "rod {index}, {field}: {m}"),
             ModelError::Contact { field, .. } => write!(f, "contact {field}: {m}"),
             ModelError::Damping { field, .. } => write!(f, "damping {field}: {m}"),
-            ModelError::Member { name, error, .. } => write!(f, "member \"{name}\": {error}"),
+            ModelError::Member { name, error, .. } => match &**error {
+                ModelError::Wire { what, .. } => write!(f, "member \"{name}\" {what}: {m}"),
+                inner => write!(f, "member \"{name}\", {inner}"),
+            },
         }
     }
 }

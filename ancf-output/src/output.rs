@@ -94,6 +94,18 @@ pub struct SupportSummary {
     pub filtered_ratio_to_static: Option<f64>,
 }
 
+/// A frame member's largest internal loads over the run (`[[beam]]`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct BeamSummary {
+    /// The member's name.
+    pub name: String,
+    /// The largest bending moment (N m), its time (s) and place (m from
+    /// the member's first node); the largest von Mises stress at the outer
+    /// fiber (Pa), its time and place.
+    #[serde(flatten)]
+    pub record: ancf_core::loads::member_load::MemberRecord,
+}
+
 /// How close the wire came to a clearance zone (`[[clearance]]`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct ClearanceSummary {
@@ -177,6 +189,9 @@ pub struct Summary {
     /// without supports).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub supports: Vec<SupportSummary>,
+    /// Per frame member, in the scene's order (absent without any).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub beams: Vec<BeamSummary>,
     /// Per clearance zone, in the scene's order (absent without any).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub clearance: Vec<ClearanceSummary>,

@@ -4,6 +4,7 @@
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
 
 use ancf_core::loads::clearance_record::ClearanceRecord;
+use ancf_core::loads::member_load::MemberRecord;
 use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
 use ancf_core::solve::simulation::{
     Initial, Simulation as CoreSimulation, SimulationError as CoreSimError,
@@ -500,6 +501,24 @@ pub struct Simulation {
     sim: CoreSimulation,
     /// How close the wire came to each of the scene's clearance zones.
     clearance: Vec<ClearanceRecord>,
+    /// Each frame member's largest internal loads.
+    members: Vec<MemberRecord>,
+}
+
+/// Observe `scene`'s clearance zones and frame members at `sim`'s state.
+fn observe(
+    scene: &CoreScene,
+    sim: &CoreSimulation,
+    clearance: &mut [ClearanceRecord],
+    members: &mut [MemberRecord],
+) {
+    let (state, model) = (sim.state(), &scene.model);
+    for (zone, record) in scene.clearance.iter().zip(clearance) {
+        record.observe(zone, model, &state.q, state.time);
+    }
+    for (beam, record) in model.beams.iter().skip(1).zip(members) {
+        record.observe(model, beam, &state.q, state.time);
+    }
 }
 
 /// A core error as `SimulationError`, with the core's likely cause.
@@ -513,19 +532,17 @@ impl Simulation {
     fn started(scene: CoreScene, sim: CoreSimulation) -> Self {
         let mut s = Simulation {
             clearance: vec![ClearanceRecord::default(); scene.clearance.len()],
+            members: vec![MemberRecord::default(); scene.model.beams.len() - 1],
             scene,
             sim,
         };
-        s.observe_clearance();
+        s.observe_state();
         s
     }
 
-    /// Observe the clearance zones at the current state.
-    fn observe_clearance(&mut self) {
-        let state = self.sim.state();
-        for (zone, record) in self.scene.clearance.iter().zip(&mut self.clearance) {
-            record.observe(zone, &self.scene.model, &state.q, state.time);
-        }
+    /// Observe the clearance zones and the frame members at the current state.
+    fn observe_state(&mut self) {
+        observe(&self.scene, &self.sim, &mut self.clearance, &mut self.members);
     }
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
@@ -549,7 +566,7 @@ impl Simulation {
     /// One step; the error names the step and the time.
     fn advance(&mut self) -> Result<(), PyErr> {
         self.sim.step().map_err(|e| simulation_error(&e))?;
-        self.observe_clearance();
+        self.observe_state();
         Ok(())
     }
 }
@@ -735,17 +752,15 @@ impl Simulation {
                 }
                 // Up to `every` steps without the GIL, then a record.
                 let this = &mut *this;
-                let (sim, scene, clearance) = (&mut this.sim, &this.scene, &mut this.clearance);
+                let (sim, scene) = (&mut this.sim, &this.scene);
+                let (clearance, members) = (&mut this.clearance, &mut this.members);
                 let outcome = py.detach(|| {
                     for _ in 0..every {
                         if done(sim) {
                             break;
                         }
                         sim.step()?;
-                        let state = sim.state();
-                        for (zone, record) in scene.clearance.iter().zip(clearance.iter_mut()) {
-                            record.observe(zone, &scene.model, &state.q, state.time);
-                        }
+                        observe(scene, sim, clearance, members);
                     }
                     Ok(())
                 });
@@ -934,6 +949,25 @@ impl Simulation {
                 supports.append(support_dict(py, &s)?)?;
             }
             d.set_item("supports", supports)?;
+        }
+        if !self.members.is_empty() {
+            let beams = PyList::empty(py);
+            for (beam, r) in self.scene.model.beams.iter().skip(1).zip(&self.members) {
+                let b = PyDict::new(py);
+                b.set_item("name", &beam.name)?;
+                for (k, v) in [
+                    ("max_bending_moment", r.max_bending_moment),
+                    ("max_bending_moment_time", r.max_bending_moment_time),
+                    ("max_bending_moment_at", r.max_bending_moment_at),
+                    ("max_von_mises", r.max_von_mises),
+                    ("max_von_mises_time", r.max_von_mises_time),
+                    ("max_von_mises_at", r.max_von_mises_at),
+                ] {
+                    b.set_item(k, v)?;
+                }
+                beams.append(b)?;
+            }
+            d.set_item("beams", beams)?;
         }
         if !self.clearance.is_empty() {
             let zones = PyList::empty(py);

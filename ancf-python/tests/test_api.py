@@ -458,6 +458,11 @@ def test_a_member_in_code_equals_its_scene(tmp_path):
     assert [(s["beam"], s["node"]) for s in built.supports] == [("wire", 0), ("tube", 0), ("tube", 8)]
     assert [list(s["force"][-1]) for s in built.supports] == [list(s["force"][-1]) for s in from_file.supports]
     assert built.summary()["elements"] == 12
+    (tube,) = built.summary()["beams"]
+    assert tube["name"] == "tube" and tube == from_file.summary()["beams"][0]
+    assert tube["max_bending_moment"] > 0.0 and tube["max_von_mises"] > 0.0
+    cli = ancf.run(ancf.Scene.from_dict(scene), tmp_path / "out")
+    assert cli["beams"][0] == from_file.summary()["beams"][0]
     with pytest.raises(ancf.SceneError) as e:
         ancf.Simulation.from_wire(wire.support(9, "pin", beam="tube"), time_step=1e-3, end_time=0.01)
     assert e.value.field == "supports[3].node"

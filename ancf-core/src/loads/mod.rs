@@ -1,9 +1,10 @@
 //! Loads as impact engineers report them: the CFC filter, a rod's force
 //! history (peaks, impulse, duration) and the run's contact record (first
 //! touch, largest force and penetration); how close the wire came to each
-//! clearance zone.
+//! clearance zone; a frame member's largest bending moment and stress.
 
 pub mod cfc;
 pub mod clearance_record;
 pub mod contact_record;
+pub mod member_load;
 pub mod rod_load;

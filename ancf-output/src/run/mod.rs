@@ -15,10 +15,11 @@ mod progress;
 pub mod supports;
 
 use crate::output::{
-    ClearanceSummary, ContactSummary, EnergySummary, RunStatus, Summary, TipSummary,
+    BeamSummary, ClearanceSummary, ContactSummary, EnergySummary, RunStatus, Summary, TipSummary,
 };
 use ancf_core::forces::assembly::ContactForces;
 use ancf_core::loads::clearance_record::ClearanceRecord;
+use ancf_core::loads::member_load::MemberRecord;
 use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
@@ -188,6 +189,9 @@ fn execute(
                     summary.supports = supports::static_supports(model, &res.reactions);
                     let mut records = vec![ClearanceRecord::default(); scene.clearance.len()];
                     observe_clearance(scene, &mut records, &res.q, 0.0);
+                    let mut members = vec![MemberRecord::default(); model.beams.len() - 1];
+                    observe_members(model, &mut members, &res.q, 0.0);
+                    summary.beams = member_summary(model, &members);
                     summary.clearance = clearance_summary(scene, &records);
                     if let Some(note) = clearance_note(&records) {
                         summary.message.push_str(&format!("; {note}"));
@@ -265,6 +269,27 @@ pub struct Progress {
     /// How close the wire came to each clearance zone so far.
     #[serde(default)]
     clearance: Vec<ClearanceRecord>,
+    /// Each frame member's largest internal loads so far.
+    #[serde(default)]
+    members: Vec<MemberRecord>,
+}
+
+/// Observe every frame member of `model` at coordinates `q`, time `t`.
+fn observe_members(model: &Model, records: &mut [MemberRecord], q: &[f64], t: f64) {
+    for (beam, record) in model.beams.iter().skip(1).zip(records) {
+        record.observe(model, beam, q, t);
+    }
+}
+
+/// summary.json's `beams`: each member's name and largest loads.
+fn member_summary(model: &Model, records: &[MemberRecord]) -> Vec<BeamSummary> {
+    (model.beams.iter().skip(1))
+        .zip(records)
+        .map(|(beam, record)| BeamSummary {
+            name: beam.name.clone(),
+            record: *record,
+        })
+        .collect()
 }
 
 /// Observe every clearance zone of `scene` at coordinates `q`, time `t`.
@@ -386,6 +411,8 @@ fn run_dynamic(
             history.push_shape(model, state);
             let mut clearance = vec![ClearanceRecord::default(); scene.clearance.len()];
             observe_clearance(scene, &mut clearance, &state.q, state.time);
+            let mut members = vec![MemberRecord::default(); model.beams.len() - 1];
+            observe_members(model, &mut members, &state.q, state.time);
             let p = Progress {
                 sim: sim.snapshot(),
                 message,
@@ -395,6 +422,7 @@ fn run_dynamic(
                 last: e0,
                 vtk_frames: Vec::new(),
                 clearance,
+                members,
             };
             (p, sim, files)
         }
@@ -402,6 +430,8 @@ fn run_dynamic(
     // A checkpoint from before the zones were recorded: from here on.
     p.clearance
         .resize(scene.clearance.len(), ClearanceRecord::default());
+    p.members
+        .resize(model.beams.len() - 1, MemberRecord::default());
     let (done, n_steps) = sim.steps();
     summary.unknowns = model.holding_at(0.0).n_unknowns;
     let (quiet, cancel) = (watch.quiet, watch.cancel);
@@ -448,6 +478,7 @@ fn run_dynamic(
         };
         let state = sim.state();
         observe_clearance(scene, &mut p.clearance, &state.q, state.time);
+        observe_members(model, &mut p.members, &state.q, state.time);
         if k % scene.output.every == 0 || k == n_steps {
             let e = sim.energies();
             if !e.total().is_finite() {
@@ -509,6 +540,7 @@ fn run_dynamic(
     }
     summary.time = progress.state.time;
     summary.clearance = clearance_summary(scene, &p.clearance);
+    summary.beams = member_summary(model, &p.members);
     if let Some(note) = clearance_note(&p.clearance) {
         summary.message.push_str(&format!("; {note}"));
     }

@@ -1,0 +1,113 @@
+//! A frame member's internal loads over a run, as a designer sizes a tube:
+//! the largest bending moment and the largest von Mises stress at its
+//! outer fiber, where along it and when.
+//!
+//! They are taken where a finite-element program takes member forces: at
+//! the element ends, from each element's generalized internal forces — the
+//! resultants that hold its nodes in equilibrium, which converge with the
+//! nodal values. (The centerline's curvature κ = |r_x × r_xx| / |r_x|³ is
+//! no measure of this element's moment: on a propped tube it drifted from
+//! −7 % to +32 % of beam theory's clamp moment as 16 elements became 128,
+//! where the end resultants stay within 0.1 %.) Stresses follow beam
+//! theory at the outer radius, small strains.
+
+use crate::material::MaterialModel;
+use crate::math::vec3::{cross, dot, norm};
+use crate::model::{Beam, Model};
+
+/// A member's largest internal loads so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MemberRecord {
+    /// The largest bending moment (N m) …
+    pub max_bending_moment: f64,
+    /// … its time (s) …
+    pub max_bending_moment_time: f64,
+    /// … and where: the distance from the member's first node (m, along
+    /// it unstretched).
+    pub max_bending_moment_at: f64,
+    /// The largest von Mises stress at the outer fiber (Pa) …
+    pub max_von_mises: f64,
+    /// … its time (s) …
+    pub max_von_mises_time: f64,
+    /// … and where (m from the member's first node).
+    pub max_von_mises_at: f64,
+}
+
+/// The resultants element `el` carries at its end `end` (0: first node,
+/// 1: second) at coordinates `q`: axial force N (N), bending moment |M|
+/// (N m) and torque T (N m), from its generalized internal forces (what
+/// the element exerts on the node): a rotation δθ of the node's triad moves
+/// each gradient r_i by δθ × r_i, so the node's moment is Σ_i r_i × Q_{r_i}
+/// and its force the Q on r; split along and across the unit tangent.
+pub fn end_resultants(model: &Model, el: usize, end: usize, q: &[f64]) -> (f64, f64, f64) {
+    let e = model.element_coordinates(q, el);
+    let mut qe = [0.0; 24];
+    model.element(el).evaluate(&e, &mut qe, None);
+    let base = 12 * end;
+    let v = |x: &[f64], at: usize| [x[at], x[at + 1], x[at + 2]];
+    let force = v(&qe, base);
+    let mut moment = [0.0; 3];
+    for i in 0..3 {
+        let r = v(&e, base + 3 + 3 * i);
+        let m = cross(r, v(&qe, base + 3 + 3 * i));
+        moment = std::array::from_fn(|k| moment[k] + m[k]);
+    }
+    let rx = v(&e, base + 3);
+    let t = rx.map(|x| x / norm(rx));
+    let torque = dot(moment, t);
+    let bending: [f64; 3] = std::array::from_fn(|k| moment[k] - torque * t[k]);
+    (dot(force, t).abs(), norm(bending), torque.abs())
+}
+
+/// The outer fiber's von Mises stress (Pa) under axial force `n` (N),
+/// bending moment `m` and torque `t` (N m) in `section`: σ = E_o (N / EA +
+/// M R / EI), τ = G_o T R / GJ, √(σ² + 3τ²), E_o and G_o the outer layer's.
+pub fn von_mises(section: &crate::section::Section, n: f64, m: f64, t: f64) -> f64 {
+    let moduli = |model: &MaterialModel| match *model {
+        MaterialModel::StVenantKirchhoff {
+            youngs_modulus,
+            poisson_ratio,
+            ..
+        } => (
+            youngs_modulus,
+            youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
+        ),
+        MaterialModel::MooneyRivlin { mu10, mu01, .. } => {
+            (6.0 * (mu10 + mu01), 2.0 * (mu10 + mu01))
+        }
+    };
+    let gj: f64 = (section.layers.iter())
+        .map(|l| moduli(&l.material.model).1 * (l.second_moments[0] + l.second_moments[1]))
+        .sum();
+    let outer = section.layers.last().expect("a section has a layer");
+    let (e, g) = moduli(&outer.material.model);
+    let r = section.outer_radius();
+    let sigma = e * (n / section.axial_stiffness() + m * r / section.bending_stiffness());
+    let tau = g * t * r / gj;
+    (sigma * sigma + 3.0 * tau * tau).sqrt()
+}
+
+impl MemberRecord {
+    /// Observe member `beam` of `model` at coordinates `q`, time `t` (s).
+    pub fn observe(&mut self, model: &Model, beam: &Beam, q: &[f64], t: f64) {
+        let start = model.node_arc(beam.nodes.start);
+        for el in beam.elements.clone() {
+            let section = &model.element(el).section;
+            for end in 0..2 {
+                let (n, m, torque) = end_resultants(model, el, end, q);
+                let stress = von_mises(section, n, m, torque);
+                let at = model.node_arc(el + end) - start;
+                if m > self.max_bending_moment {
+                    self.max_bending_moment = m;
+                    self.max_bending_moment_time = t;
+                    self.max_bending_moment_at = at;
+                }
+                if stress > self.max_von_mises {
+                    self.max_von_mises = stress;
+                    self.max_von_mises_time = t;
+                    self.max_von_mises_at = at;
+                }
+            }
+        }
+    }
+}

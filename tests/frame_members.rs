@@ -161,3 +161,35 @@ fn a_suddenly_loaded_member_peaks_at_twice_its_static_moment() {
     assert_eq!(r.max_bending_moment_at, 0.0);
     assert!(r.max_bending_moment_time > 0.01, "{r:?}");
 }
+
+/// ParaView shows the members as tubes beside the wire: one frame holds
+/// both surfaces (16 points around each of 4 stations an element, and the
+/// last), their quads apart.
+#[test]
+fn the_vtk_frames_draw_the_members() {
+    let text = scene("").replace(
+        "kind = \"static\"",
+        "kind = \"dynamic\"\nend_time = 2e-3\ntime_step = 1e-3",
+    ) + "[output]\nplots = false\n";
+    let scene = Scene::from_toml(&text).unwrap();
+    let dir = std::env::temp_dir().join(format!("ancf-members-vtk-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = RunOptions {
+        out: dir.clone(),
+        quiet: true,
+        cancel: Default::default(),
+    };
+    run_scene(&scene, &opts).unwrap();
+    let frame = std::fs::read_to_string(dir.join("vtk/wire_000000.vtu")).unwrap();
+    let rings = (20 * 4 + 1) + (16 * 4 + 1);
+    let cells = 16 * (20 * 4) + 16 * (16 * 4);
+    assert!(
+        frame.contains(&format!(
+            "NumberOfPoints=\"{}\" NumberOfCells=\"{cells}\"",
+            16 * rings
+        )),
+        "{}",
+        &frame[..300]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -296,48 +296,58 @@ fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
     s
 }
 
-/// One frame of the wire (frame members are in their own files): the tube
-/// surface with displacement, velocity and Green–Lagrange strain at its points.
+/// One frame of the wire and its frame members: each a tube surface with
+/// displacement, velocity and Green–Lagrange strain at its points.
 fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Result<()> {
-    let radius = model.section().outer_radius();
     let mut points = Vec::new();
+    let mut quads = Vec::new();
     let (mut disp, mut vel, mut strain) = (Vec::new(), Vec::new(), Vec::new());
-    for el in model.wire().elements.clone() {
-        let l = model.element(el).length;
-        let e = model.element_coordinates(q, el);
-        let e0 = model.element_coordinates(&model.reference, el);
-        let ev = model.element_coordinates(v, el);
-        for k in usize::from(el > 0)..=STATIONS {
-            let xi = k as f64 / STATIONS as f64;
-            for a in 0..ANGLES {
-                let phi = 2.0 * std::f64::consts::PI * a as f64 / ANGLES as f64;
-                let (y, z) = (radius * phi.cos(), radius * phi.sin());
-                let s = shape_functions(xi, y, z, l);
-                let at = |x: &[f64; 24]| -> [f64; 3] {
-                    std::array::from_fn(|c| (0..8).map(|i| s[i] * x[3 * i + c]).sum())
-                };
-                let (p, p0, pv) = (at(&e), at(&e0), at(&ev));
-                points.push(p);
-                disp.extend((0..3).map(|c| p[c] - p0[c]));
-                vel.extend(pv);
-                let eps = green_lagrange(&deformation_gradient(&e, &shape_gradients(xi, y, z, l)));
-                // VTK symmetric tensor order: xx, yy, zz, xy, yz, xz (shears as tensor components).
-                strain.extend([
-                    eps[0],
-                    eps[1],
-                    eps[2],
-                    0.5 * eps[5],
-                    0.5 * eps[3],
-                    0.5 * eps[4],
-                ]);
+    for beam in &model.beams {
+        let first = points.len();
+        let radius = model.element(beam.elements.start).section.outer_radius();
+        for el in beam.elements.clone() {
+            let l = model.element(el).length;
+            let e = model.element_coordinates(q, el);
+            let e0 = model.element_coordinates(&model.reference, el);
+            let ev = model.element_coordinates(v, el);
+            for k in usize::from(el > beam.elements.start)..=STATIONS {
+                let xi = k as f64 / STATIONS as f64;
+                for a in 0..ANGLES {
+                    let phi = 2.0 * std::f64::consts::PI * a as f64 / ANGLES as f64;
+                    let (y, z) = (radius * phi.cos(), radius * phi.sin());
+                    let s = shape_functions(xi, y, z, l);
+                    let at = |x: &[f64; 24]| -> [f64; 3] {
+                        std::array::from_fn(|c| (0..8).map(|i| s[i] * x[3 * i + c]).sum())
+                    };
+                    let (p, p0, pv) = (at(&e), at(&e0), at(&ev));
+                    points.push(p);
+                    disp.extend((0..3).map(|c| p[c] - p0[c]));
+                    vel.extend(pv);
+                    let g = shape_gradients(xi, y, z, l);
+                    let eps = green_lagrange(&deformation_gradient(&e, &g));
+                    // VTK symmetric tensor order: xx, yy, zz, xy, yz, xz (shears as tensor components).
+                    strain.extend([
+                        eps[0],
+                        eps[1],
+                        eps[2],
+                        0.5 * eps[5],
+                        0.5 * eps[3],
+                        0.5 * eps[4],
+                    ]);
+                }
             }
         }
+        let rings = (points.len() - first) / ANGLES;
+        quads.extend(
+            tube_quads(rings, ANGLES)
+                .into_iter()
+                .map(|quad| quad.map(|i| i + first)),
+        );
     }
-    let rings = points.len() / ANGLES;
     write_vtu(
         path,
         &points,
-        &tube_quads(rings, ANGLES),
+        &quads,
         &[
             ("displacement", 3, disp),
             ("velocity", 3, vel),

@@ -201,3 +201,45 @@ fn every_invalid_value_is_refused_for_the_same_reason_by_scene_and_builder() {
 fn the_base_of_the_table_is_valid() {
     Scene::from_toml(BASE).expect("the base scene is valid");
 }
+
+/// A vector is three numbers: a longer one is refused, not cut short (a
+/// fourth entry of a force would otherwise be dropped without a word), and
+/// a shorter one too.
+#[test]
+fn vectors_of_three_numbers_only() {
+    let pendulum = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/pendulum.toml"
+    ))
+    .unwrap();
+    for (from, to) in [
+        (
+            "direction = [1.0, 0.0, 0.0]",
+            "direction = [1.0, 0.0, 0.0, 0.0]",
+        ),
+        ("direction = [1.0, 0.0, 0.0]", "direction = [1.0, 0.0]"),
+        (
+            "acceleration = [0.0, 0.0, -9.81]",
+            "acceleration = [0.0, 0.0, -9.81, 12345.0]",
+        ),
+        (
+            "origin = [0.0, 0.0, 0.0]",
+            "origin = [0.0, 0.0, 0.0, \"junk\", true]",
+        ),
+    ] {
+        let text = pendulum.replace(from, to);
+        assert_ne!(text, pendulum, "{from}");
+        let e = ancf_core::scene::Scene::from_toml(&text)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(to.split(" =").next().unwrap()), "{to}: {e}");
+    }
+    let force = pendulum + "\n[[load]]\nnode = \"last\"\nforce = [0, 0, -1, 12345]\n";
+    let e = ancf_core::scene::Scene::from_toml(&force)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("invalid length 4, expected exactly 3 numbers"),
+        "{e}"
+    );
+}

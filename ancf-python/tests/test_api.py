@@ -466,3 +466,20 @@ def test_a_member_in_code_equals_its_scene(tmp_path):
     with pytest.raises(ancf.SceneError) as e:
         ancf.Simulation.from_wire(wire.support(9, "pin", beam="tube"), time_step=1e-3, end_time=0.01)
     assert e.value.field == "supports[3].node"
+
+
+def test_vectors_are_three_numbers():
+    # A fourth entry is refused, not dropped.
+    scene = json.loads(json.dumps(BASE))
+    scene["load"] = [{"node": 4, "force": [0.0, 0.0, -1.0, 12345.0]}]
+    with pytest.raises(ancf.SceneError, match="exactly 3 numbers"):
+        ancf.Scene.from_dict(scene)
+
+
+@pytest.mark.parametrize("elements", [2**40, 2**62])
+def test_a_wire_too_large_is_refused_not_a_crash(elements):
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Simulation.from_wire(ancf.Wire(1.0, elements).layer(steel, 0.01).support(0, "pin"),
+                                  time_step=1e-3, end_time=0.01)
+    assert e.value.field == "elements"

@@ -83,7 +83,8 @@ impl BeamBuilder {
     /// elsewhere). Replaces the length and element count of [`BeamBuilder::new`].
     pub fn graded(mut self, segments: &[Segment]) -> Self {
         self.length = segments.iter().map(|s| s.length).sum();
-        self.elements = segments.iter().map(|s| s.elements).sum();
+        // Saturating: a count too large to add up is refused by `build`.
+        self.elements = (segments.iter()).fold(0, |n: usize, s| n.saturating_add(s.elements));
         self.segments = Some(segments.to_vec());
         self
     }
@@ -142,6 +143,20 @@ impl BeamBuilder {
         positive("length", self.length).map_err(wire("length"))?;
         if self.elements == 0 {
             return Err(ModelError::wire("elements", "need at least one element"));
+        }
+        if self.elements > super::MAX_ELEMENTS {
+            return Err(ModelError::wire(
+                if self.segments.is_some() {
+                    "segments"
+                } else {
+                    "elements"
+                },
+                format!(
+                    "{} elements is more than this code is meant for (≤ {:.0e})",
+                    self.elements,
+                    super::MAX_ELEMENTS as f64
+                ),
+            ));
         }
         let named = |e: ParameterError| ModelError::Wire {
             what: e.field,

@@ -23,6 +23,10 @@ use std::ops::Range;
 /// Coordinates per node: r, r_x, r_y, r_z.
 pub const NODE_DOFS: usize = 12;
 
+/// The most elements a beam may have: a larger model needs more memory than
+/// a workstation has (10⁵ elements take about 3 GB).
+pub const MAX_ELEMENTS: usize = 1_000_000;
+
 /// Axial Gauss points of an element unless said otherwise. 5 would
 /// integrate an SVK element's energy exactly (degree 8 in ξ), but the
 /// accuracy study (docs/accuracy) finds 3 points give the same

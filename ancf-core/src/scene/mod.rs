@@ -28,9 +28,8 @@ pub mod defaults {
     pub const OUTPUT_EVERY: usize = 1;
     /// A checkpoint every 1000 steps: a few per typical run, negligible cost.
     pub const CHECKPOINT_EVERY: usize = 1000;
-    /// The most elements a wire may have (a larger model needs more memory
-    /// than a workstation has).
-    pub const MAX_ELEMENTS: usize = 1_000_000;
+    /// The most elements a beam may have ([`crate::model::MAX_ELEMENTS`]).
+    pub const MAX_ELEMENTS: usize = crate::model::MAX_ELEMENTS;
 }
 
 /// What a run does, after validation.

@@ -117,6 +117,7 @@ pub struct AnalysisSpec {
 #[serde(deny_unknown_fields)]
 pub struct GravitySpec {
     /// g (m/s²).
+    #[serde(deserialize_with = "vec3")]
     pub acceleration: [f64; 3],
 }
 
@@ -193,8 +194,10 @@ pub struct WireSpec {
     /// element count; their lengths add up to `length`.
     pub segments: Option<Vec<SegmentSpec>>,
     /// Position of node 0 (m).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub origin: Option<[f64; 3]>,
     /// The wire's axis (normalised).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub direction: Option<[f64; 3]>,
     /// Concentric layers from the centre out.
     pub layers: Option<Vec<LayerSpec>>,
@@ -218,8 +221,10 @@ pub struct BeamSpec {
     /// A graded mesh.
     pub segments: Option<Vec<SegmentSpec>>,
     /// Position of its node 0 (m).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub origin: Option<[f64; 3]>,
     /// Its axis (normalised).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub direction: Option<[f64; 3]>,
     /// Concentric layers from the centre out (a tube: `inner_radius` on the first).
     pub layers: Option<Vec<LayerSpec>>,
@@ -278,12 +283,14 @@ pub struct SupportSpec {
     /// How it is held.
     pub kind: SupportKindSpec,
     /// Where it is held (m); default its reference position.
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub position: Option<[f64; 3]>,
     /// When it lets go (s); dynamic runs only.
     pub release_time: Option<f64>,
     /// The `[[beam]]` it holds, by name (absent: the wire).
     pub beam: Option<String>,
     /// `kind = "spring"`: translational stiffness along x, y, z (N/m).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub stiffness: Option<[f64; 3]>,
     /// `kind = "spring"`: rotational stiffness (N m/rad); default 0.
     pub rotational_stiffness: Option<f64>,
@@ -300,8 +307,10 @@ pub struct LoadSpec {
     /// The `[[beam]]` it loads, by name (absent: the wire).
     pub beam: Option<String>,
     /// The force (N).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub force: Option<[f64; 3]>,
     /// The moment (N m), applied through the node's gradient coordinates.
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub moment: Option<[f64; 3]>,
 }
 
@@ -310,8 +319,10 @@ pub struct LoadSpec {
 #[serde(deny_unknown_fields)]
 pub struct RodSpec {
     /// Its centre (m).
+    #[serde(deserialize_with = "vec3")]
     pub center: [f64; 3],
     /// Its axis (normalised).
+    #[serde(deserialize_with = "vec3")]
     pub axis: [f64; 3],
     /// Its radius (m).
     pub radius: f64,
@@ -419,11 +430,28 @@ pub struct ClearanceSpec {
     /// Which shape.
     pub kind: ClearanceKindSpec,
     /// Box: the corner of least x, y, z (m).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub min: Option<[f64; 3]>,
     /// Box: the corner of largest x, y, z (m).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub max: Option<[f64; 3]>,
     /// Half-space: a point of its plane (m).
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub point: Option<[f64; 3]>,
     /// Half-space: the plane's normal, out of the zone.
+    #[serde(default, deserialize_with = "optional_vec3")]
     pub normal: Option<[f64; 3]>,
+}
+
+/// A vector of exactly three numbers: a longer array is refused, not cut
+/// (`[0, 0, -1, 12345]` is no force), a shorter one too.
+fn vec3<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 3], D::Error> {
+    let v: Vec<f64> = Vec::deserialize(d)?;
+    <[f64; 3]>::try_from(v.as_slice())
+        .map_err(|_| de::Error::invalid_length(v.len(), &"exactly 3 numbers"))
+}
+
+/// [`vec3`], when given.
+fn optional_vec3<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+    vec3(d).map(Some)
 }

@@ -193,3 +193,42 @@ fn the_vtk_frames_draw_the_members() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A static scene with a beam no support holds is refused before work,
+/// naming the beam: its static solution has rigid-body motions (it used to
+/// end, after the Newton iterations, in "increase analysis.load_steps").
+#[test]
+fn an_unheld_beam_is_refused_for_statics() {
+    let free_tube = scene("")
+        .replace(
+            "[[support]]\nbeam = \"tube\"\nnode = 0\nkind = \"clamp\"\n",
+            "",
+        )
+        .replace(
+            "[[support]]\nbeam = \"tube\"\nnode = \"last\"\nkind = \"pin\"\n",
+            "",
+        )
+        .replace(
+            "[[load]]\nbeam = \"tube\"\nnode = 8\nforce = [0.0, 0.0, -1000.0]\n",
+            "",
+        );
+    let e = Scene::from_toml(&free_tube).unwrap_err().to_string();
+    assert!(e.starts_with("support: member \"tube\" is not held"), "{e}");
+    let free_wire = scene("").replace("[[support]]\nnode = 0\nkind = \"clamp\"\n", "");
+    let e = Scene::from_toml(&free_wire).unwrap_err().to_string();
+    assert!(e.starts_with("support: the wire is not held"), "{e}");
+    // The same through the core's solver, for a model built in code.
+    let steel = ancf_core::material::Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
+    let model = ancf_core::model::WireBuilder::new(1.0, 4)
+        .layer(steel, 0.01)
+        .load(4, [0.0, 0.0, -1.0])
+        .build()
+        .unwrap();
+    let e = ancf_core::solve::statics::solve_static(&model, &Default::default()).unwrap_err();
+    assert!(
+        e.message.starts_with("the wire is not held"),
+        "{}",
+        e.message
+    );
+    assert!(e.iterations.is_empty());
+}

@@ -698,6 +698,36 @@ impl Model {
         &self.beams[0]
     }
 
+    /// The beams no support holds (any kind, springs included): a static
+    /// solution of such a beam is singular — it has rigid-body motions.
+    pub fn unheld_beams(&self) -> Vec<&Beam> {
+        (self.beams.iter())
+            .filter(|b| !self.supports.iter().any(|s| b.nodes.contains(&s.node)))
+            .collect()
+    }
+
+    /// What a static solution needs that `self` lacks, said to a user:
+    /// `None` when every beam is held.
+    pub fn static_holding_error(&self) -> Option<String> {
+        let unheld = self.unheld_beams();
+        let names: Vec<String> = (unheld.iter())
+            .map(|b| {
+                if b.name == WIRE {
+                    "the wire".to_string()
+                } else {
+                    format!("member \"{}\"", b.name)
+                }
+            })
+            .collect();
+        (!names.is_empty()).then(|| {
+            format!(
+                "{} not held: a static solution needs a support (pin, clamp, fixed or spring) on \
+                 every beam, or it can move as a rigid body",
+                names.join(" and ") + if names.len() > 1 { " are" } else { " is" }
+            )
+        })
+    }
+
     /// The beam named `name`, with its index.
     pub fn beam(&self, name: &str) -> Option<(usize, &Beam)> {
         self.beams.iter().enumerate().find(|(_, b)| b.name == name)

@@ -370,6 +370,13 @@ impl Scene {
         let model = builder
             .build()
             .map_err(|e| model_error(&e, &layer_materials, &f.material))?;
+        let solves_statics = match analysis {
+            Analysis::Static { .. } => true,
+            Analysis::Dynamic { initial_static, .. } => initial_static,
+        };
+        if solves_statics && let Some(message) = model.static_holding_error() {
+            return Err(err("support", message));
+        }
         let clearance = clearance_zones(&f.clearance)?;
         Ok(Scene {
             source: String::new(),

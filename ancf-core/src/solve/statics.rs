@@ -183,6 +183,13 @@ pub fn solve_static_from(
     settings: &StaticSettings,
     q0: Vec<f64>,
 ) -> Result<StaticResult, StaticError> {
+    if let Some(message) = model.static_holding_error() {
+        return Err(StaticError {
+            message,
+            last_converged: q0,
+            iterations: vec![],
+        });
+    }
     let mut forces = ForceSum::new(model);
     let mut solver = SparseSolver::new(forces.pattern()).map_err(|e| StaticError {
         message: e.0,

@@ -34,12 +34,27 @@ fn scene_error(py: Python<'_>, e: &CoreSceneError) -> PyErr {
     err
 }
 
-/// A Python value as TOML, for `Scene.from_dict`; `path` names the key for errors.
-fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, CoreSceneError> {
+/// How deep a scene dict may nest: a scene's own nesting is four levels
+/// (`wire.layers[0].material`); deeper is a mistake, or a dict that holds
+/// itself, which would otherwise recurse until the interpreter's stack ends.
+const MAX_NESTING: usize = 32;
+
+/// A Python value as TOML, for `Scene.from_dict`; `path` names the key for
+/// errors, `depth` how deep the value sits.
+fn to_toml(
+    value: &Bound<'_, PyAny>,
+    path: &str,
+    depth: usize,
+) -> Result<toml::Value, CoreSceneError> {
     let bad = |what: String| CoreSceneError {
         field: path.to_string(),
         message: what,
     };
+    if depth > MAX_NESTING {
+        return Err(bad(format!(
+            "nested deeper than {MAX_NESTING} levels (a dict or list that contains itself?)"
+        )));
+    }
     if let Ok(d) = value.cast::<PyDict>() {
         let mut table = toml::Table::new();
         for (k, v) in d.iter() {
@@ -57,7 +72,7 @@ fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, CoreScen
             } else {
                 format!("{path}.{key}")
             };
-            table.insert(key, to_toml(&v, &sub)?);
+            table.insert(key, to_toml(&v, &sub, depth + 1)?);
         }
         Ok(toml::Value::Table(table))
     } else if value.is_instance_of::<PyBool>() {
@@ -79,7 +94,7 @@ fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> Result<toml::Value, CoreScen
             .enumerate()
         {
             let v = v.map_err(|_| bad("not iterable".into()))?;
-            items.push(to_toml(&v, &format!("{path}[{i}]"))?);
+            items.push(to_toml(&v, &format!("{path}[{i}]"), depth + 1)?);
         }
         Ok(toml::Value::Array(items))
     } else {
@@ -125,7 +140,7 @@ impl Scene {
     /// file's keys (`{"wire": {"length": 2.0, ...}, "rod": [{...}], ...}`).
     #[staticmethod]
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
-        let value = to_toml(d.as_any(), "").map_err(|e| scene_error(py, &e))?;
+        let value = to_toml(d.as_any(), "", 0).map_err(|e| scene_error(py, &e))?;
         let text = toml::to_string(&value).map_err(|e| {
             scene_error(
                 py,
@@ -209,7 +224,9 @@ impl Material {
             poisson_ratio.unwrap_or(DEFAULT_POISSON_RATIO),
             bending_factor.unwrap_or(DEFAULT_BENDING_FACTOR),
         );
-        inner.check().map_err(|e| value_error(&e.field, &e.message))?;
+        inner
+            .check()
+            .map_err(|e| value_error(&e.field, &e.message))?;
         Ok(Material { inner })
     }
 
@@ -219,7 +236,9 @@ impl Material {
     #[pyo3(signature = (density, mu10, mu01, penalty))]
     fn mooney_rivlin(density: f64, mu10: f64, mu01: f64, penalty: f64) -> PyResult<Material> {
         let inner = ancf_core::material::Material::mooney_rivlin(density, mu10, mu01, penalty);
-        inner.check().map_err(|e| value_error(&e.field, &e.message))?;
+        inner
+            .check()
+            .map_err(|e| value_error(&e.field, &e.message))?;
         Ok(Material { inner })
     }
 }
@@ -542,12 +561,21 @@ impl Simulation {
 
     /// Observe the clearance zones and the frame members at the current state.
     fn observe_state(&mut self) {
-        observe(&self.scene, &self.sim, &mut self.clearance, &mut self.members);
+        observe(
+            &self.scene,
+            &self.sim,
+            &mut self.clearance,
+            &mut self.members,
+        );
     }
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
         let m = self.sim.model();
-        m.wire().nodes.clone().map(|n| m.node_position(v, n)).collect()
+        m.wire()
+            .nodes
+            .clone()
+            .map(|n| m.node_position(v, n))
+            .collect()
     }
 
     /// The supports' summary so far, as summary.json's `supports`.
@@ -1031,7 +1059,8 @@ impl RunResult {
         let e = s.sim.energies();
         self.rods = rods;
         self.time.push(state.time);
-        self.tip.push(m.node_position(&state.q, m.wire().last_node()));
+        self.tip
+            .push(m.node_position(&state.q, m.wire().last_node()));
         self.kinetic.push(e.kinetic);
         self.strain.push(e.strain);
         self.gravity.push(e.gravity);

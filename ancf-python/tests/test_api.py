@@ -483,3 +483,17 @@ def test_a_wire_too_large_is_refused_not_a_crash(elements):
         ancf.Simulation.from_wire(ancf.Wire(1.0, elements).layer(steel, 0.01).support(0, "pin"),
                                   time_step=1e-3, end_time=0.01)
     assert e.value.field == "elements"
+
+
+def test_a_dict_that_holds_itself_is_refused_not_a_crash():
+    d = {}
+    d["analysis"] = d
+    with pytest.raises(ancf.SceneError, match="nested deeper than 32 levels"):
+        ancf.Scene.from_dict(d)
+    deep = []
+    for _ in range(10_000):
+        deep = [deep]
+    scene = json.loads(json.dumps(BASE))
+    scene["wire"]["origin"] = deep
+    with pytest.raises(ancf.SceneError, match="nested deeper"):
+        ancf.Scene.from_dict(scene)

@@ -795,7 +795,7 @@ impl Simulation {
                 if let Err(e) = outcome {
                     return Err(simulation_error(&e));
                 }
-                result.record(&this, rods);
+                result.record(this, rods);
             }
             if let Some(cb) = &callback {
                 cb.call1(py, (slf.clone(),))?;

@@ -237,6 +237,12 @@ impl Simulation {
         if snapshot.support_loads.len() != model.supports.len() {
             snapshot.support_loads = vec![LoadHistory::default(); model.supports.len()];
         }
+        Self::check_snapshot(model, &settings, &snapshot).map_err(|message| {
+            SimulationError::Setup {
+                what: "resuming",
+                error: StepError::Invalid(message),
+            }
+        })?;
         let (phases, phase_starts) = Self::phases(model, &settings);
         let phase = phases
             .get(snapshot.phase)
@@ -264,6 +270,69 @@ impl Simulation {
             settings,
             integrator,
         })
+    }
+
+    /// A snapshot that fits `model` and `settings`: every vector as long as
+    /// the model's coordinates, counters within the run, finite values, a
+    /// record per rod. A damaged or foreign checkpoint is refused naming
+    /// the field, never used.
+    fn check_snapshot(
+        model: &Model,
+        settings: &DynamicSettings,
+        s: &Snapshot,
+    ) -> Result<(), String> {
+        let n = model.reference.len();
+        let state = &s.state;
+        for (name, v) in [
+            ("state.q", &state.q),
+            ("state.v", &state.v),
+            ("state.a", &state.a),
+        ] {
+            if v.len() != n {
+                return Err(format!(
+                    "{name} has {} entries, the model has {n} coordinates",
+                    v.len()
+                ));
+            }
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                return Err(format!("{name}[{i}] is not finite"));
+            }
+        }
+        if let Some(p) = &state.previous
+            && p.a.len() != n
+        {
+            return Err(format!(
+                "state.previous.a has {} entries, the model has {n} coordinates",
+                p.a.len()
+            ));
+        }
+        let steps = Self::step_count(settings);
+        if s.step > steps {
+            return Err(format!("step {} is beyond the run's {steps} steps", s.step));
+        }
+        let t = s.step as f64 * settings.time_step;
+        if !(state.time.is_finite()
+            && (state.time - t.min(settings.end_time)).abs() <= 1e-6 * settings.time_step.max(t))
+        {
+            return Err(format!(
+                "state.time = {} s does not match step {} of {} s",
+                state.time, s.step, settings.time_step
+            ));
+        }
+        if s.subdivision.depth > settings.max_cuts {
+            return Err(format!(
+                "subdivision.depth = {} exceeds the {} halvings a step may take",
+                s.subdivision.depth, settings.max_cuts
+            ));
+        }
+        let rods = model.contact().map_or(0, |c| c.rods.len());
+        if s.rod_loads.len() != rods {
+            return Err(format!(
+                "rod_loads has {} entries, the model has {rods} rods",
+                s.rod_loads.len()
+            ));
+        }
+        Ok(())
     }
 
     /// The phase models: the supports still holding between release times.

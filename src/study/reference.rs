@@ -86,7 +86,7 @@ pub fn analytic(scene: &Scene) -> Option<Analytic> {
     }
     let omega = omega?;
     let length = m.length();
-    let axis = m.axis;
+    let axis = m.wire().axis;
     let f = load.force;
     let f_axial = dot(f, axis);
     let f_t = [

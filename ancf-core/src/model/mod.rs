@@ -197,12 +197,6 @@ pub struct Model {
     pub supports: Vec<Support>,
     /// The effects the model evaluates (only those its scene names).
     pub effects: Vec<Effect>,
-    /// Unit wire axis and section directions.
-    pub axis: [f64; 3],
-    /// Section direction y in the reference configuration.
-    pub section_y: [f64; 3],
-    /// Section direction z in the reference configuration.
-    pub section_z: [f64; 3],
 }
 
 /// Why a model cannot be built. Each kind names the part at fault in the
@@ -611,7 +605,6 @@ impl Model {
         }
         let n_elements = group_of.len();
         let n_nodes = n_elements + 1;
-        let (axis, ny, nz) = (beams[0].axis, beams[0].section_y, beams[0].section_z);
         let (dof_map, n_unknowns) = eliminate(n_nodes, &supports, &beams, |_| true)?;
         for (i, ld) in loads.iter().enumerate() {
             if ld.node >= n_nodes {
@@ -660,9 +653,6 @@ impl Model {
             n_unknowns,
             supports,
             effects,
-            axis,
-            section_y: ny,
-            section_z: nz,
         };
         // Elastic supports relax where their nodes start.
         let start = model.initial_coordinates();

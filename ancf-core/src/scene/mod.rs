@@ -231,23 +231,32 @@ impl Scene {
         let mut builder = WireBuilder::from_beam(wire);
         // Frame members: their descriptions, and each one's node count by name.
         let mut beam_nodes = vec![(crate::model::WIRE.to_string(), n_elements + 1)];
+        if f.wire.name.is_some() {
+            return Err(err(
+                "wire.name",
+                "the wire is named \"wire\"; names are for [[beam]] tables",
+            ));
+        }
         for (i, b) in f.beam.iter().enumerate() {
             let table = format!("beam[{i}]");
-            if b.name == crate::model::WIRE
-                || b.name.is_empty()
-                || beam_nodes.iter().any(|(n, _)| *n == b.name)
+            let Some(name) = &b.name else {
+                return Err(err(
+                    format!("{table}.name"),
+                    "missing: a member needs a name",
+                ));
+            };
+            if name == crate::model::WIRE
+                || name.is_empty()
+                || beam_nodes.iter().any(|(n, _)| n == name)
             {
                 return Err(err(
                     format!("{table}.name"),
-                    format!(
-                        "\"{}\": a member's name is unique, not empty and not \"wire\"",
-                        b.name
-                    ),
+                    format!("\"{name}\": a member's name is unique, not empty and not \"wire\""),
                 ));
             }
-            let (member, _, _, elements) = beam_description(&b.geometry(), &table, &b.name, &find)?;
+            let (member, _, _, elements) = beam_description(b, &table, name, &find)?;
             builder = builder.member(member);
-            beam_nodes.push((b.name.clone(), elements + 1));
+            beam_nodes.push((name.clone(), elements + 1));
         }
         // A node of the wire or of the member named `beam`: its index on that beam.
         let node =

@@ -186,6 +186,8 @@ pub struct QuadratureSpec {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WireSpec {
+    /// A `[[beam]]`'s name (unique, not "wire"); the wire has none.
+    pub name: Option<String>,
     /// Reference (unstretched) length (m).
     pub length: f64,
     /// Equal elements over the length (a uniform mesh); or `segments`.
@@ -205,49 +207,6 @@ pub struct WireSpec {
     pub rectangle: Option<RectangleSpec>,
     /// Quadrature orders.
     pub quadrature: Option<QuadratureSpec>,
-}
-
-/// `[[beam]]`: a frame member, a beam of the wire's element with its own
-/// name, geometry and section (the keys of `[wire]`).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BeamSpec {
-    /// Its name (unique, not "wire"): supports and loads name it.
-    pub name: String,
-    /// Reference length (m).
-    pub length: f64,
-    /// Equal elements over the length; or `segments`.
-    pub elements: Option<usize>,
-    /// A graded mesh.
-    pub segments: Option<Vec<SegmentSpec>>,
-    /// Position of its node 0 (m).
-    #[serde(default, deserialize_with = "optional_vec3")]
-    pub origin: Option<[f64; 3]>,
-    /// Its axis (normalised).
-    #[serde(default, deserialize_with = "optional_vec3")]
-    pub direction: Option<[f64; 3]>,
-    /// Concentric layers from the centre out (a tube: `inner_radius` on the first).
-    pub layers: Option<Vec<LayerSpec>>,
-    /// A rectangular section instead of layers.
-    pub rectangle: Option<RectangleSpec>,
-    /// Quadrature orders.
-    pub quadrature: Option<QuadratureSpec>,
-}
-
-impl BeamSpec {
-    /// Its geometry and section as `[wire]` has them.
-    pub fn geometry(&self) -> WireSpec {
-        WireSpec {
-            length: self.length,
-            elements: self.elements,
-            segments: self.segments.clone(),
-            origin: self.origin,
-            direction: self.direction,
-            layers: self.layers.clone(),
-            rectangle: self.rectangle.clone(),
-            quadrature: self.quadrature.clone(),
-        }
-    }
 }
 
 /// One region of a graded mesh (`[wire] segments`).
@@ -391,8 +350,8 @@ pub struct SceneFile {
     /// `[wire]`.
     pub wire: WireSpec,
     #[serde(default)]
-    /// `[[beam]]`: frame members.
-    pub beam: Vec<BeamSpec>,
+    /// `[[beam]]`: frame members, each with the keys of `[wire]` and a name.
+    pub beam: Vec<WireSpec>,
     #[serde(default)]
     /// `[[support]]`.
     pub support: Vec<SupportSpec>,

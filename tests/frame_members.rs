@@ -232,3 +232,33 @@ fn an_unheld_beam_is_refused_for_statics() {
     );
     assert!(e.iterations.is_empty());
 }
+
+/// A member on a post: its far end on an elastic support (a spring of k
+/// along z) instead of a pin. The spring takes its share of the load as
+/// −k δ, and the supports still carry the load together.
+#[test]
+fn a_member_on_an_elastic_post_shares_the_load() {
+    let k = 2e5;
+    let text = scene("").replace(
+        "[[support]]\nbeam = \"tube\"\nnode = \"last\"\nkind = \"pin\"\n",
+        &format!(
+            "[[support]]\nbeam = \"tube\"\nnode = \"last\"\nkind = \"spring\"\nstiffness = [1e8, 1e8, {k}]\n"
+        ),
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    assert_eq!(scene.model.springs().len(), 1);
+    let run = ancf::run::run_in_memory(&scene);
+    let post = &run.summary.supports[2];
+    assert_eq!((post.beam.as_str(), post.node), ("tube", 16));
+    // A cantilever on a spring prop: the prop's force R closes the gap
+    // between the free tip's deflection under P at midspan, 5 P L³ / 48 EI,
+    // and what R lifts back, R (L³ / 3 EI + 1 / k).
+    let (p, l) = (1000.0, 4.0_f64);
+    let ei = 2e11 * std::f64::consts::PI * (0.05_f64.powi(4) - 0.046_f64.powi(4)) / 4.0;
+    let r = (5.0 * p * l.powi(3) / (48.0 * ei)) / (l.powi(3) / (3.0 * ei) + 1.0 / k);
+    let held = post.static_force[2];
+    assert!((held / r - 1.0).abs() < 0.01, "{held} N against {r} N");
+    assert!(held < 5.0 / 16.0 * p, "a soft prop carries less than a pin");
+    let lifted: f64 = run.summary.supports.iter().map(|s| s.static_force[2]).sum();
+    assert!((lifted - 1000.0).abs() < 1e-6, "{lifted}");
+}

@@ -3,12 +3,11 @@
 //! `Simulation`; results come back as NumPy arrays. Every error is a Python
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
 
-use ancf_core::loads::clearance_record::ClearanceRecord;
-use ancf_core::loads::member_load::MemberRecord;
 use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
 use ancf_core::solve::simulation::{
     Initial, Simulation as CoreSimulation, SimulationError as CoreSimError,
 };
+use ancf_output::run::observations::Observations;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -518,26 +517,9 @@ impl Wire {
 pub struct Simulation {
     scene: CoreScene,
     sim: CoreSimulation,
-    /// How close the wire came to each of the scene's clearance zones.
-    clearance: Vec<ClearanceRecord>,
-    /// Each frame member's largest internal loads.
-    members: Vec<MemberRecord>,
-}
-
-/// Observe `scene`'s clearance zones and frame members at `sim`'s state.
-fn observe(
-    scene: &CoreScene,
-    sim: &CoreSimulation,
-    clearance: &mut [ClearanceRecord],
-    members: &mut [MemberRecord],
-) {
-    let (state, model) = (sim.state(), &scene.model);
-    for (zone, record) in scene.clearance.iter().zip(clearance) {
-        record.observe(zone, model, &state.q, state.time);
-    }
-    for (beam, record) in model.beams.iter().skip(1).zip(members) {
-        record.observe(model, beam, &state.q, state.time);
-    }
+    /// The clearance zones' and the frame members' records, as the
+    /// program's run keeps them.
+    observed: Observations,
 }
 
 /// A core error as `SimulationError`, with the core's likely cause.
@@ -550,8 +532,7 @@ impl Simulation {
     /// observed there.
     fn started(scene: CoreScene, sim: CoreSimulation) -> Self {
         let mut s = Simulation {
-            clearance: vec![ClearanceRecord::default(); scene.clearance.len()],
-            members: vec![MemberRecord::default(); scene.model.beams.len() - 1],
+            observed: Observations::new(&scene),
             scene,
             sim,
         };
@@ -561,12 +542,8 @@ impl Simulation {
 
     /// Observe the clearance zones and the frame members at the current state.
     fn observe_state(&mut self) {
-        observe(
-            &self.scene,
-            &self.sim,
-            &mut self.clearance,
-            &mut self.members,
-        );
+        let state = self.sim.state();
+        self.observed.observe(&self.scene, &state.q, state.time);
     }
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
@@ -780,15 +757,15 @@ impl Simulation {
                 }
                 // Up to `every` steps without the GIL, then a record.
                 let this = &mut *this;
-                let (sim, scene) = (&mut this.sim, &this.scene);
-                let (clearance, members) = (&mut this.clearance, &mut this.members);
+                let (sim, scene, observed) = (&mut this.sim, &this.scene, &mut this.observed);
                 let outcome = py.detach(|| {
                     for _ in 0..every {
                         if done(sim) {
                             break;
                         }
                         sim.step()?;
-                        observe(scene, sim, clearance, members);
+                        let state = sim.state();
+                        observed.observe(scene, &state.q, state.time);
                     }
                     Ok(())
                 });
@@ -978,11 +955,12 @@ impl Simulation {
             }
             d.set_item("supports", supports)?;
         }
-        if !self.members.is_empty() {
+        let members = self.observed.member_summary(&self.scene);
+        if !members.is_empty() {
             let beams = PyList::empty(py);
-            for (beam, r) in self.scene.model.beams.iter().skip(1).zip(&self.members) {
-                let b = PyDict::new(py);
-                b.set_item("name", &beam.name)?;
+            for m in &members {
+                let (b, r) = (PyDict::new(py), &m.record);
+                b.set_item("name", &m.name)?;
                 for (k, v) in [
                     ("max_bending_moment", r.max_bending_moment),
                     ("max_bending_moment_time", r.max_bending_moment_time),
@@ -997,11 +975,12 @@ impl Simulation {
             }
             d.set_item("beams", beams)?;
         }
-        if !self.clearance.is_empty() {
+        let clearance = self.observed.clearance_summary(&self.scene);
+        if !clearance.is_empty() {
             let zones = PyList::empty(py);
-            for (zone, r) in self.scene.clearance.iter().zip(&self.clearance) {
-                let z = PyDict::new(py);
-                z.set_item("kind", zone.kind())?;
+            for c in &clearance {
+                let (z, r) = (PyDict::new(py), &c.record);
+                z.set_item("kind", &c.kind)?;
                 z.set_item("min_distance", r.min_distance)?;
                 z.set_item("time", r.time)?;
                 z.set_item("position", r.position.to_vec())?;

@@ -10,16 +10,13 @@
 
 pub mod files;
 pub mod history;
+pub mod observations;
 mod plots;
 mod progress;
 pub mod supports;
 
-use crate::output::{
-    BeamSummary, ClearanceSummary, ContactSummary, EnergySummary, RunStatus, Summary, TipSummary,
-};
+use crate::output::{ContactSummary, EnergySummary, RunStatus, Summary, TipSummary};
 use ancf_core::forces::assembly::ContactForces;
-use ancf_core::loads::clearance_record::ClearanceRecord;
-use ancf_core::loads::member_load::MemberRecord;
 use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::{Effect, Model};
@@ -30,6 +27,7 @@ use ancf_core::solve::simulation::{Initial, Simulation, SimulationError, Snapsho
 use ancf_core::solve::statics::{StaticSettings, solve_static};
 use files::{Checkpoint, Files, SupportLoads, io_err, write_final};
 use history::History;
+use observations::Observations;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -187,15 +185,9 @@ fn execute(
                         .as_ref()
                         .and_then(|cf| static_contact(model, cf));
                     summary.supports = supports::static_supports(model, &res.reactions);
-                    let mut records = vec![ClearanceRecord::default(); scene.clearance.len()];
-                    observe_clearance(scene, &mut records, &res.q, 0.0);
-                    let mut members = vec![MemberRecord::default(); model.beams.len() - 1];
-                    observe_members(model, &mut members, &res.q, 0.0);
-                    summary.beams = member_summary(model, &members);
-                    summary.clearance = clearance_summary(scene, &records);
-                    if let Some(note) = clearance_note(&records) {
-                        summary.message.push_str(&format!("; {note}"));
-                    }
+                    let mut observed = Observations::new(scene);
+                    observed.observe(scene, &res.q, 0.0);
+                    observed.fill(scene, &mut summary);
                     res.q
                 }
                 Err(e) => {
@@ -266,70 +258,9 @@ pub struct Progress {
     e0: Energies,
     last: Energies,
     vtk_frames: Vec<(f64, String)>,
-    /// How close the wire came to each clearance zone so far.
-    #[serde(default)]
-    clearance: Vec<ClearanceRecord>,
-    /// Each frame member's largest internal loads so far.
-    #[serde(default)]
-    members: Vec<MemberRecord>,
-}
-
-/// Observe every frame member of `model` at coordinates `q`, time `t`.
-fn observe_members(model: &Model, records: &mut [MemberRecord], q: &[f64], t: f64) {
-    for (beam, record) in model.beams.iter().skip(1).zip(records) {
-        record.observe(model, beam, q, t);
-    }
-}
-
-/// summary.json's `beams`: each member's name and largest loads.
-fn member_summary(model: &Model, records: &[MemberRecord]) -> Vec<BeamSummary> {
-    (model.beams.iter().skip(1))
-        .zip(records)
-        .map(|(beam, record)| BeamSummary {
-            name: beam.name.clone(),
-            record: *record,
-        })
-        .collect()
-}
-
-/// Observe every clearance zone of `scene` at coordinates `q`, time `t`.
-fn observe_clearance(scene: &Scene, records: &mut [ClearanceRecord], q: &[f64], t: f64) {
-    for (zone, record) in scene.clearance.iter().zip(records) {
-        record.observe(zone, &scene.model, q, t);
-    }
-}
-
-/// summary.json's `clearance`; the run's message says which zones the wire entered.
-fn clearance_summary(scene: &Scene, records: &[ClearanceRecord]) -> Vec<ClearanceSummary> {
-    scene
-        .clearance
-        .iter()
-        .zip(records)
-        .map(|(zone, record)| ClearanceSummary {
-            kind: zone.kind().into(),
-            record: *record,
-        })
-        .collect()
-}
-
-/// What the message adds for the zones the wire entered (`None`: none).
-fn clearance_note(records: &[ClearanceRecord]) -> Option<String> {
-    let entered: Vec<String> = records
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| r.entered)
-        .map(|(i, r)| {
-            format!(
-                "clearance[{i}] ({:.3} m deep at t = {:.4} s, at [{:.2}, {:.2}, {:.2}] m)",
-                -r.min_distance.unwrap_or(0.0),
-                r.time,
-                r.position[0],
-                r.position[1],
-                r.position[2]
-            )
-        })
-        .collect();
-    (!entered.is_empty()).then(|| format!("the wire entered {}", entered.join(", ")))
+    /// The clearance zones' and the frame members' records so far.
+    #[serde(flatten)]
+    observed: Observations,
 }
 
 fn new_summary(scene: &Scene) -> Summary {
@@ -409,10 +340,8 @@ fn run_dynamic(
             }
             history.push(model, state, &e0);
             history.push_shape(model, state);
-            let mut clearance = vec![ClearanceRecord::default(); scene.clearance.len()];
-            observe_clearance(scene, &mut clearance, &state.q, state.time);
-            let mut members = vec![MemberRecord::default(); model.beams.len() - 1];
-            observe_members(model, &mut members, &state.q, state.time);
+            let mut observed = Observations::new(scene);
+            observed.observe(scene, &state.q, state.time);
             let p = Progress {
                 sim: sim.snapshot(),
                 message,
@@ -421,17 +350,12 @@ fn run_dynamic(
                 e0,
                 last: e0,
                 vtk_frames: Vec::new(),
-                clearance,
-                members,
+                observed,
             };
             (p, sim, files)
         }
     };
-    // A checkpoint from before the zones were recorded: from here on.
-    p.clearance
-        .resize(scene.clearance.len(), ClearanceRecord::default());
-    p.members
-        .resize(model.beams.len() - 1, MemberRecord::default());
+    p.observed.fit(scene);
     let (done, n_steps) = sim.steps();
     summary.unknowns = model.holding_at(0.0).n_unknowns;
     let (quiet, cancel) = (watch.quiet, watch.cancel);
@@ -477,8 +401,7 @@ fn run_dynamic(
             }
         };
         let state = sim.state();
-        observe_clearance(scene, &mut p.clearance, &state.q, state.time);
-        observe_members(model, &mut p.members, &state.q, state.time);
+        p.observed.observe(scene, &state.q, state.time);
         if k % scene.output.every == 0 || k == n_steps {
             let e = sim.energies();
             if !e.total().is_finite() {
@@ -539,11 +462,7 @@ fn run_dynamic(
         summary.message.push_str(&format!("; {note}"));
     }
     summary.time = progress.state.time;
-    summary.clearance = clearance_summary(scene, &p.clearance);
-    summary.beams = member_summary(model, &p.members);
-    if let Some(note) = clearance_note(&p.clearance) {
-        summary.message.push_str(&format!("; {note}"));
-    }
+    p.observed.fill(scene, summary);
     summary.energy = Some(EnergySummary {
         last: p.last,
         total: p.last.total(),

@@ -1,0 +1,102 @@
+//! What a run observes at every state besides the simulation's own records:
+//! how close the wire came to each clearance zone, and each frame member's
+//! largest internal loads. The program's run and the Python `Simulation`
+//! both keep one, so their summaries agree.
+
+use crate::output::{BeamSummary, ClearanceSummary, Summary};
+use ancf_core::loads::clearance_record::ClearanceRecord;
+use ancf_core::loads::member_load::MemberRecord;
+use ancf_core::scene::Scene;
+
+/// The records so far, one per clearance zone and one per frame member, in
+/// the scene's order (in checkpoints under the keys `clearance` and
+/// `members`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Observations {
+    /// How close the wire came to each clearance zone.
+    #[serde(default)]
+    pub clearance: Vec<ClearanceRecord>,
+    /// Each frame member's largest internal loads.
+    #[serde(default)]
+    pub members: Vec<MemberRecord>,
+}
+
+impl Observations {
+    /// Empty records for `scene`'s zones and members.
+    pub fn new(scene: &Scene) -> Self {
+        let mut o = Observations::default();
+        o.fit(scene);
+        o
+    }
+
+    /// One record per zone and member of `scene` (a checkpoint from before
+    /// they were recorded records from here on).
+    pub fn fit(&mut self, scene: &Scene) {
+        self.clearance
+            .resize(scene.clearance.len(), ClearanceRecord::default());
+        self.members
+            .resize(scene.model.beams.len() - 1, MemberRecord::default());
+    }
+
+    /// Observe `scene`'s model at coordinates `q`, time `t` (s).
+    pub fn observe(&mut self, scene: &Scene, q: &[f64], t: f64) {
+        let model = &scene.model;
+        for (zone, record) in scene.clearance.iter().zip(&mut self.clearance) {
+            record.observe(zone, model, q, t);
+        }
+        for (beam, record) in model.beams.iter().skip(1).zip(&mut self.members) {
+            record.observe(model, beam, q, t);
+        }
+    }
+
+    /// summary.json's `clearance`: each zone's kind and record.
+    pub fn clearance_summary(&self, scene: &Scene) -> Vec<ClearanceSummary> {
+        (scene.clearance.iter())
+            .zip(&self.clearance)
+            .map(|(zone, record)| ClearanceSummary {
+                kind: zone.kind().into(),
+                record: *record,
+            })
+            .collect()
+    }
+
+    /// summary.json's `beams`: each member's name and largest loads.
+    pub fn member_summary(&self, scene: &Scene) -> Vec<BeamSummary> {
+        (scene.model.beams.iter().skip(1))
+            .zip(&self.members)
+            .map(|(beam, record)| BeamSummary {
+                name: beam.name.clone(),
+                record: *record,
+            })
+            .collect()
+    }
+
+    /// What a run's message adds for the zones the wire entered (`None`:
+    /// none).
+    pub fn clearance_note(&self) -> Option<String> {
+        let entered: Vec<String> = (self.clearance.iter().enumerate())
+            .filter(|(_, r)| r.entered)
+            .map(|(i, r)| {
+                format!(
+                    "clearance[{i}] ({:.3} m deep at t = {:.4} s, at [{:.2}, {:.2}, {:.2}] m)",
+                    -r.min_distance.unwrap_or(0.0),
+                    r.time,
+                    r.position[0],
+                    r.position[1],
+                    r.position[2]
+                )
+            })
+            .collect();
+        (!entered.is_empty()).then(|| format!("the wire entered {}", entered.join(", ")))
+    }
+
+    /// Into `summary`: its `clearance` and `beams`, and the note on entered
+    /// zones at the end of its message.
+    pub fn fill(&self, scene: &Scene, summary: &mut Summary) {
+        summary.clearance = self.clearance_summary(scene);
+        summary.beams = self.member_summary(scene);
+        if let Some(note) = self.clearance_note() {
+            summary.message.push_str(&format!("; {note}"));
+        }
+    }
+}

@@ -58,6 +58,26 @@ pub struct BeamLayout {
     pub direction: [f64; 3],
 }
 
+impl BeamLayout {
+    /// Its element count, every group's.
+    pub fn element_count(&self) -> usize {
+        self.groups.iter().map(|g| g.1).sum()
+    }
+}
+
+/// Each beam's first node (and first element) in the model: one past the
+/// previous beam's last node, the index between them being its gap.
+pub fn first_nodes(layouts: &[BeamLayout]) -> Vec<usize> {
+    let mut next = 0;
+    (layouts.iter())
+        .map(|l| {
+            let first = next;
+            next += l.element_count() + 1;
+            first
+        })
+        .collect()
+}
+
 /// Points along beam `beam`'s centerline at coordinates `q`, `per_element`
 /// to an element (from each element's first node on) and its last node.
 pub fn centerline_points(

@@ -502,16 +502,10 @@ impl WireBuilder {
                 message: e.message,
             })?;
         }
-        // Each beam's first node and element count, by name.
-        let mut next = 0;
-        let starts: Vec<(&str, usize, usize)> = layouts
-            .iter()
-            .map(|l| {
-                let elements: usize = l.groups.iter().map(|g| g.1).sum();
-                let start = next;
-                next += elements + 1;
-                (l.name.as_str(), start, elements)
-            })
+        // Each beam's name, first node and element count.
+        let starts: Vec<(&str, usize, usize)> = (layouts.iter())
+            .zip(super::beam::first_nodes(&layouts))
+            .map(|(l, first)| (l.name.as_str(), first, l.element_count()))
             .collect();
         let place = |beam: &Option<String>, node: usize| -> Result<usize, (&'static str, String)> {
             let name = beam.as_deref().unwrap_or(super::WIRE);

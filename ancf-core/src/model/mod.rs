@@ -541,6 +541,7 @@ impl Model {
         gravity: Option<[f64; 3]>,
         loads: Vec<PointLoad>,
     ) -> Result<Self, ModelError> {
+        let firsts = beam::first_nodes(&layouts);
         let mut groups: Vec<ElementGroup> = Vec::new();
         let mut group_of = Vec::new();
         let mut beams = Vec::new();
@@ -556,11 +557,9 @@ impl Model {
             }
             let axis = direction.map(|v| v / dn);
             let (ny, nz) = section_frame(axis);
-            if b > 0 {
-                // The gap between this beam and the previous one.
-                group_of.push(GAP);
-            }
-            let first_element = group_of.len();
+            // The gap between this beam and the previous one.
+            let first_element = firsts[b];
+            group_of.resize(first_element, GAP);
             let first_group = groups.len();
             for (integration, count) in layout.groups {
                 let (first, start) = match groups.last() {

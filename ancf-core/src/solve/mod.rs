@@ -3,5 +3,6 @@
 
 pub mod cancel;
 pub mod dynamics;
+mod reactions;
 pub mod simulation;
 pub mod statics;

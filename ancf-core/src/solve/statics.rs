@@ -3,7 +3,8 @@
 
 use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::SparseSolver;
-use crate::model::{Model, NODE_DOFS};
+use crate::model::Model;
+use crate::solve::reactions::support_forces;
 
 /// Settings of the static solver.
 #[derive(Clone, Debug)]
@@ -239,18 +240,11 @@ pub fn solve_static_from(
     // Reactions: at equilibrium Q_e − Q_ext − Q_c is the support force on the held coordinates.
     forces.set_load_factor(model, 1.0);
     forces.evaluate(model, At::rest(&q), None, None);
+    let mut forces_on_body = Vec::new();
     let (qe, ext) = (forces.internal(), forces.external());
-    // An elastic support's force is its springs' −k (r − r⁰).
-    let springs = model.springs();
-    let reactions = (model.supports.iter().enumerate())
-        .map(|(i, s)| match springs.iter().find(|sp| sp.support == i) {
-            Some(sp) => (s.node, sp.force_on_body(&q, None)),
-            None => (
-                s.node,
-                std::array::from_fn(|k| qe[NODE_DOFS * s.node + k] - ext[NODE_DOFS * s.node + k]),
-            ),
-        })
-        .collect();
+    support_forces(model, (&q, None), None, qe, ext, &mut forces_on_body);
+    let nodes = model.supports.iter().map(|s| s.node);
+    let reactions = nodes.zip(forces_on_body).collect();
     Ok(StaticResult {
         contact: forces.contact().cloned(),
         q,

@@ -26,7 +26,8 @@ use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values}
 use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::SparseSolver;
 use crate::math::simd::path;
-use crate::model::{Model, NODE_DOFS};
+use crate::model::Model;
+use crate::solve::reactions::support_forces;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
@@ -145,7 +146,7 @@ impl Integrator {
         support_forces(
             &model,
             (&q0, Some(&v0)),
-            &ma,
+            Some(&ma),
             q,
             ext,
             &mut self.initial_reactions,
@@ -451,7 +452,7 @@ impl Integrator {
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         // The supports' forces: the same balance on the held coordinates
         // of each supported node's position (damping acts on unknowns only).
-        support_forces(model, (qm, Some(vm)), ma, q, ext, &mut info.reactions);
+        support_forces(model, (qm, Some(vm)), Some(ma), q, ext, &mut info.reactions);
         if let Some((qd, power)) = self.forces.damping() {
             r.iter_mut().zip(qd).for_each(|(a, b)| *a += b);
             info.damping_power = power;
@@ -625,34 +626,4 @@ impl Integrator {
             tolerance: self.settings.tolerance,
         })
     }
-}
-
-/// The force each support of `model` exerts on the body (N), from the
-/// balance M a + Q − Q_ext on the held coordinates of its node's position
-/// (zero on a coordinate the support no longer holds), an elastic support's
-/// from its springs and dashpot at `at` (coordinates, velocities): into
-/// `out`, in the model's support order.
-fn support_forces(
-    model: &Model,
-    at: (&[f64], Option<&[f64]>),
-    ma: &[f64],
-    q: &[f64],
-    ext: &[f64],
-    out: &mut Vec<[f64; 3]>,
-) {
-    out.clear();
-    let springs = model.springs();
-    out.extend(model.supports.iter().enumerate().map(|(i, sup)| {
-        if let Some(s) = springs.iter().find(|s| s.support == i) {
-            return s.force_on_body(at.0, at.1);
-        }
-        std::array::from_fn(|k| {
-            let c = NODE_DOFS * sup.node + k;
-            if model.dof_map[c].is_none() {
-                ma[c] + q[c] - ext[c]
-            } else {
-                0.0
-            }
-        })
-    }));
 }

@@ -322,8 +322,7 @@ impl ForceSum {
         v: &[f64],
         pairs: Option<&[usize]>,
     ) -> Potentials {
-        let strain =
-            strain_energy(model, q) + model.springs().iter().map(|s| s.energy(q)).sum::<f64>();
+        let strain = strain_energy(model, q) + model.spring_energy(q);
         let (gravity, loads) = model.external_potential(q);
         let contact = self.evaluator.as_ref().map_or(0.0, |c| {
             let (events, force) = (&[], Vec::new());
@@ -388,7 +387,7 @@ fn add_springs(
             }
         }
     }
-    springs.iter().map(|s| s.energy(q)).sum()
+    model.spring_energy(q)
 }
 
 /// The elastic supports' dashpots c ṙ added to `qd` (unknowns) and c to

@@ -1019,6 +1019,12 @@ impl Model {
             .unwrap_or(&[])
     }
 
+    /// The elastic supports' energy at coordinates `q` (J), which counts as
+    /// strain energy.
+    pub fn spring_energy(&self, q: &[f64]) -> f64 {
+        self.springs().iter().map(|s| s.energy(q)).sum()
+    }
+
     /// Whether an elastic support has a dashpot.
     pub fn has_spring_damping(&self) -> bool {
         self.springs().iter().any(|s| s.spring.damping > 0.0)

@@ -485,6 +485,19 @@ impl MaterialModel {
             MaterialModel::MooneyRivlin { mu10, mu01, .. } => 6.0 * (mu10 + mu01),
         }
     }
+
+    /// Small-strain shear modulus (Pa): Lamé's μ for SVK, 2(μ10 + μ01) for
+    /// Mooney–Rivlin.
+    pub fn small_strain_shear_modulus(&self) -> f64 {
+        match *self {
+            MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                ..
+            } => lame(youngs_modulus, poisson_ratio).1,
+            MaterialModel::MooneyRivlin { mu10, mu01, .. } => 2.0 * (mu10 + mu01),
+        }
+    }
 }
 
 #[cfg(test)]

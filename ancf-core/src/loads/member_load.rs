@@ -11,7 +11,6 @@
 //! where the end resultants stay within 0.1 %.) Stresses follow beam
 //! theory at the outer radius, small strains.
 
-use crate::material::MaterialModel;
 use crate::math::vec3::{cross, dot, norm};
 use crate::model::{Beam, Model};
 
@@ -63,24 +62,18 @@ pub fn end_resultants(model: &Model, el: usize, end: usize, q: &[f64]) -> (f64, 
 /// bending moment `m` and torque `t` (N m) in `section`: σ = E_o (N / EA +
 /// M R / EI), τ = G_o T R / GJ, √(σ² + 3τ²), E_o and G_o the outer layer's.
 pub fn von_mises(section: &crate::section::Section, n: f64, m: f64, t: f64) -> f64 {
-    let moduli = |model: &MaterialModel| match *model {
-        MaterialModel::StVenantKirchhoff {
-            youngs_modulus,
-            poisson_ratio,
-            ..
-        } => (
-            youngs_modulus,
-            youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
-        ),
-        MaterialModel::MooneyRivlin { mu10, mu01, .. } => {
-            (6.0 * (mu10 + mu01), 2.0 * (mu10 + mu01))
-        }
-    };
     let gj: f64 = (section.layers.iter())
-        .map(|l| moduli(&l.material.model).1 * (l.second_moments[0] + l.second_moments[1]))
+        .map(|l| {
+            l.material.model.small_strain_shear_modulus()
+                * (l.second_moments[0] + l.second_moments[1])
+        })
         .sum();
     let outer = section.layers.last().expect("a section has a layer");
-    let (e, g) = moduli(&outer.material.model);
+    let model = &outer.material.model;
+    let (e, g) = (
+        model.small_strain_youngs_modulus(),
+        model.small_strain_shear_modulus(),
+    );
     let r = section.outer_radius();
     let sigma = e * (n / section.axial_stiffness() + m * r / section.bending_stiffness());
     let tau = g * t * r / gj;

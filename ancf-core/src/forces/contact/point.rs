@@ -79,47 +79,73 @@ pub(crate) struct PointResult {
     pub n: [f64; 3],
 }
 
-/// Penalty force F n, F = k ⟨−g⟩ (times (1 + χ δ̇)⁺ with contact damping,
-/// δ̇ = −n · ṙ the rate of penetration), and regularized Coulomb friction
-/// −μ F v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
-/// element force `out.q` and their derivatives −∂f/∂q into `out.kq`,
-/// −∂f/∂v into `out.kv`, and adds energy ½ k g², normal force, friction and
-/// damping power and the force to `out.sample`. `None` when the point is
-/// apart (g ≥ 0).
-pub(crate) fn point_contact(
-    pt: &PointInput,
-    rod: &Rod,
-    slip_velocity: f64,
-    out: &mut ElementOut,
-) -> Option<PointResult> {
-    let (v, sample) = (out.v, &mut out.sample);
+/// One contact point's law, wherever the point sits.
+pub(crate) struct LawInput {
+    /// Offset from the partner's nearest point to the point, m.
+    pub w: [f64; 3],
+    /// The gap is |w| − `offset` (m).
+    pub offset: f64,
+    /// Stiffness times the point's measure: N/m of gap.
+    pub stiffness: f64,
+    /// A rigid rod's axis when the nearest point is inside its length (the
+    /// normal then turns in the plane normal to it); `None`: in every
+    /// direction.
+    pub axis: Option<[f64; 3]>,
+    /// Coulomb μ (0: no friction).
+    pub friction: f64,
+    /// Friction's regularization velocity v_ε, m/s.
+    pub slip_velocity: f64,
+    /// Contact damping factor χ (s/m), `None` without damping.
+    pub damping: Option<f64>,
+    /// Velocity of the point relative to the partner, m/s (read with
+    /// friction or damping only).
+    pub velocity: [f64; 3],
+}
+
+/// The force at one contact point and its derivatives.
+pub(crate) struct PointForce {
+    /// Force on the point (normal + friction), N.
+    pub f: [f64; 3],
+    /// ∂f/∂p: with respect to the point's position, N/m.
+    pub dfdp: [[f64; 3]; 3],
+    /// ∂f/∂ṗ: with respect to its relative velocity, N s/m (zero without
+    /// friction and damping).
+    pub dfdv: [[f64; 3]; 3],
+    /// Penetration −g > 0, m.
+    pub penetration: f64,
+    /// Outward normal (from the partner to the point).
+    pub n: [f64; 3],
+}
+
+/// The penalty, damping and friction law of [`point_contact`] at one point,
+/// for any partner; adds energy, normal force, powers and the force to
+/// `sample`. `None` when the point is apart.
+pub(crate) fn point_law(pt: &LawInput, sample: &mut ContactSample) -> Option<PointForce> {
     let w = pt.w;
     let dist = dot(w, w).sqrt();
     let g = dist - pt.offset;
     if g >= 0.0 || dist == 0.0 {
         return None;
     }
-    let d = rod.axis;
-    // Inside the rod's length the normal turns in the plane normal to the
+    // Inside a rod's length the normal turns in the plane normal to the
     // axis (∂w/∂p = I − d dᵀ); on an end cap in every direction (∂w/∂p = I).
-    let dd = if pt.inside { 1.0 } else { 0.0 };
+    let (d, dd) = match pt.axis {
+        Some(d) => (d, 1.0),
+        None => ([0.0; 3], 0.0),
+    };
     let n = [w[0] / dist, w[1] / dist, w[2] / dist];
     let kn = pt.stiffness;
     let elastic = kn * (-g);
     // ∂n/∂p = (I − n nᵀ − d dᵀ) / |w| inside, (I − n nᵀ) / |w| on a cap
     let nmat = |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - dd * d[a] * d[b]) / dist;
-    let friction = rod.friction > 0.0;
-    let damped = out.damping.is_some();
-    let vp: [f64; 3] = if friction || damped {
-        std::array::from_fn(|c| (0..8).map(|i| pt.s[i] * v[3 * i + c]).sum())
-    } else {
-        [0.0; 3]
-    };
+    let friction = pt.friction > 0.0;
+    let damped = pt.damping.is_some();
+    let vp = pt.velocity;
     // The normal force F and, with damping, its gradients ∂F/∂p and ∂F/∂ṙ.
     let (fnorm, grad_p, grad_v) = if damped {
         // Hunt–Crossley: F = k δ (1 + χ δ̇)⁺ with δ = −g, δ̇ = −n · ṙ;
         // ∂δ/∂p = −n, ∂δ̇/∂p = −(∂n/∂p) ṙ, ∂δ̇/∂ṙ = −n.
-        let chi = out.damping.unwrap_or(0.0);
+        let chi = pt.damping.unwrap_or(0.0);
         let rate = -dot(vp, n);
         let m = 1.0 + chi * rate;
         sample.approach_speed = sample.approach_speed.max(rate);
@@ -161,10 +187,10 @@ pub(crate) fn point_contact(
     if friction {
         let vn = dot(vp, n);
         let vt = [vp[0] - vn * n[0], vp[1] - vn * n[1], vp[2] - vn * n[2]];
-        let eps = slip_velocity;
+        let eps = pt.slip_velocity;
         let s = (dot(vt, vt) + eps * eps).sqrt();
         let t = [vt[0] / s, vt[1] / s, vt[2] / s];
-        let mu = rod.friction;
+        let mu = pt.friction;
         for c in 0..3 {
             f[c] -= mu * fnorm * t[c];
         }
@@ -201,6 +227,47 @@ pub(crate) fn point_contact(
     for c in 0..3 {
         sample.force[c] += f[c];
     }
+    Some(PointForce {
+        f,
+        dfdp,
+        dfdv,
+        penetration: -g,
+        n,
+    })
+}
+
+/// Penalty force F n, F = k ⟨−g⟩ (times (1 + χ δ̇)⁺ with contact damping,
+/// δ̇ = −n · ṙ the rate of penetration), and regularized Coulomb friction
+/// −μ F v_t / √(|v_t|² + v_ε²) at one point; scatters them into the
+/// element force `out.q` and their derivatives −∂f/∂q into `out.kq`,
+/// −∂f/∂v into `out.kv`, and adds energy ½ k g², normal force, friction and
+/// damping power and the force to `out.sample`. `None` when the point is
+/// apart (g ≥ 0).
+pub(crate) fn point_contact(
+    pt: &PointInput,
+    rod: &Rod,
+    slip_velocity: f64,
+    out: &mut ElementOut,
+) -> Option<PointResult> {
+    let v = out.v;
+    let vp: [f64; 3] = if rod.friction > 0.0 || out.damping.is_some() {
+        std::array::from_fn(|c| (0..8).map(|i| pt.s[i] * v[3 * i + c]).sum())
+    } else {
+        [0.0; 3]
+    };
+    let law = LawInput {
+        w: pt.w,
+        offset: pt.offset,
+        stiffness: pt.stiffness,
+        axis: pt.inside.then_some(rod.axis),
+        friction: rod.friction,
+        slip_velocity,
+        damping: out.damping,
+        velocity: vp,
+    };
+    let PointForce { f, dfdp, dfdv, penetration, n } = point_law(&law, &mut out.sample)?;
+    let friction = rod.friction > 0.0;
+    let damped = out.damping.is_some();
     let s = pt.s;
     for i in 0..8 {
         for c in 0..3 {
@@ -230,5 +297,5 @@ pub(crate) fn point_contact(
     {
         add(k, &dfdv);
     }
-    Some(PointResult { penetration: -g, n })
+    Some(PointResult { penetration, n })
 }

@@ -89,15 +89,14 @@ pub fn centerline(e: &ElementVector, xi: f64, l: f64) -> [[f64; 3]; 3] {
 }
 
 /// D(ξ) = |w|² − R_s² along one element's centerline against one rod.
-struct Gap<'a> {
+struct RodGap<'a> {
     e: &'a ElementVector,
     l: f64,
     rod: &'a Rod,
     reach: f64,
 }
 
-impl Gap<'_> {
-    /// D, D′ and D″ at ξ.
+impl GapFunction for RodGap<'_> {
     fn eval(&self, xi: f64) -> [f64; 3] {
         let [r, r1, r2] = centerline(self.e, xi, self.l);
         let (w, inside) = axis_offset(self.rod, &r, true).expect("caps always give an offset");
@@ -115,6 +114,13 @@ impl Gap<'_> {
             2.0 * (dot(r1, pr1) + dot(w, r2)),
         ]
     }
+}
+
+/// A squared gap D(ξ) = |w(ξ)|² − R_s² along an element (w the offset from
+/// the partner's nearest point), negative where the two overlap.
+pub(crate) trait GapFunction {
+    /// D, D′ and D″ at ξ.
+    fn eval(&self, xi: f64) -> [f64; 3];
 
     /// A root of D in [a, b], where D(a) (= `fa`) and D(b) differ in sign.
     fn root(&self, a: f64, fa: f64, b: f64) -> f64 {
@@ -161,7 +167,11 @@ impl Gap<'_> {
 /// within `reach` of the rod (distance to the axis segment: a finite rod's
 /// ends are spherical caps).
 pub fn active_zones(e: &ElementVector, l: f64, rod: &Rod, reach: f64) -> Zones {
-    let gap = Gap { e, l, rod, reach };
+    zones_of(&RodGap { e, l, rod, reach })
+}
+
+/// The intervals of ξ ∈ [0, 1] where `gap` is negative.
+pub(crate) fn zones_of(gap: &impl GapFunction) -> Zones {
     let samples: [(f64, [f64; 3]); SAMPLES + 1] = std::array::from_fn(|k| {
         let xi = k as f64 / SAMPLES as f64;
         (xi, gap.eval(xi))

@@ -88,7 +88,9 @@ pub mod prelude {
     pub use crate::error::Error;
     pub use crate::material::Material;
     pub use crate::math::simd::SimdPath;
-    pub use crate::model::contact::{ContactLaw, ContactSettings, RestitutionModel, Rod};
+    pub use crate::model::contact::{
+        BeamContact, ContactLaw, ContactSettings, RestitutionModel, Rod,
+    };
     pub use crate::model::damping::Damping;
     pub use crate::model::{
         BeamBuilder, Model, ModelError, PointLoad, Support, SupportKind, WireBuilder,

@@ -303,8 +303,7 @@ fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
             &v,
             &[],
             Some(&pairs),
-            None,
-            None,
+            (None, None, None),
             Vec::new(),
         );
         assert_eq!(all.force, some.force);

@@ -387,18 +387,20 @@ impl Wire {
         })
     }
 
-    /// A support at `node`: kind "pin" (position), "clamp" or "fixed"; on
+    /// A support at `node`: kind "pin" (position), "hinge" (position and
+    /// the section's y gradient: turns about y only), "clamp" or "fixed"; on
     /// the member named `beam` (default: the wire).
     #[pyo3(signature = (node, kind, beam = None))]
     fn support(&self, node: usize, kind: &str, beam: Option<&str>) -> PyResult<Wire> {
         use ancf_core::model::SupportKind;
         let kind = match kind {
             "pin" => SupportKind::Pin,
+            "hinge" => SupportKind::Hinge,
             "clamp" => SupportKind::Clamp,
             "fixed" => SupportKind::Fixed,
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "kind: unknown support \"{other}\" (pin, clamp, fixed)"
+                    "kind: unknown support \"{other}\" (pin, hinge, clamp, fixed)"
                 )));
             }
         };

@@ -436,11 +436,15 @@ pub struct ContactForces {
     /// Resultant contact force (normal + friction) the wire puts on each
     /// rod (N), in the scene's rod order.
     pub rod_forces: Vec<[f64; 3]>,
+    /// Resultant contact force (normal + friction) the wire puts on each
+    /// frame member it may touch (N), in the scene's member order.
+    pub member_forces: Vec<[f64; 3]>,
     /// Deepest penetrating point: (element, point).
     pub deepest: Option<(usize, crate::forces::contact::DeepestPoint)>,
-    /// With contact damping, per (element, rod) pair (index
-    /// `element × rods + rod`): `Some(largest rate of penetration, m/s)`
-    /// where the pair touches, else `None`. Empty without contact damping.
+    /// With contact damping, per (element, partner) pair (index
+    /// `element × partners + partner`, partners the rods then the members):
+    /// `Some(largest rate of penetration, m/s)` where the pair touches,
+    /// else `None`. Empty without contact damping.
     pub touching: Vec<Option<f64>>,
 }
 
@@ -463,19 +467,28 @@ pub fn assemble_contact(
         v,
         &[],
         None,
-        jac_q,
-        jac_v,
+        (jac_q, jac_v, None),
         Vec::new(),
     )
 }
 
+/// The Jacobians contact adds to: −∂Q/∂q and −∂Q/∂v in pattern slots, and
+/// the blocks coupling two beams (wire and member in contact).
+pub type ContactJacobians<'a> = (
+    Option<&'a mut [f64]>,
+    Option<&'a mut [f64]>,
+    Option<&'a mut crate::forces::coupling::Coupling>,
+);
+
 /// [`assemble_contact`] whose force vector reuses `force`'s allocation (a
 /// Newton loop hands back the previous iteration's), within the contact
-/// events `events` (per (element, rod) pair, the approach speed in m/s at
-/// which the pair's contact began, 0 = none; empty = no events: contact
+/// events `events` (per (element, partner) pair, the approach speed in m/s
+/// at which the pair's contact began, 0 = none; empty = no events: contact
 /// damping acts only within an event, see [`crate::solve::dynamics::State`]),
-/// visiting only the (element, rod) pairs `pairs` (index `element × rods +
-/// rod`, increasing; see [`contact_candidates`]) or, with `None`, all.
+/// visiting only the (element, partner) pairs `pairs` (index `element ×
+/// partners + partner`, increasing; see [`contact_candidates`]) or, with
+/// `None`, all. The Jacobians go to `jacobians` (the coupling blocks are
+/// cleared first).
 #[allow(clippy::too_many_arguments)]
 pub fn assemble_contact_reusing(
     model: &Model,
@@ -485,23 +498,28 @@ pub fn assemble_contact_reusing(
     v: &[f64],
     events: &[f64],
     pairs: Option<&[usize]>,
-    mut jac_q: Option<&mut [f64]>,
-    mut jac_v: Option<&mut [f64]>,
+    jacobians: ContactJacobians<'_>,
     mut force: Vec<f64>,
 ) -> ContactForces {
+    let (mut jac_q, mut jac_v, mut coupling) = jacobians;
+    if let Some(c) = coupling.as_deref_mut() {
+        c.clear();
+    }
     force.clear();
     force.resize(q.len(), 0.0);
     let mut out = ContactForces {
         force,
         rod_forces: vec![[0.0; 3]; contact.rods.len()],
+        member_forces: vec![[0.0; 3]; contact.members.len()],
         touching: if contact.damped {
-            vec![None; model.n_elements * contact.rods.len()]
+            vec![None; model.n_elements * contact.partners()]
         } else {
             Vec::new()
         },
         ..Default::default()
     };
-    let rods = contact.rods.len();
+    let (rods, partners) = (contact.rods.len(), contact.partners());
+    let mut beam_out = crate::forces::contact::beam::BeamContactOut::default();
     // Element Jacobian workspaces only when a Jacobian is asked for (most
     // calls are residuals: zeroing 9 KB each was memset in perf).
     let mut kq = jac_q.as_ref().map(|_| [0.0; 576]);
@@ -509,16 +527,89 @@ pub fn assemble_contact_reusing(
     // The wire's elements touch the rods (they come first, from 0 on).
     let visit: Box<dyn Iterator<Item = usize>> = match pairs {
         Some(p) => Box::new(p.iter().copied()),
-        None => Box::new(0..model.wire().elements.end * rods),
+        None => Box::new(0..model.wire().elements.end * partners),
     };
     // The coordinates of the element last visited (pairs come element by element).
     let (mut loaded, mut e, mut ve) = (None, [0.0; 24], [0.0; 24]);
     for pair in visit {
-        let (el, ri) = (pair / rods, pair % rods);
+        let (el, ri) = (pair / partners, pair % partners);
         if loaded != Some(el) {
             e = model.element_coordinates(q, el);
             ve = model.element_coordinates(v, el);
             loaded = Some(el);
+        }
+        if ri >= rods {
+            let mi = ri - rods;
+            let jac = (jac_q.is_some(), jac_v.is_some());
+            beam_out.clear();
+            member_contact(
+                model,
+                contact,
+                (q, v),
+                (el, &e, &ve),
+                mi,
+                events.get(pair).copied().unwrap_or(0.0),
+                jac.0 || jac.1,
+                &mut beam_out,
+            );
+            let sample = beam_out.sample;
+            if sample.active == 0 {
+                continue;
+            }
+            if let Some(t) = out.touching.get_mut(pair) {
+                *t = Some(sample.approach_speed);
+            }
+            out.total.accumulate(&sample);
+            for c in 0..3 {
+                out.member_forces[mi][c] -= sample.force[c];
+            }
+            if let Some(dp) = beam_out.deepest
+                && out
+                    .deepest
+                    .is_none_or(|(_, d)| dp.penetration > d.penetration)
+            {
+                out.deepest = Some((el, dp));
+            }
+            let base = NODE_DOFS * el;
+            for i in 0..24 {
+                out.force[base + i] += beam_out.q[i];
+            }
+            for part in &beam_out.parts {
+                let base = NODE_DOFS * part.el;
+                for i in 0..24 {
+                    out.force[base + i] += part.q[i];
+                }
+            }
+            if let Some(values) = jac_q.as_deref_mut() {
+                pattern.add_element(values, el, &beam_out.kq);
+                for part in &beam_out.parts {
+                    pattern.add_element(values, part.el, &part.kq_mm);
+                }
+            }
+            if let Some(values) = jac_v.as_deref_mut() {
+                pattern.add_element(values, el, &beam_out.kv);
+                for part in &beam_out.parts {
+                    pattern.add_element(values, part.el, &part.kv_mm);
+                }
+            }
+            if let Some(c) = coupling.as_deref_mut() {
+                let v = jac.1;
+                for part in &beam_out.parts {
+                    c.add(
+                        el,
+                        part.el,
+                        jac.0.then_some(&part.kq_wm),
+                        v.then_some(&part.kv_wm),
+                    );
+                    c.add(
+                        part.el,
+                        el,
+                        jac.0.then_some(&part.kq_mw),
+                        v.then_some(&part.kv_mw),
+                    );
+                }
+            }
+            continue;
         }
         // kq and kv stay zero between elements: an element away from the
         // rods writes nothing, and they are cleared after one that touched
@@ -569,12 +660,85 @@ pub fn assemble_contact_reusing(
     out
 }
 
-/// The (element, rod) pairs (index `element × rods + rod`, increasing) that
-/// the broad phase lets through at `q` with `margin` (m) more reach: every
-/// pair that can touch in a configuration whose centerline is within
-/// `margin` of this one ([`centerline_shift`]). A time step computes them
-/// once and its Newton iterations visit only them, so the broad phase's
-/// cost per iteration does not grow with the elements far from every rod.
+/// Contact of wire element `el` (coordinates and velocities `e`, `ve`)
+/// with member `mi` at (q, v), into `out`: the member's elements within
+/// reach are gathered, then [`crate::forces::contact::beam`] evaluates.
+#[allow(clippy::too_many_arguments)]
+fn member_contact(
+    model: &Model,
+    contact: &crate::forces::contact::ContactEvaluator,
+    (q, v): (&[f64], &[f64]),
+    (el, e, ve): (usize, &[f64; 24], &[f64; 24]),
+    mi: usize,
+    impact_speed: f64,
+    jacobians: bool,
+    out: &mut crate::forces::contact::beam::BeamContactOut,
+) {
+    use crate::forces::contact::beam::{MemberElement, element_member};
+    let member = &contact.members[mi];
+    let l = contact.geometry[model.group(el)].length;
+    let elements = member_elements_within(model, contact, mi, q, e, l, 0.0);
+    let elements: Vec<MemberElement> = elements
+        .into_iter()
+        .map(|m| MemberElement {
+            el: m,
+            e: model.element_coordinates(q, m),
+            v: model.element_coordinates(v, m),
+            l: contact.geometry[model.group(m)].length,
+        })
+        .collect();
+    let partner = contact.rods.len() + mi;
+    element_member(
+        contact,
+        partner,
+        member,
+        e,
+        ve,
+        l,
+        &elements,
+        impact_speed,
+        jacobians,
+        out,
+    );
+}
+
+/// The elements of member `mi` whose centerline can come within the
+/// contact distance (plus `margin`, m) of a wire element's (coordinates
+/// `e`, length `l`).
+fn member_elements_within(
+    model: &Model,
+    contact: &crate::forces::contact::ContactEvaluator,
+    mi: usize,
+    q: &[f64],
+    e: &[f64; 24],
+    l: f64,
+    margin: f64,
+) -> Vec<usize> {
+    use crate::forces::contact::beam::{centerline_sphere, spheres_within};
+    let member = &contact.members[mi];
+    let wire = centerline_sphere(e, l);
+    let reach = member.radius + contact.wire_radius + margin;
+    model.beams[member.beam]
+        .elements
+        .clone()
+        .filter(|&m| {
+            let lm = contact.geometry[model.group(m)].length;
+            spheres_within(
+                wire,
+                centerline_sphere(&model.element_coordinates(q, m), lm),
+                reach,
+            )
+        })
+        .collect()
+}
+
+/// The (element, partner) pairs (index `element × partners + partner`,
+/// increasing; partners are the rods, then the members) that the broad
+/// phase lets through at `q` with `margin` (m) more reach: every pair that
+/// can touch in a configuration whose centerline is within `margin` of
+/// this one ([`centerline_shift`]). A time step computes them once and its
+/// Newton iterations visit only them, so the broad phase's cost per
+/// iteration does not grow with the elements far from every partner.
 pub fn contact_candidates(
     model: &Model,
     contact: &crate::forces::contact::ContactEvaluator,
@@ -583,12 +747,18 @@ pub fn contact_candidates(
     out: &mut Vec<usize>,
 ) {
     out.clear();
-    let rods = contact.rods.len();
+    let (rods, partners) = (contact.rods.len(), contact.partners());
     for el in model.wire().elements.clone() {
         let e = model.element_coordinates(q, el);
         for (ri, rod) in contact.rods.iter().enumerate() {
             if contact.may_touch_within(model.group(el), rod, &e, margin) {
-                out.push(el * rods + ri);
+                out.push(el * partners + ri);
+            }
+        }
+        let l = contact.geometry[model.group(el)].length;
+        for mi in 0..contact.members.len() {
+            if !member_elements_within(model, contact, mi, q, &e, l, margin).is_empty() {
+                out.push(el * partners + rods + mi);
             }
         }
     }

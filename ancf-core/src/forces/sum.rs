@@ -24,6 +24,7 @@ use super::assembly::{
     strain_energy,
 };
 use super::contact::ContactEvaluator;
+use super::coupling::Coupling;
 use super::damping::kelvin_voigt_force;
 use crate::linalg::pattern::Pattern;
 use crate::model::Model;
@@ -97,6 +98,8 @@ pub struct ForceSum {
     evaluator: Option<ContactEvaluator>,
     /// The last evaluation's contact (its force vector is reused).
     contact: Option<ContactForces>,
+    /// The blocks coupling two beams of the last evaluation with `kq`.
+    coupling: Coupling,
     /// Q_d on the unknowns (N) and its power Q_d · v (W) of the last
     /// evaluation with velocities; empty without damping.
     damping: Vec<f64>,
@@ -134,6 +137,7 @@ impl ForceSum {
                 .contact()
                 .map(|c| ContactEvaluator::new(c, &model.element_lengths())),
             contact: model.contact().map(|_| ContactForces::default()),
+            coupling: Coupling::default(),
             damping: Vec::new(),
             damping_power: 0.0,
         }
@@ -221,6 +225,7 @@ impl ForceSum {
                     &rest
                 }
             };
+            let coupling = kq.is_some().then_some(&mut self.coupling);
             let cf = assemble_contact_reusing(
                 model,
                 ev,
@@ -229,8 +234,7 @@ impl ForceSum {
                 v,
                 at.events,
                 at.pairs,
-                kq.as_deref_mut(),
-                kvc,
+                (kq.as_deref_mut(), kvc, coupling),
                 buffer,
             );
             self.internal
@@ -298,6 +302,13 @@ impl ForceSum {
         self.contact.as_ref()
     }
 
+    /// The blocks coupling two beams (wire and member in contact) of the
+    /// last evaluation with a Jacobian: −∂Q/∂q and −∂Q/∂v outside the
+    /// pattern (empty without such contact).
+    pub fn coupling(&self) -> &Coupling {
+        &self.coupling
+    }
+
     /// Q_d on the unknowns (N) and its power (W) of the last evaluation;
     /// `None` without damping or without velocities (statics).
     pub fn damping(&self) -> Option<(&[f64], f64)> {
@@ -334,8 +345,7 @@ impl ForceSum {
                 v,
                 events,
                 pairs,
-                None,
-                None,
+                (None, None, None),
                 force,
             );
             cf.total.energy

@@ -19,6 +19,7 @@ use crate::linalg::band_cholesky::BandCholesky;
 use crate::linalg::band_lu::BandLu;
 use crate::linalg::band_split::{SPLIT_MIN_UNKNOWNS, SplitBandCholesky};
 use crate::linalg::block_tridiagonal::BlockTridiagonalLu;
+use crate::linalg::coupled::{CoupledBlock, CoupledLu};
 use crate::linalg::pattern::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
@@ -122,6 +123,7 @@ enum Factor {
     BlockLu,
     BandLu,
     Lu(Box<Lu<usize, f64>>),
+    Coupled,
 }
 
 /// Which factorization the last `factorize` used.
@@ -148,6 +150,9 @@ pub struct SparseSolver {
     /// band's: 18 MB at 4096 elements).
     band_lu: Option<BandLu>,
     symbolic_lu: Option<SymbolicLu<usize>>,
+    /// The LU of the pattern's matrix plus coupling blocks between beams,
+    /// built at the first coupled matrix.
+    coupled: Option<CoupledLu>,
     factor: Factor,
     /// Whether the matrices are (1 − α_m) M + c_k K (dynamics): the block
     /// LU then also takes symmetric ones. A stiffness alone (statics) is
@@ -197,6 +202,7 @@ impl SparseSolver {
             block_lu: None,
             band_lu: None,
             symbolic_lu: None,
+            coupled: None,
             factor: Factor::None,
             mass_dominated: false,
             factorizations: 0,
@@ -285,6 +291,38 @@ impl SparseSolver {
         Ok(FactorKind::Lu)
     }
 
+    /// [`SparseSolver::factorize`] of the matrix with the pattern's
+    /// `values` plus `blocks` coupling two beams (contact between the wire
+    /// and a member): without blocks the pattern's own factorizations,
+    /// with them faer's sparse LU of the combined matrix.
+    pub fn factorize_coupled(
+        &mut self,
+        values: &[f64],
+        blocks: &[CoupledBlock],
+        symmetric: bool,
+    ) -> Result<FactorKind, FactorError> {
+        if blocks.is_empty() {
+            return self.factorize(values, symmetric);
+        }
+        let finite = values
+            .iter()
+            .chain(blocks.iter().flat_map(|b| b.values.iter()));
+        if !finite.fold(true, |ok, v| ok & v.is_finite()) {
+            return Err(FactorError(
+                "the Newton matrix has non-finite entries".into(),
+            ));
+        }
+        self.factorizations += 1;
+        CoupledLu::factorize(&mut self.coupled, &self.pattern, values, blocks)?;
+        self.factor = Factor::Coupled;
+        Ok(FactorKind::Lu)
+    }
+
+    /// Symbolic analyses of coupled structures so far.
+    pub fn coupled_analyses(&self) -> usize {
+        self.coupled.as_ref().map_or(0, |c| c.analyses)
+    }
+
     /// Solve A x = b in place with the last factorization.
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
         match (&self.factor, &mut self.llt) {
@@ -299,6 +337,7 @@ impl SparseSolver {
                 .solve_in_place(b),
             (Factor::BandLu, _) => self.band_lu.as_ref().expect("band LU").solve_in_place(b),
             (Factor::Lu(f), _) => f.solve_in_place(ColMut::from_slice_mut(b)),
+            (Factor::Coupled, _) => self.coupled.as_ref().expect("coupled LU").solve_in_place(b),
             (Factor::None, _) => panic!("solve before factorize"),
         }
     }

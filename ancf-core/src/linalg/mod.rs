@@ -1,11 +1,12 @@
 //! The Newton matrix's linear algebra: band LLᵀ and LU (the wire's matrix is
 //! block tridiagonal), the split band factorization for two threads, the
-//! solver choice, and the work sharing of the short parallel sections.
+//! solver choice, the coupled beams' general LU, and the work sharing of the short parallel sections.
 
 pub mod band_cholesky;
 pub mod band_lu;
 pub mod band_split;
 pub mod block_tridiagonal;
+pub mod coupled;
 pub mod linear_solver;
 pub(crate) mod parallel;
 pub mod pattern;

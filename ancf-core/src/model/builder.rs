@@ -20,7 +20,7 @@
 //! assert!(model.contact().is_some());
 //! ```
 
-use super::contact::{ContactLaw, ContactSettings, Rod};
+use super::contact::{BeamContact, ContactLaw, ContactSettings, MemberContact, Rod};
 use super::damping::Damping;
 use super::{BeamLayout, Model, ModelError, PointLoad, Segment, Support, SupportKind};
 use crate::check::{ParameterError, count_in, finite3, positive};
@@ -53,6 +53,8 @@ pub struct BeamBuilder {
     bore: f64,
     axial_order: usize,
     section_order: usize,
+    /// A member's contact with the wire (unused for the wire itself).
+    contact: BeamContact,
 }
 
 impl BeamBuilder {
@@ -70,7 +72,15 @@ impl BeamBuilder {
             bore: 0.0,
             axial_order: super::DEFAULT_AXIAL_ORDER,
             section_order: super::DEFAULT_SECTION_ORDER,
+            contact: BeamContact::default(),
         }
+    }
+
+    /// How the wire touches this member (default: the Hertz line law from
+    /// the two outer materials, frictionless, elastic).
+    pub fn contact(mut self, contact: BeamContact) -> Self {
+        self.contact = contact;
+        self
     }
 
     /// Its name.
@@ -551,10 +561,84 @@ impl WireBuilder {
         if model.n_unknowns == 0 {
             return Err(ModelError::NothingToSolve);
         }
+        let members = member_contacts(&self.members, &model)?;
         Ok(model
-            .with_rods(self.rods, self.contact)
+            .with_contact(self.rods, members, self.contact)
             .with_damping(self.damping))
     }
+}
+
+/// Each member's contact with the wire, its stiffness resolved (the Hertz
+/// law's from the member's and the wire's outer materials) and checked.
+fn member_contacts(
+    members: &[BeamBuilder],
+    model: &Model,
+) -> Result<Vec<MemberContact>, ModelError> {
+    let outer = |beam: usize| {
+        let el = model.beams[beam].elements.start;
+        let section = &model.groups[model.group(el)].integration.section;
+        let material = &section
+            .layers
+            .last()
+            .expect("a section has layers")
+            .material;
+        (section.outer_radius(), material.model.elastic_constants())
+    };
+    let (wire_radius, wire_constants) = outer(0);
+    let mut out = Vec::new();
+    for (i, m) in members.iter().enumerate() {
+        let at = |field: &str, message: String| ModelError::Member {
+            index: i,
+            name: m.name.clone(),
+            error: Box::new(ModelError::Contact {
+                field: field.into(),
+                message,
+            }),
+        };
+        let (radius, constants) = outer(i + 1);
+        let c = m.contact;
+        let contact_stiffness = match (c.law, c.contact_stiffness) {
+            (ContactLaw::Line, Some(k)) => k,
+            (ContactLaw::Line, None) => {
+                return Err(at(
+                    "contact_stiffness",
+                    "missing (N/m^2), required for contact_law = \"line\"".into(),
+                ));
+            }
+            (ContactLaw::Hertz, None) => crate::model::contact::hertz_line_stiffness(
+                constants,
+                wire_constants,
+                wire_radius,
+                radius,
+            ),
+            (ContactLaw::Hertz, Some(_)) => {
+                return Err(at(
+                    "contact_stiffness",
+                    "not used by contact_law = \"hertz\" (the stiffness follows from the \
+                     materials)"
+                        .into(),
+                ));
+            }
+            (ContactLaw::Surface, _) => {
+                return Err(at(
+                    "contact_law",
+                    "a member touches the wire by the line law (\"line\" or \"hertz\"); \
+                     surface test points are for rigid rods"
+                        .into(),
+                ));
+            }
+        };
+        let contact = MemberContact {
+            beam: i + 1,
+            radius,
+            contact_stiffness,
+            friction: c.friction,
+            damping: c.damping,
+        };
+        contact.check().map_err(|e| at(&e.field, e.message))?;
+        out.push(contact);
+    }
+    Ok(out)
 }
 
 /// Largest distance (m) between consecutive surface-law stations along the

@@ -49,6 +49,12 @@ pub enum SupportKind {
     Fixed,
     /// r fixed only: a spherical joint.
     Pin,
+    /// r and the section gradient r_y fixed: the node turns about the
+    /// section's y direction only (horizontal and normal to the axis for a
+    /// horizontal beam, [`section_frame`]). A simply supported (fork) end of
+    /// a frame member bending in its vertical plane: unlike a pin, it holds
+    /// the member's twist and its sideways turn.
+    Hinge,
     /// Nothing fixed: springs and a dashpot to fixed ground (a post's or a
     /// clamp's compliance), relaxed where the node starts.
     Spring(spring::Spring),
@@ -61,6 +67,7 @@ impl SupportKind {
             SupportKind::Clamp => "clamp",
             SupportKind::Fixed => "fixed",
             SupportKind::Pin => "pin",
+            SupportKind::Hinge => "hinge",
             SupportKind::Spring(_) => "spring",
         }
     }
@@ -375,6 +382,7 @@ fn eliminate(
         match s.kind {
             SupportKind::Fixed => (0..12).for_each(&mut fix),
             SupportKind::Pin => (0..3).for_each(&mut fix),
+            SupportKind::Hinge => (0..3).chain(6..9).for_each(&mut fix),
             SupportKind::Spring(_) => {}
             SupportKind::Clamp => {
                 let axis = beams
@@ -974,6 +982,11 @@ impl Model {
         q[NODE_DOFS * el..NODE_DOFS * el + 24].try_into().unwrap()
     }
 
+    /// The unknown of each of element `el`'s 24 coordinates (`None`: held).
+    pub fn element_unknowns(&self, el: usize) -> [Option<usize>; 24] {
+        std::array::from_fn(|i| self.dof_map[NODE_DOFS * el + i])
+    }
+
     /// The gravitational acceleration (m/s²), when the model has gravity.
     pub fn gravity_acceleration(&self) -> Option<[f64; 3]> {
         self.effects.iter().find_map(|e| match e {
@@ -1047,13 +1060,21 @@ impl Model {
     }
 
     /// Add rods: contact becomes one of the model's effects.
-    pub fn with_rods(
+    pub fn with_rods(self, rods: Vec<contact::Rod>, settings: contact::ContactSettings) -> Self {
+        self.with_contact(rods, Vec::new(), settings)
+    }
+
+    /// The model with contact between the wire and `rods` and `members`
+    /// (none without either).
+    pub fn with_contact(
         mut self,
         rods: Vec<contact::Rod>,
+        members: Vec<contact::MemberContact>,
         settings: contact::ContactSettings,
     ) -> Self {
-        if !rods.is_empty() {
-            let c = contact::Contact::new(rods, settings, self.section().outer_radius());
+        if !rods.is_empty() || !members.is_empty() {
+            let c = contact::Contact::new(rods, settings, self.section().outer_radius())
+                .with_members(members);
             self.effects.push(Effect::Contact(c));
         }
         self

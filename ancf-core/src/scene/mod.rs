@@ -291,6 +291,7 @@ impl Scene {
                 SupportKindSpec::Clamp => SupportKind::Clamp,
                 SupportKindSpec::Fixed => SupportKind::Fixed,
                 SupportKindSpec::Pin => SupportKind::Pin,
+                SupportKindSpec::Hinge => SupportKind::Hinge,
                 SupportKindSpec::Spring => SupportKind::Spring(Spring {
                     stiffness: s.stiffness.ok_or_else(|| {
                         err(

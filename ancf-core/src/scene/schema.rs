@@ -229,6 +229,8 @@ pub enum SupportKindSpec {
     Fixed,
     /// r held (a spherical joint).
     Pin,
+    /// r and r_y held (turns about the section's y direction only).
+    Hinge,
     /// Springs and a dashpot to fixed ground.
     Spring,
 }

@@ -146,7 +146,9 @@ fn newton(
                 rn / scale.max(f64::MIN_POSITIVE)
             ));
         }
-        solver.factorize(&kv, true).map_err(|e| e.0)?;
+        let mut coupling = Vec::new();
+        forces.coupling().combined(model, 1.0, 0.0, &mut coupling);
+        (solver.factorize_coupled(&kv, &coupling, true)).map_err(|e| e.0)?;
         let mut dq = r.clone();
         solver.solve_in_place(&mut dq);
         dq.iter_mut().for_each(|v| *v = -*v);

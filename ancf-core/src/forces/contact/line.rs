@@ -74,7 +74,7 @@ pub(crate) fn element_rod(
 /// Section coordinates (y, z) of the outer surface point at ξ that faces
 /// the rod (deformed direction −n): y r_y + z r_z ∥ −n in the least-squares
 /// sense, scaled to the wire radius.
-fn facing_point(e: &ElementVector, xi: f64, n: &[f64; 3], radius: f64) -> (f64, f64) {
+pub(crate) fn facing_point(e: &ElementVector, xi: f64, n: &[f64; 3], radius: f64) -> (f64, f64) {
     let ry: [f64; 3] = std::array::from_fn(|c| (1.0 - xi) * e[6 + c] + xi * e[18 + c]);
     let rz: [f64; 3] = std::array::from_fn(|c| (1.0 - xi) * e[9 + c] + xi * e[21 + c]);
     let (a, b, c) = (dot(ry, ry), dot(ry, rz), dot(rz, rz));

@@ -11,6 +11,7 @@
 //! from a potential, so a frictionless impact conserves energy; the broad
 //! phase skips elements whose centerline is far from every rod.
 
+pub mod beam;
 mod line;
 mod point;
 mod surface;
@@ -21,7 +22,7 @@ pub use surface::TestPoint;
 use crate::element::{ElementMatrix, ElementVector, shape_functions};
 use crate::math::quadrature::{Rule1d, gauss_legendre_unit};
 use crate::math::vec3::dot;
-use crate::model::contact::{Contact, ContactLaw, ContactSettings, Rod};
+use crate::model::contact::{Contact, ContactLaw, ContactSettings, MemberContact, Rod};
 
 /// A model's contact, ready to evaluate: its rods and settings, the zone
 /// rule and what depends on the element length, computed once.
@@ -29,6 +30,8 @@ use crate::model::contact::{Contact, ContactLaw, ContactSettings, Rod};
 pub struct ContactEvaluator {
     /// The rods, in the scene's order.
     pub rods: Vec<Rod>,
+    /// The frame members the wire may touch (partners after the rods).
+    pub members: Vec<MemberContact>,
     /// Integration and regularization settings.
     pub settings: ContactSettings,
     /// Gauss rule on [0, 1] for a piece of an active zone (line laws).
@@ -94,6 +97,12 @@ pub struct DeepestPoint {
 }
 
 impl ContactEvaluator {
+    /// Rods and members: the contact partners (a pair is indexed
+    /// `element × partners + partner`).
+    pub fn partners(&self) -> usize {
+        self.rods.len() + self.members.len()
+    }
+
     /// The evaluator of `contact` on elements of `element_lengths` (m), those
     /// of the model's element groups in order (one for a uniform mesh).
     pub fn new(contact: &Contact, element_lengths: &[f64]) -> Self {
@@ -116,6 +125,7 @@ impl ContactEvaluator {
         ContactEvaluator {
             zone_rule: gauss_legendre_unit(settings.zone_points),
             rods: contact.rods.clone(),
+            members: contact.members.clone(),
             settings: settings.clone(),
             wire_radius,
             geometry,

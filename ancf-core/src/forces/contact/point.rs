@@ -265,7 +265,13 @@ pub(crate) fn point_contact(
         damping: out.damping,
         velocity: vp,
     };
-    let PointForce { f, dfdp, dfdv, penetration, n } = point_law(&law, &mut out.sample)?;
+    let PointForce {
+        f,
+        dfdp,
+        dfdv,
+        penetration,
+        n,
+    } = point_law(&law, &mut out.sample)?;
     let friction = rod.friction > 0.0;
     let damped = out.damping.is_some();
     let s = pt.s;

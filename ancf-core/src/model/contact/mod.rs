@@ -336,11 +336,70 @@ impl Default for ContactSettings {
     }
 }
 
-/// The contact of a wire with its rods, as the model describes it.
+/// How a frame member and the wire touch: the line law against the
+/// member's deformed centerline (`forces::contact::beam`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BeamContact {
+    /// `Line`: ε_L is `contact_stiffness`; `Hertz` (the default): ε_L from
+    /// the member's and the wire's outer-layer materials at a 90° crossing.
+    pub law: ContactLaw,
+    /// ε_L (N/m²) under the line law.
+    pub contact_stiffness: Option<f64>,
+    /// Coulomb coefficient μ; 0 = frictionless.
+    pub friction: f64,
+    /// Contact damping with a coefficient of restitution; `None`: elastic.
+    pub damping: Option<ContactDamping>,
+}
+
+impl Default for BeamContact {
+    fn default() -> Self {
+        BeamContact {
+            law: ContactLaw::Hertz,
+            contact_stiffness: None,
+            friction: 0.0,
+            damping: None,
+        }
+    }
+}
+
+/// A frame member's contact with the wire, as the model evaluates it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemberContact {
+    /// The member's beam (index into the model's beams; the wire is 0).
+    pub beam: usize,
+    /// Outer radius of the member's section, m.
+    pub radius: f64,
+    /// ε_L actually used, N/m² (per metre of the wire's reference length).
+    pub contact_stiffness: f64,
+    /// Coulomb coefficient μ; 0 = frictionless.
+    pub friction: f64,
+    /// Contact damping; `None`: elastic.
+    pub damping: Option<ContactDamping>,
+}
+
+impl MemberContact {
+    /// Whether the contact can be built: stiffness > 0, μ ≥ 0, restitution
+    /// in (0, 1] (a rod's rules).
+    pub fn check(&self) -> Result<(), ParameterError> {
+        let rod = Rod {
+            contact_stiffness: self.contact_stiffness,
+            friction: self.friction,
+            damping: self.damping,
+            ..Rod::line([0.0; 3], [1.0, 0.0, 0.0], self.radius, 1.0)
+        };
+        rod.check()
+    }
+}
+
+/// The contact of a wire with its rods and frame members, as the model
+/// describes it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Contact {
     /// The rods, in the scene's order.
     pub rods: Vec<Rod>,
+    /// The frame members the wire may touch, in the scene's order. A
+    /// contact partner is a rod (indices 0 … rods) or a member (after them).
+    pub members: Vec<MemberContact>,
     /// Integration and regularization settings.
     pub settings: ContactSettings,
     /// Outer radius of the wire, m.
@@ -352,21 +411,34 @@ impl Contact {
     pub fn new(rods: Vec<Rod>, settings: ContactSettings, wire_radius: f64) -> Self {
         Contact {
             rods,
+            members: Vec::new(),
             settings,
             wire_radius,
         }
     }
 
-    /// Whether any rod has friction (then the Newton matrix is not symmetric).
-    pub fn has_friction(&self) -> bool {
-        self.rods.iter().any(|r| r.friction > 0.0)
+    /// The same contact with the wire also touching `members`.
+    pub fn with_members(self, members: Vec<MemberContact>) -> Self {
+        Contact { members, ..self }
     }
 
-    /// Whether any rod has contact damping (then the force depends on the
-    /// velocities, the Newton matrix is not symmetric, and the state keeps
-    /// each contact event's approach speed).
+    /// Rods and members: the contact partners.
+    pub fn partners(&self) -> usize {
+        self.rods.len() + self.members.len()
+    }
+
+    /// Whether any rod or member has friction (then the Newton matrix is
+    /// not symmetric).
+    pub fn has_friction(&self) -> bool {
+        self.rods.iter().any(|r| r.friction > 0.0) || self.members.iter().any(|m| m.friction > 0.0)
+    }
+
+    /// Whether any rod or member has contact damping (then the force
+    /// depends on the velocities, the Newton matrix is not symmetric, and
+    /// the state keeps each contact event's approach speed).
     pub fn has_damping(&self) -> bool {
         self.rods.iter().any(|r| r.damping.is_some())
+            || self.members.iter().any(|m| m.damping.is_some())
     }
 
     /// Whether the contact force depends on the velocities.

@@ -69,6 +69,9 @@ pub struct Integrator {
     kq: Vec<f64>,
     kv: Vec<f64>,
     newton_matrix: Vec<f64>,
+    /// The Newton matrix's blocks coupling two beams in contact (outside
+    /// the pattern; empty without them).
+    coupled_blocks: Vec<crate::linalg::coupled::CoupledBlock>,
     work: Workspace,
     /// Each support's force on the body in the last
     /// [`Integrator::initial_state`] (N).
@@ -109,6 +112,7 @@ impl Integrator {
             kq: pattern.zeros(),
             kv: pattern.zeros(),
             newton_matrix: pattern.zeros(),
+            coupled_blocks: Vec::new(),
             work: Workspace::new(model.reference.len()),
             initial_reactions: Vec::new(),
             forces,
@@ -599,8 +603,10 @@ impl Integrator {
                     [1.0 - alpha_m, c_k, c_d],
                     velocity_jacobian,
                 );
+                let c_v = if velocity_jacobian { c_d } else { 0.0 };
+                (self.forces.coupling()).combined(model, c_k, c_v, &mut self.coupled_blocks);
                 self.solver
-                    .factorize(&self.newton_matrix, symmetric)
+                    .factorize_coupled(&self.newton_matrix, &self.coupled_blocks, symmetric)
                     .map_err(|error| StepError::Factorization {
                         matrix: Matrix::Newton,
                         error,

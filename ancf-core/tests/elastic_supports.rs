@@ -22,6 +22,7 @@ fn spring(stiffness: [f64; 3], rotational: f64, damping: f64) -> Spring {
         stiffness,
         rotational_stiffness: rotational,
         damping,
+        ..Default::default()
     }
 }
 

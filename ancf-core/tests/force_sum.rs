@@ -31,6 +31,7 @@ fn model_with(spring: bool) -> Model {
             Spring {
                 stiffness: [3e4, 1e4, 2e4],
                 rotational_stiffness: 50.0,
+                torsional_stiffness: 30.0,
                 damping: 20.0,
             },
         )

@@ -414,24 +414,34 @@ impl Wire {
         })
     }
 
-    /// An elastic support at `node`: springs `stiffness` [kx, ky, kz]
-    /// (N/m) and `rotational_stiffness` (N m/rad), a dashpot `damping`
-    /// (N s/m), relaxed where the node starts (a post or a clamp).
-    #[pyo3(signature = (node, stiffness, rotational_stiffness = 0.0, damping = 0.0))]
+    /// An elastic support at `node` (of the member named `beam`; default:
+    /// the wire): springs `stiffness` [kx, ky, kz] (N/m),
+    /// `rotational_stiffness` (bending, N m/rad) and `torsional_stiffness`
+    /// (twist, N m/rad), a dashpot `damping` (N s/m), relaxed where the
+    /// node starts (a post or a clamp).
+    #[pyo3(signature = (node, stiffness, rotational_stiffness = 0.0, damping = 0.0, torsional_stiffness = 0.0, beam = None))]
     fn spring(
         &self,
         node: usize,
         stiffness: Vec<f64>,
         rotational_stiffness: f64,
         damping: f64,
+        torsional_stiffness: f64,
+        beam: Option<&str>,
     ) -> PyResult<Wire> {
+        use ancf_core::model::{Support, SupportKind};
         let spring = ancf_core::model::spring::Spring {
             stiffness: vec3("stiffness", stiffness)?,
             rotational_stiffness,
+            torsional_stiffness,
             damping,
         };
+        let support = Support::new(node, SupportKind::Spring(spring));
         Ok(Wire {
-            builder: self.builder.clone().spring(node, spring),
+            builder: match beam {
+                Some(beam) => self.builder.clone().support_on(beam, support),
+                None => self.builder.clone().support_with(support),
+            },
         })
     }
 

@@ -361,7 +361,7 @@ impl ForceSum {
 
 /// The elastic supports' forces added to `internal` (all coordinates) and
 /// their stiffness — K on the position, the rotational spring's 3 × 3 block
-/// on r_x — to `kq` (pattern slots, unknowns only); returns their energy
+/// on r_x, the torsional spring's 6 × 6 on r_y, r_z — to `kq` (pattern slots, unknowns only); returns their energy
 /// (J), which counts as strain energy.
 fn add_springs(
     model: &Model,
@@ -392,6 +392,14 @@ fn add_springs(
                 for (i, row) in h.iter().enumerate() {
                     for (j, v) in row.iter().enumerate() {
                         add(base + 3 + i, base + 3 + j, *v);
+                    }
+                }
+            }
+            if s.spring.torsional_stiffness != 0.0 {
+                let h = s.torsional_jacobian();
+                for (i, row) in h.iter().enumerate() {
+                    for (j, v) in row.iter().enumerate() {
+                        add(base + 6 + i, base + 6 + j, *v);
                     }
                 }
             }

@@ -590,10 +590,7 @@ fn member_contacts(
         let at = |field: &str, message: String| ModelError::Member {
             index: i,
             name: m.name.clone(),
-            error: Box::new(ModelError::Contact {
-                field: field.into(),
-                message,
-            }),
+            error: Box::new(ModelError::wire(field, message)),
         };
         let (radius, constants) = outer(i + 1);
         let c = m.contact;

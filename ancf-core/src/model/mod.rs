@@ -1011,13 +1011,21 @@ impl Model {
         })
     }
 
-    /// The rods whose line-law contact a time step of `h` s does not
-    /// resolve on this wire (h √(ε_L / ρA) above
-    /// [`contact::RESOLVED_STEP_FREQUENCY`]); empty without
-    /// contact.
+    /// The rods and members whose line-law contact a time step of `h` s
+    /// does not resolve on this wire (h ω_c above
+    /// [`contact::RESOLVED_STEP_FREQUENCY`], see [`contact::resolution`]);
+    /// empty without contact.
     pub fn unresolved_contacts(&self, h: f64) -> Vec<contact::UnresolvedContact> {
         self.contact().map_or_else(Vec::new, |c| {
-            contact::unresolved_contacts(c, self.section().mass_per_length(), h)
+            let members: Vec<(String, f64)> = (c.members.iter())
+                .map(|m| {
+                    let beam = &self.beams[m.beam];
+                    let group = self.group(beam.elements.start);
+                    let mass = self.groups[group].integration.section.mass_per_length();
+                    (beam.name.clone(), mass)
+                })
+                .collect();
+            contact::unresolved_contacts(c, self.section().mass_per_length(), &members, h)
         })
     }
 

@@ -11,7 +11,9 @@ pub use schema::*;
 use crate::check::ParameterError;
 use crate::material::{Material, MaterialModel};
 use crate::model::clearance::ClearanceZone;
-use crate::model::contact::{ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod};
+use crate::model::contact::{
+    BeamContact, ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod,
+};
 use crate::model::damping::Damping;
 use crate::model::spring::Spring;
 use crate::model::{
@@ -237,6 +239,20 @@ impl Scene {
                 "the wire is named \"wire\"; names are for [[beam]] tables",
             ));
         }
+        for (key, given) in [
+            ("contact_law", f.wire.contact_law.is_some()),
+            ("contact_stiffness", f.wire.contact_stiffness.is_some()),
+            ("friction", f.wire.friction.is_some()),
+            ("restitution", f.wire.restitution.is_some()),
+            ("restitution_model", f.wire.restitution_model.is_some()),
+        ] {
+            if given {
+                return Err(err(
+                    format!("wire.{key}"),
+                    "a contact key of a [[beam]] (how the wire touches that member) or a [[rod]]",
+                ));
+            }
+        }
         for (i, b) in f.beam.iter().enumerate() {
             let table = format!("beam[{i}]");
             let Some(name) = &b.name else {
@@ -255,7 +271,7 @@ impl Scene {
                 ));
             }
             let (member, _, _, elements) = beam_description(b, &table, name, &find)?;
-            builder = builder.member(member);
+            builder = builder.member(member.contact(beam_contact(b, &table)?));
             beam_nodes.push((name.clone(), elements + 1));
         }
         // A node of the wire or of the member named `beam`: its index on that beam.
@@ -300,6 +316,7 @@ impl Scene {
                         )
                     })?,
                     rotational_stiffness: s.rotational_stiffness.unwrap_or(0.0),
+                    torsional_stiffness: s.torsional_stiffness.unwrap_or(0.0),
                     damping: s.damping.unwrap_or(0.0),
                 }),
             };
@@ -307,6 +324,7 @@ impl Scene {
                 let given = [
                     ("stiffness", s.stiffness.is_some()),
                     ("rotational_stiffness", s.rotational_stiffness.is_some()),
+                    ("torsional_stiffness", s.torsional_stiffness.is_some()),
                     ("damping", s.damping.is_some()),
                 ];
                 if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
@@ -792,6 +810,53 @@ fn rods(
         });
     }
     Ok(rods)
+}
+
+/// A `[[beam]]`'s contact keys: the law (`"hertz"` by default, `"line"`
+/// with its stiffness), friction and restitution; the values are the
+/// model's to check.
+fn beam_contact(b: &WireSpec, table: &str) -> Result<BeamContact, SceneError> {
+    let at = |k: &str| format!("{table}.{k}");
+    let law = match b.contact_law.as_deref() {
+        None | Some("hertz") => ContactLaw::Hertz,
+        Some("line") => ContactLaw::Line,
+        Some(other) => {
+            return Err(err(
+                at("contact_law"),
+                format!(
+                    "unknown law \"{other}\" for a member (use \"hertz\", the default, or \"line\")"
+                ),
+            ));
+        }
+    };
+    if b.contact_law.is_none() && b.contact_stiffness.is_some() {
+        return Err(err(
+            at("contact_law"),
+            "missing: contact_stiffness (N/m^2) goes with contact_law = \"line\"; without a \
+             law the Hertz stiffness of the two materials is used",
+        ));
+    }
+    let model = b
+        .restitution_model
+        .as_deref()
+        .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
+        .map_err(|message| err(at("restitution_model"), message))?;
+    let damping = match b.restitution {
+        None if b.restitution_model.is_some() => {
+            return Err(err(
+                at("restitution"),
+                "missing: restitution_model is set but the coefficient of restitution is not",
+            ));
+        }
+        None | Some(1.0) => None,
+        Some(e) => Some(ContactDamping::new(e, model)),
+    };
+    Ok(BeamContact {
+        law,
+        contact_stiffness: b.contact_stiffness,
+        friction: b.friction.unwrap_or(0.0),
+        damping,
+    })
 }
 
 /// `[[material]]`: names, the model's name and which constants go with

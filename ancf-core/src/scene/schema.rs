@@ -207,6 +207,17 @@ pub struct WireSpec {
     pub rectangle: Option<RectangleSpec>,
     /// Quadrature orders.
     pub quadrature: Option<QuadratureSpec>,
+    /// A `[[beam]]`'s contact with the wire: `"hertz"` (default, from the
+    /// two outer materials) or `"line"`.
+    pub contact_law: Option<String>,
+    /// A `[[beam]]`'s ε_L under the line law (N/m²).
+    pub contact_stiffness: Option<f64>,
+    /// A `[[beam]]`'s Coulomb μ against the wire.
+    pub friction: Option<f64>,
+    /// A `[[beam]]`'s coefficient of restitution e ∈ (0, 1] against the wire.
+    pub restitution: Option<f64>,
+    /// How the damping follows from `restitution` (as for rods).
+    pub restitution_model: Option<String>,
 }
 
 /// One region of a graded mesh (`[wire] segments`).
@@ -253,8 +264,12 @@ pub struct SupportSpec {
     /// `kind = "spring"`: translational stiffness along x, y, z (N/m).
     #[serde(default, deserialize_with = "optional_vec3")]
     pub stiffness: Option<[f64; 3]>,
-    /// `kind = "spring"`: rotational stiffness (N m/rad); default 0.
+    /// `kind = "spring"`: rotational stiffness of the tangent, bending
+    /// (N m/rad); default 0.
     pub rotational_stiffness: Option<f64>,
+    /// `kind = "spring"`: torsional stiffness about the axis (N m/rad);
+    /// default 0.
+    pub torsional_stiffness: Option<f64>,
     /// `kind = "spring"`: dashpot on the position (N s/m); default 0.
     pub damping: Option<f64>,
 }

@@ -1,5 +1,5 @@
-//! Whether a time step resolves a rod's line-law contact, known before a
-//! run starts.
+//! Whether a time step resolves a rod's or a frame member's line-law
+//! contact, known before a run starts.
 //!
 //! Where the wire lies on a rod, the line law (and hertz, the line law with
 //! ε_L from E*) is an elastic foundation of ε_L N/m² under a beam of ρA
@@ -11,7 +11,9 @@
 //! necessary, not sufficient: a Newton tolerance too loose for a very
 //! small step adds up an energy error, and a contact too soft for the blow
 //! meets the penetration limit whatever the step. The surface law's ε_N
-//! (N/m³) has no foundation stiffness per length; it is not judged.
+//! (N/m³) has no foundation stiffness per length; it is not judged. A
+//! frame member moves too: wire and member oscillate against each other at
+//! ω_c = √(ε_L (1/ρA_w + 1/ρA_m)), higher than against a rigid rod.
 
 use super::{Contact, ContactLaw};
 
@@ -19,16 +21,20 @@ use super::{Contact, ContactLaw};
 /// module's measurements).
 pub const RESOLVED_STEP_FREQUENCY: f64 = 3.0;
 
-/// A rod whose line-law contact a time step does not resolve.
+/// A rod or member whose line-law contact a time step does not resolve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UnresolvedContact {
-    /// The rod's index in the scene's order.
+    /// The contact partner's index: the rods in the scene's order, then
+    /// the members.
     pub rod: usize,
+    /// The partner as a message names it: `rod 0`, `member "tube"`.
+    pub partner: String,
     /// Its law.
     pub law: ContactLaw,
     /// Its penalty ε_L, N/m².
     pub stiffness: f64,
-    /// The wire's mass per length ρA, kg/m.
+    /// The mass per length the contact oscillates, kg/m: the wire's ρA
+    /// against a rod, the reduced 1 / (1/ρA_w + 1/ρA_m) against a member.
     pub mass_per_length: f64,
     /// ω_c = √(ε_L / ρA), rad/s.
     pub frequency: f64,
@@ -47,11 +53,11 @@ impl std::fmt::Display for UnresolvedContact {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "analysis.time_step = {:e} s does not resolve rod {}'s {} contact: h ω_c = {:.1} > {} \
+            "analysis.time_step = {:e} s does not resolve {}'s {} contact: h ω_c = {:.1} > {} \
              (ω_c = √(ε_L / ρA) = {:.3e} rad/s, ε_L = {:.3e} N/m² on {:.4} kg/m); expect step cuts \
              and loads that depend on them; a time step ≤ {:.2e} s resolves it",
             self.time_step,
-            self.rod,
+            self.partner,
             self.law.name(),
             self.time_step * self.frequency,
             RESOLVED_STEP_FREQUENCY,
@@ -63,26 +69,45 @@ impl std::fmt::Display for UnresolvedContact {
     }
 }
 
-/// The rods of `contact` whose line-law contact a step of `time_step` s
-/// does not resolve on a wire of `mass_per_length` kg/m, in rod order.
+/// The rods and members of `contact` whose line-law contact a step of
+/// `time_step` s does not resolve on a wire of `mass_per_length` kg/m, the
+/// members named and of `member_masses` kg/m (in member order), in
+/// partner order.
 pub fn unresolved_contacts(
     contact: &Contact,
     mass_per_length: f64,
+    members: &[(String, f64)],
     time_step: f64,
 ) -> Vec<UnresolvedContact> {
-    contact
-        .rods
-        .iter()
-        .enumerate()
+    let rods = (contact.rods.iter().enumerate())
         .filter(|(_, rod)| rod.law != ContactLaw::Surface)
         .map(|(i, rod)| UnresolvedContact {
             rod: i,
+            partner: format!("rod {i}"),
             law: rod.law,
             stiffness: rod.contact_stiffness,
             mass_per_length,
             frequency: (rod.contact_stiffness / mass_per_length).sqrt(),
             time_step,
-        })
+        });
+    let members = contact
+        .members
+        .iter()
+        .zip(members)
+        .enumerate()
+        .map(|(i, (m, (name, mass)))| {
+            let reduced = 1.0 / (1.0 / mass_per_length + 1.0 / mass);
+            UnresolvedContact {
+                rod: contact.rods.len() + i,
+                partner: format!("member \"{name}\""),
+                law: ContactLaw::Line,
+                stiffness: m.contact_stiffness,
+                mass_per_length: reduced,
+                frequency: (m.contact_stiffness / reduced).sqrt(),
+                time_step,
+            }
+        });
+    rods.chain(members)
         .filter(|u| u.time_step * u.frequency > RESOLVED_STEP_FREQUENCY)
         .collect()
 }

@@ -104,6 +104,11 @@ pub struct BeamSummary {
     /// fiber (Pa), its time and place.
     #[serde(flatten)]
     pub record: ancf_core::loads::member_load::MemberRecord,
+    /// The wire's contact force on the member as a rod's is reported: first
+    /// contact time, raw and CFC-filtered peaks, impulse, first impact (a
+    /// static run: the force at equilibrium as both peaks).
+    #[serde(flatten)]
+    pub contact: ancf_core::loads::rod_load::RodLoad,
 }
 
 /// How close the wire came to a clearance zone (`[[clearance]]`).

@@ -970,9 +970,14 @@ impl Simulation {
         let members = self.observed.member_summary(&self.scene);
         if !members.is_empty() {
             let beams = PyList::empty(py);
-            for m in &members {
+            let cfc = self.scene.output.cfc;
+            let loads = self.sim.member_loads();
+            for (i, m) in members.iter().enumerate() {
                 let (b, r) = (PyDict::new(py), &m.record);
                 b.set_item("name", &m.name)?;
+                if let Some(h) = loads.get(i) {
+                    set_load(&b, &h.summary(&h.filtered(cfc)))?;
+                }
                 for (k, v) in [
                     ("max_bending_moment", r.max_bending_moment),
                     ("max_bending_moment_time", r.max_bending_moment_time),

@@ -131,6 +131,10 @@ pub struct Snapshot {
     pub released: usize,
     /// The force on each rod at every step.
     pub rod_loads: Vec<LoadHistory>,
+    /// The contact force the wire puts on each frame member at every step,
+    /// in the model's member order.
+    #[serde(default)]
+    pub member_loads: Vec<LoadHistory>,
     /// The force each support exerts on the wire at every step, in the
     /// model's support order (empty in a snapshot from before they were
     /// recorded: recorded from there on).
@@ -194,6 +198,7 @@ impl Simulation {
                 error,
             })?;
         let rods = model.contact().map_or(0, |c| c.rods.len());
+        let members = model.contact().map_or(0, |c| c.members.len());
         Ok(Simulation {
             static_iterations,
             steps: Self::step_count(&settings),
@@ -208,6 +213,7 @@ impl Simulation {
                 step_cuts: 0,
                 released: 0,
                 rod_loads: vec![LoadHistory::default(); rods],
+                member_loads: vec![LoadHistory::default(); members],
                 support_loads: vec![LoadHistory::default(); model.supports.len()],
                 // Every support holds in the static equilibrium, those
                 // released at t = 0 too: their force before the break.
@@ -332,6 +338,13 @@ impl Simulation {
                 s.rod_loads.len()
             ));
         }
+        let members = model.contact().map_or(0, |c| c.members.len());
+        if s.member_loads.len() != members {
+            return Err(format!(
+                "member_loads has {} entries, the wire may touch {members} members",
+                s.member_loads.len()
+            ));
+        }
         Ok(())
     }
 
@@ -410,6 +423,9 @@ impl Simulation {
         for (history, force) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
             history.push(p.state.time, *force);
         }
+        for (history, force) in p.member_loads.iter_mut().zip(&info.member_forces) {
+            history.push(p.state.time, *force);
+        }
         for (history, force) in p.support_loads.iter_mut().zip(&info.reactions) {
             history.push(p.state.time, *force);
         }
@@ -472,6 +488,12 @@ impl Simulation {
     /// The force on each rod at every step.
     pub fn rod_loads(&self) -> &[LoadHistory] {
         &self.progress.rod_loads
+    }
+
+    /// The contact force the wire put on each frame member at every
+    /// completed step (model's member order; empty without members).
+    pub fn member_loads(&self) -> &[LoadHistory] {
+        &self.progress.member_loads
     }
 
     /// The force each support exerts on the wire at every step (N, at the

@@ -121,13 +121,16 @@ impl Files {
     }
 
     /// The end of a dynamic run: VTK's collection, rod_forces.csv (and
-    /// rod_forces.png), supports.csv, the plots, contact_point.csv.
+    /// rod_forces.png), member_forces.csv (and member_loads.png),
+    /// supports.csv, the plots, contact_point.csv.
+    #[allow(clippy::too_many_arguments)]
     pub fn finish(
         &mut self,
         scene: &Scene,
         history: &History,
         loads: &[LoadHistory],
         filtered: &[Filtered],
+        members: (&[LoadHistory], &[Filtered]),
         supports: SupportLoads<'_>,
         summary: &Summary,
     ) -> Result<(), String> {
@@ -138,10 +141,19 @@ impl Files {
         if !supports.loads.is_empty() {
             write_supports(dir, supports).map_err(|e| io_err(dir, e))?;
         }
-        if let Some(cs) = &summary.contact {
+        if let Some(cs) = &summary.contact
+            && !cs.rods.is_empty()
+        {
             write_rod_forces(dir, loads, filtered).map_err(|e| io_err(dir, e))?;
             if scene.output.plots {
                 super::plots::plot_rod_forces(dir, loads, filtered, &cs.rods)?;
+            }
+        }
+        if !members.0.is_empty() {
+            let names: Vec<&str> = summary.beams.iter().map(|b| b.name.as_str()).collect();
+            write_member_forces(dir, &names, members.0, members.1).map_err(|e| io_err(dir, e))?;
+            if scene.output.plots {
+                super::plots::plot_member_loads(dir, members.0, members.1, &summary.beams)?;
             }
         }
         if scene.output.plots {
@@ -181,9 +193,34 @@ fn write_rod_forces(
     loads: &[LoadHistory],
     filtered: &[Filtered],
 ) -> std::io::Result<()> {
+    let names: Vec<String> = (0..loads.len()).map(|i| format!("rod{i}")).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    write_forces(&out.join("rod_forces.csv"), &names, loads, filtered)
+}
+
+/// `member_forces.csv`: [`write_rod_forces`]'s columns for the wire's
+/// contact force on each frame member, named by the member
+/// (`NAME_force`, `NAME_filtered`, `NAME_fx`, …).
+fn write_member_forces(
+    out: &Path,
+    names: &[&str],
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+) -> std::io::Result<()> {
+    write_forces(&out.join("member_forces.csv"), names, loads, filtered)
+}
+
+/// Forces over the steps, a `NAME_force, NAME_filtered, NAME_fx, NAME_fy,
+/// NAME_fz` group of columns per load.
+fn write_forces(
+    path: &Path,
+    names: &[&str],
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+) -> std::io::Result<()> {
     let mut s = String::from("time");
-    for i in 0..loads.len() {
-        s += &format!(",rod{i}_force,rod{i}_filtered,rod{i}_fx,rod{i}_fy,rod{i}_fz");
+    for n in names {
+        s += &format!(",{n}_force,{n}_filtered,{n}_fx,{n}_fy,{n}_fz");
     }
     s.push('\n');
     let steps = loads.first().map_or(0, |h| h.time.len());
@@ -203,7 +240,7 @@ fn write_rod_forces(
         }
         s.push('\n');
     }
-    std::fs::write(out.join("rod_forces.csv"), s)
+    std::fs::write(path, s)
 }
 
 /// The supports' forces on the body over a run: at t = 0 and after every step.

@@ -188,6 +188,13 @@ fn execute(
                     let mut observed = Observations::new(scene);
                     observed.observe(scene, &res.q, 0.0);
                     observed.fill(scene, &mut summary);
+                    if let Some(cf) = &res.contact {
+                        for (beam, f) in summary.beams.iter_mut().zip(&cf.member_forces) {
+                            let force = norm(*f);
+                            beam.contact.peak_force = force;
+                            beam.contact.filtered_peak_force = force;
+                        }
+                    }
                     res.q
                 }
                 Err(e) => {
@@ -463,6 +470,7 @@ fn run_dynamic(
     }
     summary.time = progress.state.time;
     p.observed.fill(scene, summary);
+    Observations::fill_member_contact(summary, sim.member_loads(), scene.output.cfc);
     summary.energy = Some(EnergySummary {
         last: p.last,
         total: p.last.total(),
@@ -492,12 +500,15 @@ fn run_dynamic(
     let support_filtered: Vec<Filtered> = supports.loads.iter().map(|h| h.filtered(cfc)).collect();
     summary.supports =
         supports::dynamic_supports(model, supports.initial, supports.loads, &support_filtered);
+    let member_filtered: Vec<Filtered> =
+        sim.member_loads().iter().map(|h| h.filtered(cfc)).collect();
     if let Some(f) = files.as_mut() {
         f.finish(
             scene,
             &p.history,
             sim.rod_loads(),
             &filtered,
+            (sim.member_loads(), &member_filtered),
             supports,
             summary,
         )?;

@@ -67,6 +67,7 @@ impl Observations {
             .map(|(beam, record)| BeamSummary {
                 name: beam.name.clone(),
                 record: *record,
+                contact: Default::default(),
             })
             .collect()
     }
@@ -88,6 +89,19 @@ impl Observations {
             })
             .collect();
         (!entered.is_empty()).then(|| format!("the wire entered {}", entered.join(", ")))
+    }
+
+    /// Into `summary.beams`: each member's contact load, from the force the
+    /// wire put on it at every step (`loads`, model's member order),
+    /// filtered at `cfc` Hz.
+    pub fn fill_member_contact(
+        summary: &mut Summary,
+        loads: &[ancf_core::loads::rod_load::LoadHistory],
+        cfc: f64,
+    ) {
+        for (beam, h) in summary.beams.iter_mut().zip(loads) {
+            beam.contact = h.summary(&h.filtered(cfc));
+        }
     }
 
     /// Into `summary`: its `clearance` and `beams`, and the note on entered

@@ -3,7 +3,7 @@
 
 use super::history::History;
 use crate::plot::{Panel, Series, configurations_plot, line_plot, panels_plot};
-use ancf_core::loads::rod_load::{Filtered, LoadHistory};
+use ancf_core::loads::rod_load::{Filtered, LoadHistory, RodLoad};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::Model;
 use ancf_core::solve::dynamics::Energies;
@@ -146,12 +146,61 @@ pub fn plot_rod_forces(
     let titles: Vec<String> = (0..loads.len())
         .map(|i| format!("Force on rod {i} (CFC {:.0})", rods[i].load.cfc))
         .collect();
+    let summaries: Vec<&RodLoad> = rods.iter().map(|r| &r.load).collect();
+    plot_forces(
+        &out.join("rod_forces.png"),
+        &titles,
+        loads,
+        filtered,
+        &summaries,
+    )
+}
+
+/// `member_loads.png`: per frame member, the wire's contact force on it,
+/// raw and filtered with both peaks marked, its largest bending moment and
+/// von Mises stress in the title.
+pub fn plot_member_loads(
+    out: &Path,
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+    beams: &[crate::output::BeamSummary],
+) -> Result<(), String> {
+    let titles: Vec<String> = beams
+        .iter()
+        .map(|b| {
+            format!(
+                "Contact force on {} (CFC {:.0}); max M {:.3} kN m, max von Mises {:.1} MPa",
+                b.name,
+                b.contact.cfc,
+                b.record.max_bending_moment / 1e3,
+                b.record.max_von_mises / 1e6
+            )
+        })
+        .collect();
+    let summaries: Vec<&RodLoad> = beams.iter().map(|b| &b.contact).collect();
+    plot_forces(
+        &out.join("member_loads.png"),
+        &titles,
+        loads,
+        filtered,
+        &summaries,
+    )
+}
+
+/// Panels of forces: per load, its raw and filtered |F| with both peaks.
+fn plot_forces(
+    path: &Path,
+    titles: &[String],
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+    summaries: &[&RodLoad],
+) -> Result<(), String> {
     let panels: Vec<Panel> = loads
         .iter()
         .zip(filtered)
-        .zip(rods)
-        .zip(&titles)
-        .map(|(((h, f), r), title)| {
+        .zip(summaries)
+        .zip(titles)
+        .map(|(((h, f), load), title)| {
             let raw = h
                 .time
                 .iter()
@@ -180,14 +229,14 @@ pub fn plot_rod_forces(
                 ],
                 marks: vec![
                     (
-                        r.load.peak_time,
-                        r.load.peak_force,
-                        format!("raw peak {:.0} N", r.load.peak_force),
+                        load.peak_time,
+                        load.peak_force,
+                        format!("raw peak {:.0} N", load.peak_force),
                     ),
                     (
-                        r.load.filtered_peak_time,
-                        r.load.filtered_peak_force,
-                        format!("filtered peak {:.0} N", r.load.filtered_peak_force),
+                        load.filtered_peak_time,
+                        load.filtered_peak_force,
+                        format!("filtered peak {:.0} N", load.filtered_peak_force),
                     ),
                 ],
             }
@@ -196,11 +245,5 @@ pub fn plot_rod_forces(
     if panels.iter().all(|p| p.series[0].points.is_empty()) {
         return Ok(());
     }
-    panels_plot(
-        &out.join("rod_forces.png"),
-        panels.len(),
-        1,
-        (960, 480),
-        &panels,
-    )
+    panels_plot(path, panels.len(), 1, (960, 480), &panels)
 }

@@ -438,6 +438,7 @@ impl Integrator {
             info.contact = cf.total;
             info.deepest = cf.deepest;
             info.rod_forces.clone_from(&cf.rod_forces);
+            info.member_forces.clone_from(&cf.member_forces);
         }
         let (q, ext) = (self.forces.internal(), self.forces.external());
         model.mass_times_into(&w.am, &mut w.ma);

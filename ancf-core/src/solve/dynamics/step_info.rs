@@ -43,6 +43,9 @@ pub struct StepInfo {
     pub deepest: Option<(usize, DeepestPoint)>,
     /// Force on each rod (normal + friction, N) at the step's midpoint.
     pub rod_forces: Vec<[f64; 3]>,
+    /// The contact force the wire puts on each frame member it may touch
+    /// (N, model's member order).
+    pub member_forces: Vec<[f64; 3]>,
     /// Force each support exerts on the wire at its node's position r (N),
     /// at the step's midpoint, in the model's support order: the residual
     /// M a + Q − Q_ext of the held position coordinates (zero once a

@@ -520,6 +520,7 @@ pub fn assemble_contact_reusing(
     };
     let (rods, partners) = (contact.rods.len(), contact.partners());
     let mut beam_out = crate::forces::contact::beam::BeamContactOut::default();
+    let mut spheres = None;
     // Element Jacobian workspaces only when a Jacobian is asked for (most
     // calls are residuals: zeroing 9 KB each was memset in perf).
     let mut kq = jac_q.as_ref().map(|_| [0.0; 576]);
@@ -542,12 +543,13 @@ pub fn assemble_contact_reusing(
             let mi = ri - rods;
             let jac = (jac_q.is_some(), jac_v.is_some());
             beam_out.clear();
+            let spheres = spheres.get_or_insert_with(|| MemberSpheres::new(model, contact, q));
             member_contact(
                 model,
                 contact,
                 (q, v),
                 (el, &e, &ve),
-                mi,
+                (mi, spheres),
                 events.get(pair).copied().unwrap_or(0.0),
                 jac.0 || jac.1,
                 &mut beam_out,
@@ -661,15 +663,16 @@ pub fn assemble_contact_reusing(
 }
 
 /// Contact of wire element `el` (coordinates and velocities `e`, `ve`)
-/// with member `mi` at (q, v), into `out`: the member's elements within
-/// reach are gathered, then [`crate::forces::contact::beam`] evaluates.
+/// with member `mi` (its elements' centerline spheres `spheres`) at
+/// (q, v), into `out`: the member's elements within reach are gathered,
+/// then [`crate::forces::contact::beam`] evaluates.
 #[allow(clippy::too_many_arguments)]
 fn member_contact(
     model: &Model,
     contact: &crate::forces::contact::ContactEvaluator,
     (q, v): (&[f64], &[f64]),
     (el, e, ve): (usize, &[f64; 24], &[f64; 24]),
-    mi: usize,
+    (mi, spheres): (usize, &MemberSpheres),
     impact_speed: f64,
     jacobians: bool,
     out: &mut crate::forces::contact::beam::BeamContactOut,
@@ -677,9 +680,8 @@ fn member_contact(
     use crate::forces::contact::beam::{MemberElement, element_member};
     let member = &contact.members[mi];
     let l = contact.geometry[model.group(el)].length;
-    let elements = member_elements_within(model, contact, mi, q, e, l, 0.0);
-    let elements: Vec<MemberElement> = elements
-        .into_iter()
+    let elements: Vec<MemberElement> = spheres
+        .within(contact, mi, e, l, 0.0)
         .map(|m| MemberElement {
             el: m,
             e: model.element_coordinates(q, m),
@@ -702,34 +704,65 @@ fn member_contact(
     );
 }
 
-/// The elements of member `mi` whose centerline can come within the
-/// contact distance (plus `margin`, m) of a wire element's (coordinates
-/// `e`, length `l`).
-fn member_elements_within(
-    model: &Model,
-    contact: &crate::forces::contact::ContactEvaluator,
-    mi: usize,
-    q: &[f64],
-    e: &[f64; 24],
-    l: f64,
-    margin: f64,
-) -> Vec<usize> {
-    use crate::forces::contact::beam::{centerline_sphere, spheres_within};
-    let member = &contact.members[mi];
-    let wire = centerline_sphere(e, l);
-    let reach = member.radius + contact.wire_radius + margin;
-    model.beams[member.beam]
-        .elements
-        .clone()
-        .filter(|&m| {
-            let lm = contact.geometry[model.group(m)].length;
-            spheres_within(
-                wire,
-                centerline_sphere(&model.element_coordinates(q, m), lm),
-                reach,
-            )
-        })
-        .collect()
+/// Every member's elements with the spheres holding their centerlines at
+/// one configuration, and a sphere holding each whole member: computed
+/// once per pass over the wire, not per wire element.
+pub(crate) struct MemberSpheres {
+    /// Per member: (element, centre, radius) of each element.
+    elements: Vec<Vec<(usize, [f64; 3], f64)>>,
+    /// Per member: a sphere holding all its elements' spheres.
+    whole: Vec<([f64; 3], f64)>,
+}
+
+impl MemberSpheres {
+    fn new(model: &Model, contact: &crate::forces::contact::ContactEvaluator, q: &[f64]) -> Self {
+        use crate::forces::contact::beam::centerline_sphere;
+        let elements: Vec<Vec<(usize, [f64; 3], f64)>> = (contact.members.iter())
+            .map(|m| {
+                (model.beams[m.beam].elements.clone())
+                    .map(|el| {
+                        let l = contact.geometry[model.group(el)].length;
+                        let (c, r) = centerline_sphere(&model.element_coordinates(q, el), l);
+                        (el, c, r)
+                    })
+                    .collect()
+            })
+            .collect();
+        let whole = elements
+            .iter()
+            .map(|els| {
+                let n = els.len().max(1) as f64;
+                let c: [f64; 3] =
+                    std::array::from_fn(|k| els.iter().map(|e| e.1[k]).sum::<f64>() / n);
+                let r = els
+                    .iter()
+                    .map(|e| crate::math::vec3::norm(crate::math::vec3::sub(e.1, c)) + e.2)
+                    .fold(0.0, f64::max);
+                (c, r)
+            })
+            .collect();
+        MemberSpheres { elements, whole }
+    }
+
+    /// The elements of member `mi` whose centerline can come within the
+    /// contact distance (plus `margin`, m) of a wire element's (coordinates
+    /// `e`, length `l`).
+    fn within<'a>(
+        &'a self,
+        contact: &crate::forces::contact::ContactEvaluator,
+        mi: usize,
+        e: &[f64; 24],
+        l: f64,
+        margin: f64,
+    ) -> impl Iterator<Item = usize> + 'a {
+        use crate::forces::contact::beam::{centerline_sphere, spheres_within};
+        let wire = centerline_sphere(e, l);
+        let reach = contact.members[mi].radius + contact.wire_radius + margin;
+        let near = spheres_within(wire, self.whole[mi], reach);
+        (self.elements[mi].iter())
+            .filter(move |(_, c, r)| near && spheres_within(wire, (*c, *r), reach))
+            .map(|(el, ..)| *el)
+    }
 }
 
 /// The (element, partner) pairs (index `element × partners + partner`,
@@ -748,6 +781,7 @@ pub fn contact_candidates(
 ) {
     out.clear();
     let (rods, partners) = (contact.rods.len(), contact.partners());
+    let mut spheres = None;
     for el in model.wire().elements.clone() {
         let e = model.element_coordinates(q, el);
         for (ri, rod) in contact.rods.iter().enumerate() {
@@ -757,7 +791,8 @@ pub fn contact_candidates(
         }
         let l = contact.geometry[model.group(el)].length;
         for mi in 0..contact.members.len() {
-            if !member_elements_within(model, contact, mi, q, &e, l, margin).is_empty() {
+            let spheres = spheres.get_or_insert_with(|| MemberSpheres::new(model, contact, q));
+            if spheres.within(contact, mi, &e, l, margin).next().is_some() {
                 out.push(el * partners + rods + mi);
             }
         }

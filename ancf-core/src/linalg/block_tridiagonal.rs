@@ -22,11 +22,11 @@ use crate::linalg::band_cholesky::pattern_entries;
 use crate::math::simd::{Arith, SimdPath, path};
 
 /// Block size: a node's coordinates.
-const B: usize = 12;
+pub(crate) const B: usize = 12;
 
-type Block = [[f64; B]; B];
+pub(crate) type Block = [[f64; B]; B];
 
-const ZERO: Block = [[0.0; B]; B];
+pub(crate) const ZERO: Block = [[0.0; B]; B];
 
 /// The factorization, with the map from the sparse pattern's value slots to
 /// the blocks, computed once per pattern.
@@ -124,6 +124,39 @@ impl BlockTridiagonalLu {
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
         solve(path(), self, b)
     }
+
+    /// Node k's unknowns are `starts()[k]` … `starts()[k + 1] − 1`.
+    pub(crate) fn starts(&self) -> &[usize] {
+        &self.starts
+    }
+
+    /// The matrix with pattern values `values` by blocks, padded (a
+    /// node's missing unknowns have the identity): the diagonal blocks
+    /// Dₖ, the upper Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎.
+    pub(crate) fn load(&mut self, values: &[f64]) -> (&[Block], &[Block], &[Block]) {
+        let m = self.inverse_t.len();
+        load_blocks(self, values);
+        let (diag, rest) = self.input.split_at(m);
+        let (upper, lower) = rest.split_at(m - 1);
+        (diag, upper, lower)
+    }
+}
+
+/// The padding's identity and the pattern values into the input blocks.
+fn load_blocks(lu: &mut BlockTridiagonalLu, values: &[f64]) {
+    let m = lu.inverse_t.len();
+    // No clearing: the slots overwrite every entry of the pattern, and the
+    // entries outside it are never written (zero since `new`).
+    for k in 0..m {
+        // The padding of a node with fewer than 12 unknowns: the identity.
+        for r in lu.starts[k + 1] - lu.starts[k]..B {
+            lu.input[k][r][r] = 1.0;
+        }
+    }
+    let flat = lu.input.as_flattened_mut().as_flattened_mut();
+    for &(v, dest) in &lu.slots {
+        flat[dest as usize] = values[v as usize];
+    }
 }
 
 crate::simd_dispatch! {
@@ -149,7 +182,7 @@ fn solve(path: SimdPath, lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
 
 /// c −= a b (12 × 12 blocks).
 #[inline(always)]
-fn sub_product<F: Arith>(c: &mut Block, a: &Block, b: &Block) {
+pub(crate) fn sub_product<F: Arith>(c: &mut Block, a: &Block, b: &Block) {
     for i in 0..B {
         let mut row = c[i];
         for k in 0..B {
@@ -164,7 +197,7 @@ fn sub_product<F: Arith>(c: &mut Block, a: &Block, b: &Block) {
 
 /// c = a b (12 × 12 blocks), written over c.
 #[inline(always)]
-fn product<F: Arith>(a: &Block, b: &Block, c: &mut Block) {
+pub(crate) fn product<F: Arith>(a: &Block, b: &Block, c: &mut Block) {
     for i in 0..B {
         let mut row = [0.0; B];
         for k in 0..B {
@@ -210,7 +243,7 @@ fn transpose(a: &Block, t: &mut Block) {
 /// operation per elimination instead of two 12-wide ones; the same
 /// operations).
 #[inline(always)]
-fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), SingularBlock> {
+pub(crate) fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), SingularBlock> {
     let mut m = [[0.0f64; 2 * B]; B];
     for (i, row) in m.iter_mut().enumerate() {
         row[..B].copy_from_slice(&s[i]);
@@ -264,18 +297,7 @@ fn factorize_with<F: Arith>(
     values: &[f64],
 ) -> Result<(), SingularBlock> {
     let m = lu.inverse_t.len();
-    // No clearing: the slots overwrite every entry of the pattern, and the
-    // entries outside it are never written (zero since `new`).
-    for k in 0..m {
-        // The padding of a node with fewer than 12 unknowns: the identity.
-        for r in lu.starts[k + 1] - lu.starts[k]..B {
-            lu.input[k][r][r] = 1.0;
-        }
-    }
-    let flat = lu.input.as_flattened_mut().as_flattened_mut();
-    for &(v, dest) in &lu.slots {
-        flat[dest as usize] = values[v as usize];
-    }
+    load_blocks(lu, values);
     let (diag, rest) = lu.input.split_at(m);
     let (upper, lower) = rest.split_at(m - 1);
     let (mut inverse, mut gain) = (ZERO, ZERO);

@@ -20,6 +20,7 @@ use crate::linalg::band_lu::BandLu;
 use crate::linalg::band_split::{SPLIT_MIN_UNKNOWNS, SplitBandCholesky};
 use crate::linalg::block_tridiagonal::BlockTridiagonalLu;
 use crate::linalg::coupled::{CoupledBlock, CoupledLu};
+use crate::linalg::separated_lu::SeparatedLu;
 use crate::linalg::pattern::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
@@ -123,6 +124,7 @@ enum Factor {
     BlockLu,
     BandLu,
     Lu(Box<Lu<usize, f64>>),
+    Separated,
     Coupled,
 }
 
@@ -150,8 +152,12 @@ pub struct SparseSolver {
     /// band's: 18 MB at 4096 elements).
     band_lu: Option<BandLu>,
     symbolic_lu: Option<SymbolicLu<usize>>,
-    /// The LU of the pattern's matrix plus coupling blocks between beams,
-    /// built at the first coupled matrix.
+    /// The LU of the pattern's matrix plus coupling blocks between beams
+    /// around the coupled nodes, built at the first coupled matrix
+    /// (`Some(None)`: the pattern is not block tridiagonal) …
+    separated: Option<Option<SeparatedLu>>,
+    /// … and faer's sparse LU of the same, for a pattern that is not or a
+    /// block that is singular.
     coupled: Option<CoupledLu>,
     factor: Factor,
     /// Whether the matrices are (1 − α_m) M + c_k K (dynamics): the block
@@ -202,6 +208,7 @@ impl SparseSolver {
             block_lu: None,
             band_lu: None,
             symbolic_lu: None,
+            separated: None,
             coupled: None,
             factor: Factor::None,
             mass_dominated: false,
@@ -294,7 +301,9 @@ impl SparseSolver {
     /// [`SparseSolver::factorize`] of the matrix with the pattern's
     /// `values` plus `blocks` coupling two beams (contact between the wire
     /// and a member): without blocks the pattern's own factorizations,
-    /// with them faer's sparse LU of the combined matrix.
+    /// with them the block elimination around the coupled nodes
+    /// ([`SeparatedLu`]), or faer's sparse LU of the combined matrix when
+    /// that cannot be used.
     pub fn factorize_coupled(
         &mut self,
         values: &[f64],
@@ -313,6 +322,19 @@ impl SparseSolver {
             ));
         }
         self.factorizations += 1;
+        if let Some(separated) = self
+            .separated
+            .get_or_insert_with(|| {
+                let sym = self.pattern.symbolic.as_ref();
+                BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
+                    .map(SeparatedLu::new)
+            })
+            .as_mut()
+            && separated.factorize(values, blocks).is_ok()
+        {
+            self.factor = Factor::Separated;
+            return Ok(FactorKind::Lu);
+        }
         CoupledLu::factorize(&mut self.coupled, &self.pattern, values, blocks)?;
         self.factor = Factor::Coupled;
         Ok(FactorKind::Lu)
@@ -337,6 +359,12 @@ impl SparseSolver {
                 .solve_in_place(b),
             (Factor::BandLu, _) => self.band_lu.as_ref().expect("band LU").solve_in_place(b),
             (Factor::Lu(f), _) => f.solve_in_place(ColMut::from_slice_mut(b)),
+            (Factor::Separated, _) => self
+                .separated
+                .as_mut()
+                .and_then(Option::as_mut)
+                .expect("separated LU")
+                .solve_in_place(b),
             (Factor::Coupled, _) => self.coupled.as_ref().expect("coupled LU").solve_in_place(b),
             (Factor::None, _) => panic!("solve before factorize"),
         }

@@ -10,3 +10,4 @@ pub mod coupled;
 pub mod linear_solver;
 pub(crate) mod parallel;
 pub mod pattern;
+pub mod separated_lu;

@@ -363,8 +363,12 @@ impl Wire {
     /// A frame member `name`: a beam of the same element, `length` (m) in
     /// `elements` elements from `origin` along `direction`, its section
     /// the `layers` [(material, outer_radius), …] from `inner_radius` (m;
-    /// 0: solid) out. Hold and load it with `beam=name`.
-    #[pyo3(signature = (name, length, elements, origin, direction, layers, inner_radius = 0.0))]
+    /// 0: solid) out. Hold and load it with `beam=name`. The wire touches
+    /// it by the line law against its deformed centerline: ε_L
+    /// `contact_stiffness` (N/m²; None: Hertz from the two outer
+    /// materials), Coulomb `friction`, contact damping by `restitution`
+    /// (None: elastic) with its `restitution_model`.
+    #[pyo3(signature = (name, length, elements, origin, direction, layers, inner_radius = 0.0, contact_stiffness = None, friction = 0.0, restitution = None, restitution_model = None))]
     #[allow(clippy::too_many_arguments)]
     fn member(
         &self,
@@ -375,10 +379,32 @@ impl Wire {
         direction: Vec<f64>,
         layers: Vec<(PyRef<'_, Material>, f64)>,
         inner_radius: f64,
+        contact_stiffness: Option<f64>,
+        friction: f64,
+        restitution: Option<f64>,
+        restitution_model: Option<&str>,
     ) -> PyResult<Wire> {
+        use ancf_core::model::contact::{BeamContact, ContactDamping, ContactLaw, RestitutionModel};
+        let model = restitution_model
+            .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
+            .map_err(|message| value_error("restitution_model", &message))?;
+        let contact = BeamContact {
+            law: if contact_stiffness.is_some() {
+                ContactLaw::Line
+            } else {
+                ContactLaw::Hertz
+            },
+            contact_stiffness,
+            friction,
+            // e = 1 asks for no damping: none is built.
+            damping: restitution
+                .filter(|&e| e != 1.0)
+                .map(|e| ContactDamping::new(e, model)),
+        };
         let mut beam = ancf_core::model::BeamBuilder::new(name, length, elements)
             .placed(vec3("origin", origin)?, vec3("direction", direction)?)
-            .bore(inner_radius);
+            .bore(inner_radius)
+            .contact(contact);
         for (material, outer_radius) in layers {
             beam = beam.layer(material.inner.clone(), outer_radius);
         }

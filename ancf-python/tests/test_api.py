@@ -497,3 +497,48 @@ def test_a_dict_that_holds_itself_is_refused_not_a_crash():
     scene["wire"]["origin"] = deep
     with pytest.raises(ancf.SceneError, match="nested deeper"):
         ancf.Scene.from_dict(scene)
+
+
+def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
+    # The impact scene with its rod a clamped steel bar: the bar's contact
+    # load (first contact, filtered peak, impulse) in the summary, equal to
+    # the CLI's, the same from a wire built in code.
+    text = IMPACT.read_text()
+    rod = text[text.index("[[rod]]"):text.index("[output]")]
+    bar = (
+        '[[beam]]\nname = "bar"\nlength = 0.6\nelements = 8\norigin = [1.0, -0.3, -0.3]\n'
+        'direction = [0.0, 1.0, 0.0]\nlayers = [ { material = "rod-steel", outer_radius = 0.02 } ]\n'
+        'contact_law = "line"\ncontact_stiffness = 5e7\nfriction = 0.3\n\n'
+        '[[support]]\nbeam = "bar"\nnode = 0\nkind = "clamp"\n\n'
+        '[[support]]\nbeam = "bar"\nnode = "last"\nkind = "clamp"\n\n'
+    )
+    text = text.replace(rod, bar).replace("end_time = 1.0", "end_time = 0.35")
+    sim = ancf.Simulation(ancf.Scene.from_toml(text))
+    sim.run()
+    (ours,) = sim.summary()["beams"]
+    assert ours["first_contact_time"] is not None and 0.2 < ours["first_contact_time"] < 0.3
+    assert ours["filtered_peak_force"] > 100.0 and ours["impulse"] > 0.0
+    assert ours["max_bending_moment"] > 0.0
+    cli = ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")
+    assert cli["beams"][0] == ours
+    assert (tmp_path / "out" / "member_forces.csv").exists()
+    # A member built in code touches the wire alike.
+    steel_core = ancf.Material.st_venant_kirchhoff(5990.0, 154e9, 0.0, 0.1)
+    alu = ancf.Material.st_venant_kirchhoff(2026.0, 51.7e9, 0.0, 0.1)
+    rod_steel = ancf.Material.st_venant_kirchhoff(7850.0, 200e9, 0.3)
+    wire = (
+        ancf.Wire(2.0, 64)
+        .layer(steel_core, 0.0052)
+        .layer(alu, 0.01407)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+        .member("bar", 0.6, 8, [1.0, -0.3, -0.3], [0.0, 1.0, 0.0], [(rod_steel, 0.02)],
+                contact_stiffness=5e7, friction=0.3)
+        .support(0, "clamp", beam="bar")
+        .support(8, "clamp", beam="bar")
+    )
+    built = ancf.Simulation.from_wire(wire, time_step=1e-4, end_time=0.35, spectral_radius=1.0)
+    built.run()
+    (theirs,) = built.summary()["beams"]
+    # Newton to its default tolerance here, 1e-4 in the scene.
+    assert math.isclose(theirs["filtered_peak_force"], ours["filtered_peak_force"], rel_tol=1e-3)

@@ -82,8 +82,11 @@ pub struct Outcome {
     /// [`ancf_core::scene::Scene::resolving_step`]): the largest step
     /// that would, s.
     pub resolving_step: Option<f64>,
-    /// Contact runs: each rod's loads, in the scene's rod order.
+    /// Contact runs: each rod's loads, in the scene's rod order, then each
+    /// frame member's.
     pub rods: Vec<RodOutcome>,
+    /// The names of `rods`' entries: `rod 0`, …, then the members' names.
+    pub partners: Vec<String>,
 }
 
 /// One rod's loads in a run (summary.json's `contact.rods`).
@@ -97,6 +100,10 @@ pub struct RodOutcome {
     pub first_impact_peak: f64,
     /// Impulse of the rod's first impact, N s.
     pub first_impact_impulse: f64,
+    /// A frame member's largest bending moment (N m) and von Mises stress
+    /// (Pa) over the run; `None` for a rod.
+    pub max_bending_moment: Option<f64>,
+    pub max_von_mises: Option<f64>,
 }
 
 impl Outcome {
@@ -142,6 +149,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         summary,
         history,
         rod_loads,
+        member_loads,
         ..
     } = best.expect("at least one run");
     let samples = (0..history.time.len())
@@ -154,49 +162,60 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         .collect();
     let first = summary.contact.as_ref().and_then(|c| c.first_time);
     let window_impulse = first.filter(|_| summary.analysis == "dynamic").map(|t| {
-        rod_loads
-            .iter()
+        (rod_loads.iter().chain(&member_loads))
             .map(|h| h.impulse_between(t, t + CONTACT_WINDOW))
             .sum()
     });
     // Contact runs: the rod with the largest filtered peak (SAE J211, the
     // load a designer uses; the raw peak of a penalty contact is not a result).
     let contact = summary.contact.as_ref();
-    let peak_rod = contact.and_then(|c| {
-        c.rods.iter().max_by(|a, b| {
-            a.load
-                .filtered_peak_force
-                .total_cmp(&b.load.filtered_peak_force)
+    // Rods, then members: each one's load, and a member's moment and stress.
+    let loads: Vec<(
+        String,
+        &ancf_core::loads::rod_load::RodLoad,
+        Option<(f64, f64)>,
+    )> = contact
+        .map(|c| {
+            let rods =
+                (c.rods.iter().enumerate()).map(|(i, r)| (format!("rod {i}"), &r.load, None));
+            let members = summary.beams.iter().map(|b| {
+                let m = (b.record.max_bending_moment, b.record.max_von_mises);
+                (b.name.clone(), &b.contact, Some(m))
+            });
+            rods.chain(members).collect()
         })
-    });
+        .unwrap_or_default();
+    let peak_rod = loads
+        .iter()
+        .map(|(_, l, _)| *l)
+        .max_by(|a, b| a.filtered_peak_force.total_cmp(&b.filtered_peak_force));
     Outcome {
         status: summary.status.to_string(),
         message: summary.message.clone(),
         wall_s: summary.wall_time_s,
         tip: summary.tip.displacement,
         samples,
-        peak_force: peak_rod.map(|r| r.load.filtered_peak_force),
-        peak_time: peak_rod.map(|r| r.load.filtered_peak_time),
+        peak_force: peak_rod.map(|r| r.filtered_peak_force),
+        peak_time: peak_rod.map(|r| r.filtered_peak_time),
         max_penetration: contact.map(|c| c.max_penetration),
-        impulse: contact.map(|c| c.rods.iter().map(|r| r.load.impulse).sum()),
+        impulse: contact.map(|_| loads.iter().map(|(_, l, _)| l.impulse).sum()),
         first_contact: contact.and_then(|c| c.first_time),
         window_impulse,
         iterations_per_step: summary.newton_iterations as f64 / summary.steps.max(1) as f64,
         step_cuts: summary.step_cuts,
         resolving_step: scene.resolving_step(),
-        rods: contact
-            .map(|c| {
-                c.rods
-                    .iter()
-                    .map(|r| RodOutcome {
-                        filtered_peak: r.load.filtered_peak_force,
-                        impulse: r.load.impulse,
-                        first_impact_peak: r.load.first_impact_filtered_peak,
-                        first_impact_impulse: r.load.first_impact_impulse,
-                    })
-                    .collect()
+        rods: loads
+            .iter()
+            .map(|(_, l, member)| RodOutcome {
+                filtered_peak: l.filtered_peak_force,
+                impulse: l.impulse,
+                first_impact_peak: l.first_impact_filtered_peak,
+                first_impact_impulse: l.first_impact_impulse,
+                max_bending_moment: member.map(|m| m.0),
+                max_von_mises: member.map(|m| m.1),
             })
-            .unwrap_or_default(),
+            .collect(),
+        partners: loads.iter().map(|(name, ..)| name.clone()).collect(),
     }
 }
 

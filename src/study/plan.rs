@@ -76,7 +76,9 @@ impl Setting {
                 .map(|c| c.settings.stations),
             zone_points: m
                 .contact()
-                .filter(|c| c.rods.iter().any(|r| r.law != ContactLaw::Surface))
+                .filter(|c| {
+                    c.rods.iter().any(|r| r.law != ContactLaw::Surface) || !c.members.is_empty()
+                })
                 .map(|c| c.settings.zone_points),
             stiffness_factor: m.contact().map(|_| 1.0),
             law: None,

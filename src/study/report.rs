@@ -639,9 +639,12 @@ pub fn richardson(coarse: f64, medium: f64, fine: f64, ratio: f64) -> Option<(f6
 type Quantity = (String, Box<dyn Fn(&Outcome) -> Option<f64>>);
 
 /// The quantities of a contact run: the filtered peak, the first impact's
-/// impulse and the tip at first contact + 0.1 s; with rods, each rod's
-/// first impact (filtered peak, impulse) and its whole-run filtered peak.
-fn quantities(rods: usize) -> Vec<Quantity> {
+/// impulse and the tip at first contact + 0.1 s; with several rods or
+/// members (`partners`, their names), each one's first impact (filtered
+/// peak, impulse) and its whole-run filtered peak, and a member's largest
+/// bending moment and von Mises stress.
+fn quantities(partners: &[String]) -> Vec<Quantity> {
+    let rods = partners.len();
     // Interpolated linearly between the samples around the time (the
     // nearest sample was ambiguous: with samples every 2 steps the time
     // often falls midway, and round-off in the sample times picked a side).
@@ -661,20 +664,30 @@ fn quantities(rods: usize) -> Vec<Quantity> {
         ("tip z at first contact + 0.1 s (m)".into(), Box::new(tip_z)),
     ];
     if rods > 1 {
-        for k in 0..rods {
+        for (k, name) in partners.iter().enumerate() {
             let rod = move |o: &Outcome| o.rods.get(k).copied();
             q.push((
-                format!("rod {k}: first impact, filtered peak (N)"),
+                format!("{name}: first impact, filtered peak (N)"),
                 Box::new(move |o| rod(o).map(|r| r.first_impact_peak)),
             ));
             q.push((
-                format!("rod {k}: first impact, impulse (N s)"),
+                format!("{name}: first impact, impulse (N s)"),
                 Box::new(move |o| rod(o).map(|r| r.first_impact_impulse)),
             ));
             q.push((
-                format!("rod {k}: filtered peak, whole run (N)"),
+                format!("{name}: filtered peak, whole run (N)"),
                 Box::new(move |o| rod(o).map(|r| r.filtered_peak)),
             ));
+            if !name.starts_with("rod ") {
+                q.push((
+                    format!("{name}: max bending moment (N m)"),
+                    Box::new(move |o| rod(o).and_then(|r| r.max_bending_moment)),
+                ));
+                q.push((
+                    format!("{name}: max von Mises stress (Pa)"),
+                    Box::new(move |o| rod(o).and_then(|r| r.max_von_mises)),
+                ));
+            }
         }
     }
     q
@@ -734,8 +747,14 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
         .zip(outcomes)
         .find(|(s, o)| *s == base && o.completed())
         .map(|(_, o)| o);
-    let rods = outcomes.iter().map(|o| o.rods.len()).max().unwrap_or(0);
-    let quantities = quantities(rods);
+    let partners = outcomes
+        .iter()
+        .map(|o| &o.partners)
+        .max_by_key(|p| p.len())
+        .cloned()
+        .unwrap_or_default();
+    let rods = partners.len();
+    let quantities = quantities(&partners);
     // Per quantity: the largest band over the directions, and whether any
     // direction oscillated.
     let mut bands: Vec<(f64, bool)> = vec![(0.0, false); quantities.len()];

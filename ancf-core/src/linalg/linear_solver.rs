@@ -20,8 +20,8 @@ use crate::linalg::band_lu::BandLu;
 use crate::linalg::band_split::{SPLIT_MIN_UNKNOWNS, SplitBandCholesky};
 use crate::linalg::block_tridiagonal::BlockTridiagonalLu;
 use crate::linalg::coupled::{CoupledBlock, CoupledLu};
-use crate::linalg::separated_lu::SeparatedLu;
 use crate::linalg::pattern::Pattern;
+use crate::linalg::separated_lu::SeparatedLu;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::{

@@ -398,8 +398,9 @@ mod tests {
         let mut full = dense;
         let mut coupling = Vec::new();
         for &(x, y) in pairs {
-            let values: Box<[f64; 576]> =
-                Box::new(std::array::from_fn(|e| ((e * 31 + x * 7 + y) % 23) as f64 / 23.0 - 0.5));
+            let values: Box<[f64; 576]> = Box::new(std::array::from_fn(|e| {
+                ((e * 31 + x * 7 + y) % 23) as f64 / 23.0 - 0.5
+            }));
             let (rows, cols) = (unknowns(x), unknowns(y));
             for (i, r) in rows.iter().enumerate() {
                 for (j, c) in cols.iter().enumerate() {
@@ -417,7 +418,11 @@ mod tests {
             .map(|r| (0..n).map(|c| full[r * n + c] * x[c]).sum())
             .collect();
         lu.solve_in_place(&mut b);
-        let err = b.iter().zip(&x).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        let err = b
+            .iter()
+            .zip(&x)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
         assert!(err < 1e-12, "{err:e}");
         // Without coupling: the segments alone (no separator).
         let mut plain = SeparatedLu::new(
@@ -428,7 +433,11 @@ mod tests {
             .map(|r| (0..n).map(|c| a.dense[r * n + c] * x[c]).sum())
             .collect();
         plain.solve_in_place(&mut b);
-        let err = b.iter().zip(&x).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        let err = b
+            .iter()
+            .zip(&x)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
         assert!(err < 1e-12, "{err:e}");
     }
 }

@@ -52,6 +52,9 @@ pub struct RunRecord {
     pub history: History,
     /// Dynamic runs with rods: the force on each rod at every step, N.
     pub rod_loads: Vec<LoadHistory>,
+    /// Dynamic runs with members: the wire's contact force on each member
+    /// at every step, N.
+    pub member_loads: Vec<LoadHistory>,
     /// Dynamic runs: the force each support exerts at every step, N.
     pub support_loads: Vec<LoadHistory>,
 }
@@ -514,6 +517,7 @@ fn run_dynamic(
         )?;
     }
     record.rod_loads = sim.rod_loads().to_vec();
+    record.member_loads = sim.member_loads().to_vec();
     record.support_loads = sim.support_loads().to_vec();
     Ok((sim.state().q.clone(), p.history))
 }

@@ -512,7 +512,10 @@ def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
         '[[support]]\nbeam = "bar"\nnode = 0\nkind = "clamp"\n\n'
         '[[support]]\nbeam = "bar"\nnode = "last"\nkind = "clamp"\n\n'
     )
+    # (No checkpoints: a checkpoint drops the kept Newton matrix, and the
+    # run then differs from the Simulation's in the last digits.)
     text = text.replace(rod, bar).replace("end_time = 1.0", "end_time = 0.35")
+    text = text.replace("[output]", "[output]\ncheckpoint_every = 0")
     sim = ancf.Simulation(ancf.Scene.from_toml(text))
     sim.run()
     (ours,) = sim.summary()["beams"]

@@ -173,8 +173,8 @@ const CASES: &[(&str, &str, &str, &str)] = &[
     (
         "unknown support kind",
         "kind = \"pin\"",
-        "kind = \"hinge\"",
-        "hinge",
+        "kind = \"swivel\"",
+        "swivel",
     ),
     (
         "zero time step",

@@ -63,7 +63,7 @@ impl Setting {
             ancf_core::scene::Analysis::Static { .. } => (None, None, None, None),
         };
         Setting {
-            elements: m.element_count(),
+            elements: m.wire().elements.len(),
             axial: m.element(0).axial.nodes.len(),
             section: m.section().order,
             time_step,
@@ -162,6 +162,9 @@ impl Setting {
         if let Some(k) = self.stiffness_factor {
             for r in &mut f.rod {
                 r.contact_stiffness = r.contact_stiffness.map(|s| s * k);
+            }
+            for b in &mut f.beam {
+                b.contact_stiffness = b.contact_stiffness.map(|s| s * k);
             }
         }
         if let Some(law) = self.law {

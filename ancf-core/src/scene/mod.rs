@@ -374,8 +374,11 @@ impl Scene {
         if let Some(g) = &f.gravity {
             builder = builder.gravity(g.acceleration);
         }
-        if f.contact.is_some() && f.rod.is_empty() {
-            return Err(err("contact", "contact settings without any [[rod]]"));
+        if f.contact.is_some() && f.rod.is_empty() && f.beam.is_empty() {
+            return Err(err(
+                "contact",
+                "contact settings without any [[rod]] or [[beam]] to touch",
+            ));
         }
         let w = &f.wire;
         let wire_radius = match &w.rectangle {

@@ -512,3 +512,51 @@ fn static_contact_balances_the_weight_with_every_law() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An output folder belongs to one run at a time: a second run into it is
+/// refused naming the first's process; a lock left by a killed run is
+/// taken over; a new run removes the outputs an earlier run left there
+/// (a static run after a dynamic one keeps no time series), and nothing
+/// else.
+#[test]
+fn one_run_per_output_folder() {
+    let out = tmp("lock");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/wire_rod_impact.toml");
+    let mut first = run_quiet(&scene, &out).spawn().unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while !std::fs::read_to_string(out.join(".ancf.lock"))
+        .is_ok_and(|t| t.trim() == first.id().to_string())
+    {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the run never locked its folder"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let second = run_quiet(&scene, &out).output().unwrap();
+    assert!(!second.status.success());
+    let message = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        message.contains(&format!("process {}", first.id())) && message.contains("--out"),
+        "{message}"
+    );
+    // Killed: the lock goes with the process, and the next run takes over.
+    first.kill().unwrap();
+    first.wait().unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let static_scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cantilever_large_deflection.toml");
+    assert!(run_quiet(&static_scene, &out).status().unwrap().success());
+    assert_eq!(summary(&out)["status"], "completed");
+    for stale in ["timeseries.csv", "rod_forces.csv", "checkpoint.json", "vtk"] {
+        assert!(
+            !out.join(stale).exists(),
+            "{stale} of the killed run was left"
+        );
+    }
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -344,3 +344,58 @@ fn an_interrupted_sweep_resumes_where_it_stopped() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Waits until `path` holds a process id (a run or sweep took its lock).
+fn holder(path: &Path) -> u32 {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    loop {
+        if let Some(pid) = std::fs::read_to_string(path)
+            .ok()
+            .and_then(|t| t.trim().parse().ok())
+        {
+            return pid;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "{} never locked",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// A sweep's parent killed with SIGKILL: its running child gets SIGTERM
+/// and stops (with its checkpoint) instead of running on unseen; a second
+/// sweep into the folder while the first runs is refused naming it.
+#[test]
+fn a_killed_sweeps_children_stop_and_a_second_sweep_is_refused() {
+    let dir = tmp("orphans");
+    write_scene(&dir, 48, 30.0);
+    let sweep = write_sweep(&dir, "[parameters]\n\"wire.length\" = [1.0, 1.1]\n");
+    let out = dir.join("out");
+    let mut parent = sweep_cmd(&sweep, &out, &["--jobs", "1"]).spawn().unwrap();
+    let child = holder(&out.join("runs/v000/.ancf.lock"));
+    let second = sweep_cmd(&sweep, &out, &["--jobs", "1"]).output().unwrap();
+    assert!(!second.status.success());
+    let message = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        message.contains(&format!("process {}", parent.id())),
+        "{message}"
+    );
+    parent.kill().unwrap();
+    parent.wait().unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while Path::new(&format!("/proc/{child}")).exists() {
+        // A zombie has no command line left: it has ended.
+        let cmdline = std::fs::read(format!("/proc/{child}/cmdline")).unwrap_or_default();
+        if cmdline.is_empty() {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the orphaned run {child} kept going"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -4,6 +4,7 @@
 //! `ancf` program and the Python package both run scenes through here.
 
 pub mod build_info;
+pub mod lock;
 pub mod output;
 pub mod plot;
 pub mod run;

@@ -297,16 +297,30 @@ fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
 }
 
 /// One frame of the wire and its frame members: each a tube surface with
-/// displacement, velocity and Green–Lagrange strain at its points.
+/// displacement, velocity and Green–Lagrange strain at its points; with
+/// members, also the outer-fiber von Mises stress the section carries
+/// (Pa, from the element-end resultants as in summary.json's `beams`,
+/// linear along each element; the same around a ring).
 fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Result<()> {
+    use ancf_core::loads::member_load::{end_resultants, von_mises};
     let mut points = Vec::new();
     let mut quads = Vec::new();
     let (mut disp, mut vel, mut strain) = (Vec::new(), Vec::new(), Vec::new());
+    let members = model.beams.len() > 1;
+    let mut stress = Vec::new();
     for beam in &model.beams {
         let first = points.len();
         let radius = model.element(beam.elements.start).section.outer_radius();
         for el in beam.elements.clone() {
             let l = model.element(el).length;
+            let ends: [f64; 2] = if members {
+                std::array::from_fn(|end| {
+                    let (n, m, t) = end_resultants(model, el, end, q);
+                    von_mises(&model.element(el).section, n, m, t)
+                })
+            } else {
+                [0.0; 2]
+            };
             let e = model.element_coordinates(q, el);
             let e0 = model.element_coordinates(&model.reference, el);
             let ev = model.element_coordinates(v, el);
@@ -320,6 +334,9 @@ fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Res
                         std::array::from_fn(|c| (0..8).map(|i| s[i] * x[3 * i + c]).sum())
                     };
                     let (p, p0, pv) = (at(&e), at(&e0), at(&ev));
+                    if members {
+                        stress.push((1.0 - xi) * ends[0] + xi * ends[1]);
+                    }
                     points.push(p);
                     disp.extend((0..3).map(|c| p[c] - p0[c]));
                     vel.extend(pv);
@@ -344,16 +361,15 @@ fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Res
                 .map(|quad| quad.map(|i| i + first)),
         );
     }
-    write_vtu(
-        path,
-        &points,
-        &quads,
-        &[
-            ("displacement", 3, disp),
-            ("velocity", 3, vel),
-            ("green_lagrange_strain", 6, strain),
-        ],
-    )
+    let mut fields = vec![
+        ("displacement", 3, disp),
+        ("velocity", 3, vel),
+        ("green_lagrange_strain", 6, strain),
+    ];
+    if members {
+        fields.push(("von_mises_stress", 1, stress));
+    }
+    write_vtu(path, &points, &quads, &fields)
 }
 
 #[cfg(test)]

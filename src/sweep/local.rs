@@ -4,7 +4,10 @@
 //!
 //! Ctrl-C: the children get the interrupt too (same terminal, or forwarded
 //! here), stop after their current step with a checkpoint, and their
-//! outputs are kept; no new child starts. Rerunning resumes them.
+//! outputs are kept; no new child starts. Rerunning resumes them. A child
+//! whose parent dies (killed, not interrupted) gets SIGTERM and stops the
+//! same way (Linux), so a rerun never races an orphan; each run also locks
+//! its folder (`ancf_output::lock`).
 
 use super::run_command;
 use ancf_core::solve::cancel::CancelToken;
@@ -67,6 +70,7 @@ pub fn run(
             let log2 = log
                 .try_clone()
                 .map_err(|e| format!("{}: {e}", log_path.display()))?;
+            stop_with_this_process(&mut cmd);
             let child = cmd
                 .args(run_command(out, id))
                 .env("RAYON_NUM_THREADS", threads.to_string())
@@ -96,4 +100,32 @@ pub fn run(
     }
     bar.finish_and_clear();
     Ok(cancel.is_cancelled())
+}
+
+/// The child `cmd` starts gets SIGTERM when this process dies (Linux:
+/// prctl PR_SET_PDEATHSIG; its SIGTERM handler checkpoints and stops, as on
+/// Ctrl-C). A child whose parent is already gone when it starts exits.
+fn stop_with_this_process(cmd: &mut Command) {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        let parent = std::process::id() as libc::pid_t;
+        // SAFETY: between fork and exec only async-signal-safe calls are
+        // made (prctl, getppid), and nothing is allocated.
+        unsafe {
+            cmd.pre_exec(move || {
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                if libc::getppid() != parent {
+                    return Err(std::io::Error::other(
+                        "the sweep ended before its run started",
+                    ));
+                }
+                Ok(())
+            });
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = cmd;
 }

@@ -180,6 +180,8 @@ pub enum SweepEnd {
 /// writes results.csv and report.md.
 pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
     let sweep = file::load(sweep_path).map_err(|e| format!("{}: {e}", sweep_path.display()))?;
+    // One sweep in a folder at a time (each variant's run locks its own).
+    let _lock = ancf_output::lock::OutputLock::acquire(&opts.out)?;
     prepare(&sweep, &opts.out)?;
     let out = std::path::absolute(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
     let todo: Vec<String> = sweep

@@ -105,7 +105,8 @@ fn node_positions(model: &Model, q: &[f64]) -> Vec<(String, Vec<[f64; 3]>)> {
 /// (whose `status` says whether the run completed); `Err` only when the
 /// outputs cannot be written at all.
 pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
-    std::fs::create_dir_all(&opts.out).map_err(|e| io_err(&opts.out, e))?;
+    let _lock = crate::lock::OutputLock::acquire(&opts.out)?;
+    clear_owned_outputs(&opts.out)?;
     execute(scene, Some(&opts.out), opts.quiet, &opts.cancel, None).map(|r| r.summary)
 }
 
@@ -114,6 +115,49 @@ pub fn run_scene(scene: &Scene, opts: &RunOptions) -> Result<Summary, String> {
 pub fn run_in_memory(scene: &Scene) -> RunRecord {
     execute(scene, None, true, &CancelToken::new(), None)
         .expect("a run without files has no I/O to fail")
+}
+
+/// The files and folders a run writes (and nothing else): a new run into a
+/// folder removes these first, so no output of an earlier run is left
+/// beside the new one's; other files in the folder are not touched.
+pub const OWNED_OUTPUTS: &[&str] = &[
+    "summary.json",
+    "timeseries.csv",
+    "final_nodes.csv",
+    "rod_forces.csv",
+    "member_forces.csv",
+    "supports.csv",
+    "contact_point.csv",
+    "checkpoint.json",
+    "checkpoint.json.tmp",
+    "energy.png",
+    "configurations.png",
+    "contact_point.png",
+    "rod_forces.png",
+    "member_loads.png",
+    "vtk",
+];
+
+/// Remove `OWNED_OUTPUTS` and `final_nodes_*.csv` from `dir`.
+fn clear_owned_outputs(dir: &Path) -> Result<(), String> {
+    let entries = std::fs::read_dir(dir).map_err(|e| io_err(dir, e))?;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let owned = OWNED_OUTPUTS.contains(&name.as_ref())
+            || (name.starts_with("final_nodes_") && name.ends_with(".csv"));
+        if !owned {
+            continue;
+        }
+        let path = entry.path();
+        let removed = if path.is_dir() {
+            std::fs::remove_dir_all(&path)
+        } else {
+            std::fs::remove_file(&path)
+        };
+        removed.map_err(|e| io_err(&path, e))?;
+    }
+    Ok(())
 }
 
 /// What a completed run's message says of its step cuts (`None` without
@@ -136,6 +180,7 @@ pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
 /// outputs are cut back to the checkpoint and continued; the result equals
 /// an uninterrupted run bit for bit. `cancel` stops it as in [`run_scene`].
 pub fn resume(dir: &Path, quiet: bool, cancel: &CancelToken) -> Result<Summary, String> {
+    let _lock = crate::lock::OutputLock::acquire(dir)?;
     let path = dir.join("checkpoint.json");
     let text = std::fs::read_to_string(&path)
         .map_err(|e| format!("cannot read {}: {e}", path.display()))?;

@@ -1,0 +1,92 @@
+//! An output folder belongs to one run at a time: `ancf run`, `--resume`
+//! and `ancf sweep` hold an advisory lock on `DIR/.ancf.lock` (the
+//! operating system's file lock, `File::try_lock`) while they write. A
+//! second writer is refused with the holder's process id; a lock left by a
+//! killed process is released by the operating system with it, so the next
+//! run takes the folder over (the file itself stays, with the last
+//! holder's id).
+
+use std::fs::{File, OpenOptions, TryLockError};
+use std::io::{Read, Seek, Write};
+use std::path::{Path, PathBuf};
+
+/// The lock file's name inside an output folder.
+pub const LOCK_FILE: &str = ".ancf.lock";
+
+/// A held lock on an output folder; released when dropped.
+#[derive(Debug)]
+pub struct OutputLock {
+    _file: File,
+    path: PathBuf,
+}
+
+impl OutputLock {
+    /// Lock `dir` (created if missing) for this process, or say who holds it.
+    pub fn acquire(dir: &Path) -> Result<Self, String> {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let path = dir.join(LOCK_FILE);
+        let mut file = OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .read(true)
+            .write(true)
+            .open(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => {
+                let mut holder = String::new();
+                let _ = file.read_to_string(&mut holder);
+                let holder = holder.trim();
+                let who = if holder.is_empty() {
+                    "another process".to_string()
+                } else {
+                    format!("process {holder}")
+                };
+                return Err(format!(
+                    "{}: {who} is writing into this folder (it holds {}); wait for it to end, \
+                     stop it, or choose another --out",
+                    dir.display(),
+                    path.display()
+                ));
+            }
+            Err(TryLockError::Error(e)) => return Err(format!("{}: {e}", path.display())),
+        }
+        let stamp = |f: &mut File| -> std::io::Result<()> {
+            f.set_len(0)?;
+            f.rewind()?;
+            writeln!(f, "{}", std::process::id())?;
+            f.flush()
+        };
+        stamp(&mut file).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(OutputLock { _file: file, path })
+    }
+
+    /// The lock file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A second lock on the same folder is refused, naming this process;
+    /// once the first is dropped, the folder can be locked again.
+    #[test]
+    fn one_writer_at_a_time() {
+        let dir = std::env::temp_dir().join(format!("ancf-lock-{}", std::process::id()));
+        let first = OutputLock::acquire(&dir).unwrap();
+        let second = OutputLock::acquire(&dir).unwrap_err();
+        assert!(
+            second.contains(&format!("process {}", std::process::id())),
+            "{second}"
+        );
+        drop(first);
+        let again = OutputLock::acquire(&dir).unwrap();
+        assert!(again.path().ends_with(LOCK_FILE));
+        drop(again);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

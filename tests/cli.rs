@@ -560,3 +560,42 @@ fn one_run_per_output_folder() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A run without rods guards its energy too: the pendulum with Newton
+/// stopped far from convergence (tolerance 0.3) gains energy, and its
+/// summary says so in `warnings` and the message; the scene as shipped
+/// does not.
+#[test]
+fn a_run_that_gains_energy_says_so() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pendulum.toml");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let loose = text
+        .replace("time_step = 1e-3 ", "time_step = 1e-2 ")
+        .replace(
+            "spectral_radius = 1.0 ",
+            "spectral_radius = 1.0\ntolerance = 0.3 ",
+        );
+    let dir = tmp("energy-gain");
+    std::fs::create_dir_all(&dir).unwrap();
+    let edited = dir.join("loose.toml");
+    std::fs::write(&edited, loose).unwrap();
+    for (path, gains) in [(&edited, true), (&scene, false)] {
+        let out = dir.join(if gains { "loose" } else { "shipped" });
+        assert!(run_quiet(path, &out).status().unwrap().success());
+        let s = summary(&out);
+        assert_eq!(s["status"], "completed");
+        let warned = s["warnings"].as_array().is_some_and(|w| {
+            w.iter().any(|w| {
+                w.as_str()
+                    .unwrap()
+                    .starts_with("energy: total + dissipated rose")
+            })
+        });
+        assert_eq!(warned, gains, "{s}");
+        assert_eq!(
+            s["message"].as_str().unwrap().contains("warning: energy"),
+            gains
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

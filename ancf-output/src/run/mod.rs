@@ -160,6 +160,26 @@ fn clear_owned_outputs(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
+/// A run's total + dissipated energy may not rise by more than this
+/// fraction of the largest energy in play (the scheme conserves or
+/// dissipates; the integrator rejects such steps where there is contact).
+pub const ENERGY_GAIN_WARNING: f64 = 0.01;
+
+/// The warning of a run whose energy rose by `gain` J at its written steps
+/// with `in_play` J in play at most (`None` within
+/// [`ENERGY_GAIN_WARNING`]).
+pub fn energy_gain_warning(gain: f64, in_play: f64) -> Option<String> {
+    (gain > ENERGY_GAIN_WARNING * in_play + 1e-12).then(|| {
+        format!(
+            "energy: total + dissipated rose {gain:.4e} J above its start ({:.1} % of the {in_play:.4e} J in \
+             play, more than {:.0} %): the energy balance is lost and the results are not to be \
+             trusted; reduce analysis.time_step (or tighten analysis.tolerance)",
+            100.0 * gain / in_play.max(f64::MIN_POSITIVE),
+            100.0 * ENERGY_GAIN_WARNING
+        )
+    })
+}
+
 /// What a completed run's message says of its step cuts (`None` without
 /// any): one step in a hundred or more cut means the guards, not the time
 /// step, set the path (docs/scene.md).
@@ -310,6 +330,12 @@ pub struct Progress {
     message: String,
     history: History,
     max_drift: f64,
+    /// The largest rise of total + dissipated energy above its start, and
+    /// the largest energy in play, over the written steps (J).
+    #[serde(default)]
+    max_gain: f64,
+    #[serde(default)]
+    max_in_play: f64,
     e0: Energies,
     last: Energies,
     vtk_frames: Vec<(f64, String)>,
@@ -402,6 +428,8 @@ fn run_dynamic(
                 message,
                 history,
                 max_drift: 0.0,
+                max_gain: 0.0,
+                max_in_play: e0.in_play(),
                 e0,
                 last: e0,
                 vtk_frames: Vec::new(),
@@ -471,6 +499,8 @@ fn run_dynamic(
             p.max_drift = p
                 .max_drift
                 .max((e.total() + e.dissipated - p.e0.total()).abs());
+            p.max_gain = p.max_gain.max(e.total() + e.dissipated - p.e0.total());
+            p.max_in_play = p.max_in_play.max(e.in_play());
             p.last = e;
             if let Some(f) = files.as_mut() {
                 f.row(
@@ -517,6 +547,10 @@ fn run_dynamic(
         summary.message.push_str(&format!("; {note}"));
     }
     summary.time = progress.state.time;
+    if let Some(w) = energy_gain_warning(p.max_gain, p.max_in_play) {
+        summary.message.push_str(&format!("; warning: {w}"));
+        summary.warnings.push(w);
+    }
     p.observed.fill(scene, summary);
     Observations::fill_member_contact(summary, sim.member_loads(), scene.output.cfc);
     summary.energy = Some(EnergySummary {

@@ -599,3 +599,78 @@ fn a_run_that_gains_energy_says_so() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--resume` verifies what it reads back: a checkpoint with one digit
+/// changed (its checksum no longer matches), of another format version, or
+/// a timeseries.csv cut short behind its back are refused before any work,
+/// naming the file; the untouched checkpoint resumes.
+#[test]
+fn a_damaged_checkpoint_is_refused() {
+    let dir = tmp("damaged");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.2")
+        .replace("every = 50 ", "every = 50\ncheckpoint_every = 500 ");
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, scene).unwrap();
+    let good = dir.join("good");
+    assert!(run_quiet(&path, &good).status().unwrap().success());
+    let copy = |name: &str| {
+        let to = dir.join(name);
+        std::fs::create_dir_all(&to).unwrap();
+        for f in ["checkpoint.json", "timeseries.csv"] {
+            std::fs::copy(good.join(f), to.join(f)).unwrap();
+        }
+        to
+    };
+    let resume = |d: &Path| {
+        ancf()
+            .args(["run", "--resume", d.to_str().unwrap(), "--quiet"])
+            .output()
+            .unwrap()
+    };
+    let text = std::fs::read_to_string(good.join("checkpoint.json")).unwrap();
+    // One digit of the state changed.
+    let flipped = copy("flipped");
+    let at = text.find("\"q\":[").unwrap() + 8;
+    let mut bytes = text.clone().into_bytes();
+    let k = (at..)
+        .find(|&i| bytes[i].is_ascii_digit() && bytes[i] != b'7')
+        .unwrap();
+    bytes[k] = b'7';
+    std::fs::write(flipped.join("checkpoint.json"), bytes).unwrap();
+    // Another format version.
+    let versioned = copy("versioned");
+    std::fs::write(
+        versioned.join("checkpoint.json"),
+        text.replacen("\"version\":2", "\"version\":1", 1),
+    )
+    .unwrap();
+    // The time series cut to its first 5 rows.
+    let cut = copy("cut");
+    let series = std::fs::read_to_string(cut.join("timeseries.csv")).unwrap();
+    let head: Vec<&str> = series.lines().take(6).collect();
+    std::fs::write(cut.join("timeseries.csv"), head.join("\n") + "\n").unwrap();
+    for (d, expect) in [
+        (&flipped, "checkpoint.json: checksum does not match"),
+        (&versioned, "checkpoint.json: version is 1"),
+        (&cut, "timeseries.csv: 5 rows"),
+    ] {
+        let out = resume(d);
+        let message = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && message.contains(expect),
+            "{message}"
+        );
+        assert!(!d.join("summary.json").exists(), "no work was done");
+    }
+    let untouched = copy("untouched");
+    let out = resume(&untouched);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

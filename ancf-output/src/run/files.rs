@@ -20,13 +20,72 @@ pub fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("cannot write to {}: {e}", path.display())
 }
 
-/// `checkpoint.json`: the scene and the progress after a step.
+/// The format of `checkpoint.json` this version writes and reads.
+pub const CHECKPOINT_VERSION: u32 = 2;
+
+/// `checkpoint.json`: the scene and the progress after a step, with the
+/// format's version and a checksum of both (verified before a resume).
 #[derive(serde::Serialize, serde::Deserialize)]
 pub struct Checkpoint {
+    /// [`CHECKPOINT_VERSION`] (absent in files of earlier versions).
+    #[serde(default)]
+    pub version: u32,
+    /// CRC-32 (hex) of the scene's text, a newline and the progress as
+    /// serialized here.
+    #[serde(default)]
+    pub checksum: String,
     /// The scene file's text.
     pub scene: String,
     /// Everything the run had accumulated.
     pub progress: Progress,
+}
+
+impl Checkpoint {
+    /// The checkpoint of `scene`'s text at `progress`.
+    pub fn new(scene: String, progress: Progress) -> Result<Self, String> {
+        let checksum = checksum(&scene, &progress)?;
+        Ok(Checkpoint {
+            version: CHECKPOINT_VERSION,
+            checksum,
+            scene,
+            progress,
+        })
+    }
+
+    /// Read and verify `path`: its format version and its checksum; what
+    /// is wrong is named with the file and the field.
+    pub fn read(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let ck: Checkpoint =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        if ck.version != CHECKPOINT_VERSION {
+            return Err(format!(
+                "{}: version is {}, this ancf reads version {CHECKPOINT_VERSION}; start the run \
+                 again (without --resume)",
+                path.display(),
+                ck.version
+            ));
+        }
+        if checksum(&ck.scene, &ck.progress)? != ck.checksum {
+            return Err(format!(
+                "{}: checksum does not match the contents (the file was changed or damaged); \
+                 start the run again (without --resume)",
+                path.display()
+            ));
+        }
+        Ok(ck)
+    }
+}
+
+/// CRC-32 (hex) of the scene's text, a newline and the serialized progress.
+fn checksum(scene: &str, progress: &Progress) -> Result<String, String> {
+    let text = serde_json::to_string(progress).map_err(|e| format!("checkpoint: {e}"))?;
+    let mut h = crc32fast::Hasher::new();
+    h.update(scene.as_bytes());
+    h.update(b"\n");
+    h.update(text.as_bytes());
+    Ok(format!("{:08x}", h.finalize()))
 }
 
 /// A dynamic run's open files.
@@ -49,7 +108,24 @@ impl Files {
                 scene.output.vtk.then(|| VtkWriter::new(&vtk_dir, model)),
             ),
             Some(p) => {
-                truncate_csv(&dir.join("timeseries.csv"), p.sim.state.time)?;
+                let path = dir.join("timeseries.csv");
+                let rows = truncate_csv(&path, p.sim.state.time)?;
+                // The rows continued must be the ones the checkpoint wrote.
+                let written = &p.history.time;
+                let same = |a: f64, b: f64| format!("{a:.12e}") == format!("{b:.12e}");
+                if rows.len() != written.len()
+                    || rows.iter().zip(written).any(|(a, b)| !same(*a, *b))
+                {
+                    return Err(format!(
+                        "{}: {} rows up to t = {} s, but the checkpoint wrote {} (the file was \
+                         changed, truncated or is another run's); start the run again \
+                         (without --resume)",
+                        path.display(),
+                        rows.len(),
+                        p.sim.state.time,
+                        written.len()
+                    ));
+                }
                 (
                     TimeSeries::append(dir),
                     (scene.output.vtk)
@@ -110,11 +186,8 @@ impl Files {
             .as_ref()
             .map(|v| v.frames().to_vec())
             .unwrap_or_default();
-        let text = serde_json::to_string(&Checkpoint {
-            scene: scene.source.clone(),
-            progress: p.clone(),
-        })
-        .map_err(|e| format!("checkpoint: {e}"))?;
+        let text = serde_json::to_string(&Checkpoint::new(scene.source.clone(), p.clone())?)
+            .map_err(|e| format!("checkpoint: {e}"))?;
         let tmp = dir.join("checkpoint.json.tmp");
         std::fs::write(&tmp, text).map_err(|e| io_err(dir, e))?;
         std::fs::rename(&tmp, dir.join("checkpoint.json")).map_err(|e| io_err(dir, e))
@@ -292,17 +365,19 @@ fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {
 }
 
 /// Keep the header and the rows of a CSV whose first column is ≤ `t`.
-fn truncate_csv(path: &Path, t: f64) -> Result<(), String> {
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(());
-    };
+fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {} to continue it: {e}", path.display()))?;
     let mut kept = String::new();
+    let mut times = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let time = line.split(',').next().and_then(|v| v.parse::<f64>().ok());
         if i == 0 || time.is_some_and(|x| x <= t + 1e-9 * t.abs().max(1e-300)) {
             kept.push_str(line);
             kept.push('\n');
+            times.extend(time.filter(|_| i > 0));
         }
     }
-    std::fs::write(path, kept).map_err(|e| io_err(path, e))
+    std::fs::write(path, kept).map_err(|e| io_err(path, e))?;
+    Ok(times)
 }

@@ -202,10 +202,7 @@ pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
 pub fn resume(dir: &Path, quiet: bool, cancel: &CancelToken) -> Result<Summary, String> {
     let _lock = crate::lock::OutputLock::acquire(dir)?;
     let path = dir.join("checkpoint.json");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let ck: Checkpoint =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let ck = Checkpoint::read(&path)?;
     let scene = Scene::from_toml(&ck.scene).map_err(|e| format!("the checkpoint's scene: {e}"))?;
     if !matches!(scene.analysis, Analysis::Dynamic { .. }) {
         return Err("only dynamic runs have checkpoints".into());

@@ -674,3 +674,30 @@ fn a_damaged_checkpoint_is_refused() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A wire the machine cannot hold is refused by `ancf check` before any
+/// work, naming the field and the element count that would fit (where the
+/// machine has less than the 56 GB a million elements need).
+#[test]
+fn a_wire_too_large_for_the_memory_is_refused_before_work() {
+    let needed = ancf_core::model::memory::needed_bytes(999_999);
+    if ancf_core::model::memory::available_bytes().is_none_or(|a| a >= needed) {
+        return;
+    }
+    let dir = tmp("memory");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("scenes/pendulum.toml")
+        .unwrap()
+        .replace("elements = 4\n", "elements = 999999\n");
+    let path = dir.join("big.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = ancf().arg("check").arg(&path).output().unwrap();
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{message}");
+    assert!(
+        message.contains("wire.elements: 999999 elements need about")
+            && message.contains("elements fit"),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -455,6 +455,22 @@ impl WireBuilder {
             }
             layouts.push(m.layout().map_err(member)?);
         }
+        // Refused before any work: a model the machine cannot hold (the
+        // estimate is read only where it could matter).
+        let elements = layouts
+            .iter()
+            .fold(0usize, |n, l| n.saturating_add(l.element_count()));
+        if super::memory::needed_bytes(elements) > 1 << 30
+            && let Some(available) = super::memory::available_bytes()
+            && let Some(message) = super::memory::shortfall(elements, available)
+        {
+            let what = if self.wire.segments.is_some() {
+                "segments"
+            } else {
+                "elements"
+            };
+            return Err(ModelError::wire(what, message));
+        }
         for (index, s) in self.supports.iter().enumerate() {
             let at = |e: ParameterError| ModelError::Support {
                 index,

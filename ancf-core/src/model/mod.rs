@@ -9,6 +9,7 @@ pub mod clearance;
 pub mod contact;
 pub mod damping;
 mod mass_product;
+pub mod memory;
 mod mesh;
 pub mod spring;
 pub use beam::{Beam, BeamLayout};

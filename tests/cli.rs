@@ -701,3 +701,35 @@ fn a_wire_too_large_for_the_memory_is_refused_before_work() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A failed solve names what made it hard: a Mooney–Rivlin cover with
+/// κ = 1e9 is blamed on the penalty, not on the load steps.
+#[test]
+fn a_locking_penalty_is_named_as_the_cause() {
+    let dir = tmp("penalty");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("scenes/two_layer_cantilever.toml")
+        .unwrap()
+        .replace(
+            "[wire]",
+            "[[material]]\nname = \"rubber\"\nmodel = \"mooney-rivlin\"\ndensity = 1100.0\n\
+             mu10 = 5e5\nmu01 = 1e5\npenalty = 1e9\n\n[wire]",
+        )
+        .replace(
+            "{ material = \"core\", outer_radius = 0.02 }",
+            "{ material = \"rubber\", outer_radius = 0.02 }",
+        )
+        .replace("force = [0.0, 0.0, -1.0]", "force = [0.0, 0.0, -2000.0]");
+    assert!(text.contains("\"rubber\", outer_radius"));
+    let path = dir.join("locking.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = dir.join("out");
+    assert!(!run_quiet(&path, &out).status().unwrap().success());
+    let s = summary(&out);
+    let message = s["message"].as_str().unwrap();
+    assert!(
+        message.contains("Likely cause: the Mooney–Rivlin volume penalty κ = 1.0e9 is beyond 1e7"),
+        "{message}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

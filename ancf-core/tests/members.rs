@@ -305,3 +305,25 @@ fn a_member_overlapping_the_wire_is_refused() {
     }
     assert!(wire().member(across(-0.07)).build().is_ok());
 }
+
+/// What makes Newton's work hard is named: a wire of slenderness 1e5, a
+/// Mooney–Rivlin penalty beyond 1e7; an ordinary wire has nothing to name.
+#[test]
+fn ill_conditioning_is_named() {
+    let slender = WireBuilder::new(1000.0, 10)
+        .layer(steel(0.3), 0.01)
+        .support(0, SupportKind::Pin)
+        .build()
+        .unwrap();
+    let note = slender.ill_conditioning().expect("slender");
+    assert!(note.contains("L / R = 1.0e5"), "{note}");
+    assert!(wire().build().unwrap().ill_conditioning().is_none());
+    let rubber = Material::mooney_rivlin(1100.0, 5e5, 1e5, 1e9);
+    let locking = WireBuilder::new(1.0, 4)
+        .layer(steel(0.3), 0.01)
+        .layer(rubber, 0.02)
+        .support(0, SupportKind::Clamp)
+        .build()
+        .unwrap();
+    assert!(locking.ill_conditioning().unwrap().contains("κ = 1.0e9"));
+}

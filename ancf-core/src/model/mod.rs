@@ -785,6 +785,49 @@ impl Model {
         self.node_arc(self.wire().last_node())
     }
 
+    /// What in this model makes Newton's work hard, when something does:
+    /// a beam so slender (L / R above 1e4) that its bending stiffness is a
+    /// vanishing fraction of its axial one, or a Mooney–Rivlin layer whose
+    /// volume penalty κ exceeds 1e7 (nearly incompressible beyond what the
+    /// element resolves: it locks). A failed solve's message adds it to its
+    /// likely cause.
+    pub fn ill_conditioning(&self) -> Option<String> {
+        let mut notes = Vec::new();
+        for beam in &self.beams {
+            let length = self.node_arc(beam.last_node()) - self.node_arc(beam.nodes.start);
+            let radius = self.element(beam.elements.start).section.outer_radius();
+            let slenderness = length / radius;
+            if slenderness > 1e4 {
+                notes.push(format!(
+                    "{} \"{}\" is very slender (L / R = {slenderness:.1e}): its bending stiffness is \
+                     about {:.0e} of its axial one, so Newton meets a nearly singular matrix; start \
+                     it near its shape (a support's position starts a span on its sag parabola), \
+                     take more load steps, or model it coarser",
+                    if beam.name == WIRE { "the beam" } else { "member" },
+                    beam.name,
+                    1.0 / (slenderness * slenderness)
+                ));
+            }
+        }
+        for group in &self.groups {
+            for layer in &group.integration.section.layers {
+                if let crate::material::MaterialModel::MooneyRivlin { penalty, .. } =
+                    layer.material.model
+                    && penalty > 1e7
+                {
+                    notes.push(format!(
+                        "the Mooney–Rivlin volume penalty κ = {penalty:.1e} is beyond 1e7: the \
+                         layer is so nearly incompressible that the element locks and Newton \
+                         stalls; κ = 1e3 … 1e7 keeps ν within about 5e-4 … 5e-8 of 0.5"
+                    ));
+                    break;
+                }
+            }
+        }
+        notes.dedup();
+        (!notes.is_empty()).then(|| notes.join("; "))
+    }
+
     /// The model with only the supports still holding at time `t` (those
     /// without a release time, or released later): a release phase. The
     /// coordinates a released support held become unknowns.

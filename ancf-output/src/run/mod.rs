@@ -264,11 +264,14 @@ fn execute(
                 }
                 Err(e) => {
                     summary.status = RunStatus::Failed;
-                    summary.message = format!(
-                        "{}. Likely cause: a load too large for one step or an unstable configuration; \
-                         increase analysis.load_steps",
-                        e.message
-                    );
+                    summary.message = match model.ill_conditioning() {
+                        Some(note) => format!("{}. Likely cause: {note}", e.message),
+                        None => format!(
+                            "{}. Likely cause: a load too large for one step or an unstable \
+                             configuration; increase analysis.load_steps",
+                            e.message
+                        ),
+                    };
                     summary.steps = e.iterations.len();
                     summary.newton_iterations = e.iterations.iter().sum();
                     e.last_converged
@@ -391,7 +394,9 @@ fn run_dynamic(
                     summary.message = format!(
                         "initial static equilibrium: {}. Likely cause: {}",
                         e.message,
-                        e.likely_cause()
+                        model
+                            .ill_conditioning()
+                            .unwrap_or_else(|| e.likely_cause().to_string())
                     );
                     return Ok((e.last_converged, History::default()));
                 }
@@ -468,10 +473,20 @@ fn run_dynamic(
             Ok(info) => info,
             Err(e @ SimulationError::Step { .. }) => {
                 summary.status = RunStatus::Failed;
-                summary.message = format!(
-                    "{e}. Likely cause: {}. Output up to t = {t_before:.6} s is kept",
-                    e.likely_cause()
-                );
+                let cause = match (&e, model.ill_conditioning()) {
+                    (
+                        SimulationError::Step {
+                            error:
+                                ancf_core::solve::dynamics::StepError::Halved { .. }
+                                | ancf_core::solve::dynamics::StepError::NotConverged { .. },
+                            ..
+                        },
+                        Some(note),
+                    ) => note,
+                    _ => e.likely_cause().to_string(),
+                };
+                summary.message =
+                    format!("{e}. Likely cause: {cause}. Output up to t = {t_before:.6} s is kept");
                 break;
             }
             Err(e) => {

@@ -474,8 +474,23 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
             .map_or("no reference".to_string(), |r| r.message.clone());
         let _ = writeln!(
             md,
-            "**The reference run did not complete**: {why}. No errors can be given.\n"
+            "**The reference run did not complete**: {why}. No errors against it can be given; \
+             the refinements' convergence (which needs no reference) and every run follow.\n"
         );
+        // What needs no reference: each family's convergence and its runs.
+        let mut csv = String::new();
+        for (fi, fam) in input.plan.families.iter().enumerate() {
+            let outcomes = &input.outcomes[fi];
+            let _ = writeln!(md, "## {}\n", fam.name);
+            convergence_section(&mut md, fam, outcomes, &base);
+            let errors = vec![Errors::default(); outcomes.len()];
+            let slug: String = (fam.name.to_lowercase().chars())
+                .map(|c| if c.is_alphanumeric() { c } else { '_' })
+                .collect();
+            let radius = input.scene.model.section().outer_radius();
+            runs_table(&mut md, &mut csv, &slug, fam, outcomes, &errors, radius);
+            md.push('\n');
+        }
         let path = out.join("report.md");
         std::fs::write(&path, md).map_err(|e| format!("{}: {e}", path.display()))?;
         return Err(format!("the reference run did not complete: {why}"));

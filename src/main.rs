@@ -45,9 +45,9 @@ enum Command {
         /// The scene file (not needed with --resume).
         #[arg(required_unless_present = "resume")]
         scene: Option<PathBuf>,
-        /// Output directory.
-        #[arg(long, default_value = "out")]
-        out: PathBuf,
+        /// Output directory (default: out/<the scene file's name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
@@ -202,6 +202,10 @@ fn main() -> ExitCode {
                     (ancf::run::resume(&dir, quiet, &cancel), dir)
                 }
                 (None, Some(scene)) => {
+                    let out = out.unwrap_or_else(|| {
+                        let stem = scene.file_stem().unwrap_or_default();
+                        std::path::Path::new("out").join(stem)
+                    });
                     let s = match load(&scene) {
                         Ok(s) => s,
                         Err(code) => return code,

@@ -458,12 +458,14 @@ fn run_dynamic(
         if cancel.is_cancelled() {
             summary.status = RunStatus::Interrupted;
             summary.message = format!(
-                "interrupted (Ctrl-C or a termination signal) before step {k} at t = {:.6} s; output up to the last written step is kept{}",
+                "stopped by Ctrl-C or a termination signal before step {k} at t = {:.6} s; output up \
+                 to the last written step is kept{}",
                 sim.state().time,
-                if checkpoint_every > 0 && files.is_some() {
-                    "; continue with `ancf run --resume DIR`"
-                } else {
-                    ""
+                match out {
+                    Some(dir) if checkpoint_every > 0 => {
+                        format!("; continue with `ancf run --resume {}`", dir.display())
+                    }
+                    _ => String::new(),
                 }
             );
             break;

@@ -574,14 +574,15 @@ impl Simulation {
             scene,
             sim,
         };
-        s.observe_state();
+        s.observe_state(&[]);
         s
     }
 
-    /// Observe the clearance zones and the frame members at the current state.
-    fn observe_state(&mut self) {
+    /// Observe the clearance zones and the frame members at the current
+    /// state, the wire's contact force on each member being `member_forces`.
+    fn observe_state(&mut self, member_forces: &[[f64; 3]]) {
         let state = self.sim.state();
-        self.observed.observe(&self.scene, &state.q, state.time);
+        (self.observed).observe(&self.scene, &state.q, state.time, member_forces);
     }
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
@@ -608,8 +609,8 @@ impl Simulation {
 
     /// One step; the error names the step and the time.
     fn advance(&mut self) -> Result<(), PyErr> {
-        self.sim.step().map_err(|e| simulation_error(&e))?;
-        self.observe_state();
+        let info = self.sim.step().map_err(|e| simulation_error(&e))?;
+        self.observe_state(&info.member_forces);
         Ok(())
     }
 }
@@ -801,9 +802,9 @@ impl Simulation {
                         if done(sim) {
                             break;
                         }
-                        sim.step()?;
+                        let info = sim.step()?;
                         let state = sim.state();
-                        observed.observe(scene, &state.q, state.time);
+                        observed.observe(scene, &state.q, state.time, &info.member_forces);
                     }
                     Ok(())
                 });
@@ -1011,6 +1012,11 @@ impl Simulation {
                     ("max_von_mises", r.max_von_mises),
                     ("max_von_mises_time", r.max_von_mises_time),
                     ("max_von_mises_at", r.max_von_mises_at),
+                    (
+                        "first_impact_max_bending_moment",
+                        r.first_impact_max_bending_moment,
+                    ),
+                    ("first_impact_max_von_mises", r.first_impact_max_von_mises),
                 ] {
                     b.set_item(k, v)?;
                 }
@@ -1239,5 +1245,6 @@ fn _ancf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

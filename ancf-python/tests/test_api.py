@@ -545,3 +545,8 @@ def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
     (theirs,) = built.summary()["beams"]
     # Newton to its default tolerance here, 1e-4 in the scene.
     assert math.isclose(theirs["filtered_peak_force"], ours["filtered_peak_force"], rel_tol=1e-3)
+
+
+def test_the_package_says_its_version():
+    assert ancf.__version__.count(".") == 2
+    assert ancf.__version__ == ancf._ancf.__version__

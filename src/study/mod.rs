@@ -104,6 +104,8 @@ pub struct RodOutcome {
     /// (Pa) over the run; `None` for a rod.
     pub max_bending_moment: Option<f64>,
     pub max_von_mises: Option<f64>,
+    /// A frame member's largest bending moment in its first impact, N m.
+    pub first_impact_moment: Option<f64>,
 }
 
 impl Outcome {
@@ -169,17 +171,20 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
     // Contact runs: the rod with the largest filtered peak (SAE J211, the
     // load a designer uses; the raw peak of a penalty contact is not a result).
     let contact = summary.contact.as_ref();
-    // Rods, then members: each one's load, and a member's moment and stress.
-    let loads: Vec<(
-        String,
-        &ancf_core::loads::rod_load::RodLoad,
-        Option<(f64, f64)>,
-    )> = contact
+    // Rods, then members: each one's load, and a member's moments and
+    // stress (whole run, whole run, first impact).
+    type Member = Option<(f64, f64, f64)>;
+    let loads: Vec<(String, &ancf_core::loads::rod_load::RodLoad, Member)> = contact
         .map(|c| {
             let rods =
                 (c.rods.iter().enumerate()).map(|(i, r)| (format!("rod {i}"), &r.load, None));
             let members = summary.beams.iter().map(|b| {
-                let m = (b.record.max_bending_moment, b.record.max_von_mises);
+                let r = &b.record;
+                let m = (
+                    r.max_bending_moment,
+                    r.max_von_mises,
+                    r.first_impact_max_bending_moment,
+                );
                 (b.name.clone(), &b.contact, Some(m))
             });
             rods.chain(members).collect()
@@ -213,6 +218,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
                 first_impact_impulse: l.first_impact_impulse,
                 max_bending_moment: member.map(|m| m.0),
                 max_von_mises: member.map(|m| m.1),
+                first_impact_moment: member.map(|m| m.2),
             })
             .collect(),
         partners: loads.iter().map(|(name, ..)| name.clone()).collect(),

@@ -695,11 +695,15 @@ fn quantities(partners: &[String]) -> Vec<Quantity> {
             ));
             if !name.starts_with("rod ") {
                 q.push((
-                    format!("{name}: max bending moment (N m)"),
+                    format!("{name}: first impact, max bending moment (N m)"),
+                    Box::new(move |o| rod(o).and_then(|r| r.first_impact_moment)),
+                ));
+                q.push((
+                    format!("{name}: max bending moment, whole run (N m)"),
                     Box::new(move |o| rod(o).and_then(|r| r.max_bending_moment)),
                 ));
                 q.push((
-                    format!("{name}: max von Mises stress (Pa)"),
+                    format!("{name}: max von Mises stress, whole run (Pa)"),
                     Box::new(move |o| rod(o).and_then(|r| r.max_von_mises)),
                 ));
             }

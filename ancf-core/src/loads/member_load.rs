@@ -30,6 +30,16 @@ pub struct MemberRecord {
     pub max_von_mises_time: f64,
     /// … and where (m from the member's first node).
     pub max_von_mises_at: f64,
+    /// The largest bending moment (N m) and von Mises stress (Pa) in the
+    /// first impact: the [`crate::loads::rod_load::FIRST_IMPACT_WINDOW`]
+    /// from the wire's first contact with the member (0: never touched).
+    /// What a wire does after its first blow can depend on details a mesh
+    /// or a time step resolves differently; the first blow converges.
+    #[serde(default)]
+    pub first_impact_max_bending_moment: f64,
+    /// (The first impact's von Mises stress, Pa.)
+    #[serde(default)]
+    pub first_impact_max_von_mises: f64,
 }
 
 /// The resultants element `el` carries at its end `end` (0: first node,
@@ -81,9 +91,20 @@ pub fn von_mises(section: &crate::section::Section, n: f64, m: f64, t: f64) -> f
 }
 
 impl MemberRecord {
-    /// Observe member `beam` of `model` at coordinates `q`, time `t` (s).
-    pub fn observe(&mut self, model: &Model, beam: &Beam, q: &[f64], t: f64) {
+    /// Observe member `beam` of `model` at coordinates `q`, time `t` (s),
+    /// the wire having first touched it at `first_contact` (s; `None`:
+    /// not yet).
+    pub fn observe(
+        &mut self,
+        model: &Model,
+        beam: &Beam,
+        q: &[f64],
+        t: f64,
+        first_contact: Option<f64>,
+    ) {
         let start = model.node_arc(beam.nodes.start);
+        let first_impact = first_contact
+            .is_some_and(|t1| (t1..=t1 + crate::loads::rod_load::FIRST_IMPACT_WINDOW).contains(&t));
         for el in beam.elements.clone() {
             let section = &model.element(el).section;
             for end in 0..2 {
@@ -99,6 +120,11 @@ impl MemberRecord {
                     self.max_von_mises = stress;
                     self.max_von_mises_time = t;
                     self.max_von_mises_at = at;
+                }
+                if first_impact {
+                    self.first_impact_max_bending_moment =
+                        self.first_impact_max_bending_moment.max(m);
+                    self.first_impact_max_von_mises = self.first_impact_max_von_mises.max(stress);
                 }
             }
         }

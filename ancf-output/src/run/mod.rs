@@ -251,7 +251,11 @@ fn execute(
                         .and_then(|cf| static_contact(model, cf));
                     summary.supports = supports::static_supports(model, &res.reactions);
                     let mut observed = Observations::new(scene);
-                    observed.observe(scene, &res.q, 0.0);
+                    let forces = res
+                        .contact
+                        .as_ref()
+                        .map_or(&[][..], |c| &c.member_forces[..]);
+                    observed.observe(scene, &res.q, 0.0, forces);
                     observed.fill(scene, &mut summary);
                     if let Some(cf) = &res.contact {
                         for (beam, f) in summary.beams.iter_mut().zip(&cf.member_forces) {
@@ -424,7 +428,7 @@ fn run_dynamic(
             history.push(model, state, &e0);
             history.push_shape(model, state);
             let mut observed = Observations::new(scene);
-            observed.observe(scene, &state.q, state.time);
+            observed.observe(scene, &state.q, state.time, &[]);
             let p = Progress {
                 sim: sim.snapshot(),
                 message,
@@ -498,7 +502,8 @@ fn run_dynamic(
             }
         };
         let state = sim.state();
-        p.observed.observe(scene, &state.q, state.time);
+        p.observed
+            .observe(scene, &state.q, state.time, &info.member_forces);
         if k % scene.output.every == 0 || k == n_steps {
             let e = sim.energies();
             if !e.total().is_finite() {

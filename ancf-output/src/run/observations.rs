@@ -19,6 +19,9 @@ pub struct Observations {
     /// Each frame member's largest internal loads.
     #[serde(default)]
     pub members: Vec<MemberRecord>,
+    /// When the wire first touched each frame member (s; `None`: not yet).
+    #[serde(default)]
+    pub member_first_contact: Vec<Option<f64>>,
 }
 
 impl Observations {
@@ -36,16 +39,29 @@ impl Observations {
             .resize(scene.clearance.len(), ClearanceRecord::default());
         self.members
             .resize(scene.model.beams.len() - 1, MemberRecord::default());
+        self.member_first_contact
+            .resize(scene.model.beams.len() - 1, None);
     }
 
-    /// Observe `scene`'s model at coordinates `q`, time `t` (s).
-    pub fn observe(&mut self, scene: &Scene, q: &[f64], t: f64) {
+    /// Observe `scene`'s model at coordinates `q`, time `t` (s), the wire's
+    /// contact force on each member that may touch it being
+    /// `member_forces` (N, model's member order; empty: none).
+    pub fn observe(&mut self, scene: &Scene, q: &[f64], t: f64, member_forces: &[[f64; 3]]) {
         let model = &scene.model;
         for (zone, record) in scene.clearance.iter().zip(&mut self.clearance) {
             record.observe(zone, model, q, t);
         }
-        for (beam, record) in model.beams.iter().skip(1).zip(&mut self.members) {
-            record.observe(model, beam, q, t);
+        // Members that may touch the wire, in order, and their forces.
+        let touching = model.contact().map_or(&[][..], |c| &c.members[..]);
+        for (contact, force) in touching.iter().zip(member_forces) {
+            let first = &mut self.member_first_contact[contact.beam - 1];
+            if first.is_none() && force.iter().any(|f| *f != 0.0) {
+                *first = Some(t);
+            }
+        }
+        let members = model.beams.iter().skip(1).zip(&mut self.members);
+        for ((beam, record), first) in members.zip(&self.member_first_contact) {
+            record.observe(model, beam, q, t, *first);
         }
     }
 

@@ -24,6 +24,8 @@ from ._ancf import (  # noqa: F401
 )
 from . import _ancf
 
+__version__ = _ancf.__version__
+
 __all__ = [
     "Scene",
     "Simulation",

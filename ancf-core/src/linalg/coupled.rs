@@ -13,7 +13,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{ColMut, linalg::solvers::Solve};
 
 /// One coupling block on the unknowns: entry (i, j) adds `values[i * 24 + j]`
-/// at (rows[i], cols[j]) where both are unknowns.
+/// at (`rows[i]`, `cols[j]`) where both are unknowns.
 #[derive(Clone, Debug)]
 pub struct CoupledBlock {
     /// The unknowns of the rows (`None`: a held coordinate).

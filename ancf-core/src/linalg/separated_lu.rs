@@ -321,9 +321,7 @@ impl SeparatedLu {
         }
         // Back-substitution: T x = b_T − (the separator's share).
         for seg in &self.segments {
-            for k in seg.first..=seg.last {
-                y[k] = rhs[k];
-            }
+            y[seg.first..=seg.last].copy_from_slice(&rhs[seg.first..=seg.last]);
             if let Some(ia) = seg.left {
                 let w = apply(&self.lower[seg.first - 1], &xs[ia]);
                 for r in 0..B {

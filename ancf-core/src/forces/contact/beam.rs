@@ -10,7 +10,7 @@
 //! (CMAME 2016). Its known weakness is the large crossing angle, where the
 //! zone is short and a fixed set of Gauss points straddles it; here the
 //! zone's ends are found exactly on the wire (zone.rs, over
-//! [`BeamGap`]) and the Gauss points are placed inside it, so a 90°
+//! `BeamGap`) and the Gauss points are placed inside it, so a 90°
 //! crossing is integrated as accurately as a rod's and the force moves
 //! smoothly as the crossing slides. Point-to-point contact (Wriggers &
 //! Zavarise), which the all-angle method (Meier et al., CMAME 2017) blends

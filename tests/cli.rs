@@ -390,7 +390,12 @@ fn interrupted_run_keeps_its_output() {
     assert_eq!(status.code(), Some(130));
     let summary = summary(&dir);
     assert_eq!(summary["status"], "interrupted");
-    assert!(summary["message"].as_str().unwrap().contains("interrupted"));
+    let message = summary["message"].as_str().unwrap();
+    assert!(
+        message.contains("stopped by Ctrl-C")
+            && message.contains(&format!("ancf run --resume {}", dir.display())),
+        "{message}"
+    );
     let t = summary["time"].as_f64().unwrap();
     assert!(t > 0.0 && t < 1.0, "stopped early at {t}");
     let rows = std::fs::read_to_string(&series).unwrap().lines().count();

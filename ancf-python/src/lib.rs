@@ -547,10 +547,8 @@ impl Wire {
 
 /// A dynamic simulation of a scene. Units: SI (m, s, N, J).
 ///
-/// It computes what `ancf run` computes, bit for bit, for a scene with
-/// `checkpoint_every = 0`: a checkpoint drops the kept Newton matrix (so a
-/// resumed run repeats the iterations), which moves the results within the
-/// Newton tolerance, and a `Simulation` does not checkpoint.
+/// It computes what `ancf run` computes, bit for bit (checkpoints do not
+/// change a run's results).
 #[pyclass(module = "ancf")]
 pub struct Simulation {
     scene: CoreScene,

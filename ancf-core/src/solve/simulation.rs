@@ -115,6 +115,10 @@ pub struct Snapshot {
     pub state: State,
     /// The energy guard's reference (see [`Integrator::energy_reference`]).
     pub energy_reference: (f64, f64),
+    /// Where the kept factorization was formed (`None`: none kept; absent in
+    /// checkpoints of earlier versions): a resumed run refactors there.
+    #[serde(default)]
+    pub factorization: Option<crate::solve::dynamics::FactorizationOrigin>,
     /// How finely steps start (see [`Integrator::step`]; absent in
     /// checkpoints written before it existed: none).
     #[serde(default)]
@@ -206,6 +210,7 @@ impl Simulation {
                 step: 0,
                 phase: 0,
                 energy_reference: integrator.energy_reference(),
+                factorization: None,
                 subdivision: integrator.subdivision(),
                 state,
                 newton_iterations: 0,
@@ -229,8 +234,8 @@ impl Simulation {
     }
 
     /// Continues from a snapshot of the same model and settings; it ends bit
-    /// for bit like the simulation the snapshot was taken of, provided that
-    /// one called [`Simulation::refresh_factorization`] after the snapshot.
+    /// for bit like the simulation the snapshot was taken of (the kept
+    /// factorization is formed again where the snapshot says).
     pub fn resume(
         model: &Model,
         settings: DynamicSettings,
@@ -267,6 +272,14 @@ impl Simulation {
         })?;
         integrator.restore_energy_reference(snapshot.energy_reference);
         integrator.restore_subdivision(snapshot.subdivision);
+        if let Some(origin) = &snapshot.factorization {
+            integrator
+                .restore_factorization(origin)
+                .map_err(|error| SimulationError::Setup {
+                    what: "resuming",
+                    error,
+                })?;
+        }
         Ok(Simulation {
             static_iterations: Vec::new(),
             steps: Self::step_count(&settings),
@@ -337,6 +350,29 @@ impl Simulation {
                 "rod_loads has {} entries, the model has {rods} rods",
                 s.rod_loads.len()
             ));
+        }
+        if let Some(f) = &s.factorization {
+            let n = model.reference.len();
+            let lengths = [
+                f.state.q.len(),
+                f.state.v.len(),
+                f.state.a.len(),
+                f.a1.len(),
+            ];
+            let finite = (f
+                .state
+                .q
+                .iter()
+                .chain(&f.state.v)
+                .chain(&f.state.a)
+                .chain(&f.a1))
+            .all(|x| x.is_finite());
+            if lengths.iter().any(|&l| l != n) || !finite || !(f.h > 0.0 && f.h.is_finite()) {
+                return Err(format!(
+                    "factorization: its state, iterate or step does not fit the model's {n} \
+                     coordinates (or is not finite)"
+                ));
+            }
         }
         let members = model.contact().map_or(0, |c| c.members.len());
         if s.member_loads.len() != members {
@@ -524,27 +560,29 @@ impl Simulation {
         &self.progress
     }
 
-    /// A snapshot to resume from; call [`Simulation::refresh_factorization`]
-    /// after taking it for the resumed run to repeat this one's iterations.
+    /// A snapshot to resume from: a run resumed from it repeats this one's
+    /// iterations bit for bit (it carries where the kept factorization was
+    /// formed, and the resumed run refactors there).
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
             energy_reference: self.integrator.energy_reference(),
             subdivision: self.integrator.subdivision(),
+            factorization: self.integrator.factorization_origin(),
             ..self.progress.clone()
         }
     }
 
-    /// Drops the kept factorization (a resumed run starts without one).
+    /// Drops the kept factorization: the next step refactors (a run that
+    /// does so no longer repeats an uninterrupted one's last bits).
     pub fn refresh_factorization(&mut self) {
         self.integrator.refresh_factorization();
     }
 
-    /// A checkpoint: the snapshot to resume from, with the kept
-    /// factorization dropped so that this run and one resumed from the
-    /// snapshot repeat the same iterations, bit for bit.
+    /// A checkpoint: the snapshot to resume from. The run goes on as it
+    /// would without one, and a run resumed from it repeats the same
+    /// iterations, bit for bit: results do not depend on how often a run
+    /// checkpoints.
     pub fn checkpoint(&mut self) -> Snapshot {
-        let snapshot = self.snapshot();
-        self.refresh_factorization();
-        snapshot
+        self.snapshot()
     }
 }

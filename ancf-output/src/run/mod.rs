@@ -451,9 +451,9 @@ fn run_dynamic(
     let bar = progress::Bar::new(n_steps as u64, quiet || !std::io::stderr().is_terminal());
     bar.set_position(done as u64);
     let snapshot_every = (n_steps / 8).max(1);
-    // Checkpoints drop the kept factorization (a resumed run starts
-    // without one), which changes the iterations' last bits: a run in
-    // memory does so too, to compute what the same run with files would.
+    // A checkpoint carries where the kept factorization was formed, so a
+    // resumed run refactors there and results do not depend on how often
+    // a run checkpoints.
     let checkpoint_every = scene.output.checkpoint_every;
     summary.status = RunStatus::Completed;
     summary.message = format!("{}{n_steps} steps of {h} s", p.message);
@@ -540,7 +540,6 @@ fn run_dynamic(
         }
         let time = state.time;
         if checkpoint_every > 0 && k % checkpoint_every == 0 && k < n_steps {
-            // The resumed run starts without a factorization: so does this one.
             p.sim = sim.checkpoint();
             if let Some(f) = files.as_mut() {
                 f.checkpoint(scene, &mut p)?;

@@ -19,7 +19,7 @@ pub use energies::Energies;
 pub use error::{Matrix, StepError};
 pub use predictor::predict;
 pub use settings::{DEFAULT_SPECTRAL_RADIUS, DynamicSettings, MAX_STEPS, NewtonKind};
-pub use state::{PreviousStep, State};
+pub use state::{FactorizationOrigin, PreviousStep, State};
 pub use step_info::{SUBDIVISION_HOLD, StepInfo, Subdivision};
 
 use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values};
@@ -48,6 +48,8 @@ pub struct Integrator {
     solver: SparseSolver,
     /// Step size of the current factorization, if it is valid for reuse.
     factored_for: Option<f64>,
+    /// Where that factorization was formed (kept for checkpoints).
+    factored_at: Option<FactorizationOrigin>,
     /// How finely steps start, after the last cuts (see [`Integrator::step`]).
     subdivision: Subdivision,
     /// The external force's norm on the unknowns (N; a residual scale,
@@ -96,6 +98,7 @@ impl Integrator {
             mass,
             solver,
             factored_for: None,
+            factored_at: None,
             subdivision: Subdivision::default(),
             ext_norm: norm(&model.gather(forces.external())),
             roundoff: model.roundoff_force(),
@@ -176,11 +179,56 @@ impl Integrator {
         &self.initial_reactions
     }
 
-    /// Drop the kept factorization: the next step refactors. Checkpointed
-    /// runs call it after every checkpoint, so a resumed run (which starts
-    /// without a factorization) repeats the same iterations, bit for bit.
+    /// Drop the kept factorization: the next step refactors.
     pub fn refresh_factorization(&mut self) {
         self.factored_for = None;
+    }
+
+    /// Where the kept factorization was formed (`None` without a valid one),
+    /// for checkpoints.
+    pub fn factorization_origin(&self) -> Option<FactorizationOrigin> {
+        self.factored_for.and(self.factored_at.clone())
+    }
+
+    /// Refactor the Newton matrix where `origin` says (a checkpoint's), so
+    /// that the next steps repeat the checkpointed run's iterations.
+    pub fn restore_factorization(&mut self, origin: &FactorizationOrigin) -> Result<(), StepError> {
+        let model = Arc::clone(&self.model);
+        let FactorizationOrigin { state: s, a1, h } = origin;
+        let h = *h;
+        let AlphaParameters {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.params;
+        let symmetric = ForceSum::symmetric(&model);
+        let velocity_jacobian = ForceSum::velocity_dependent(&model);
+        let c_k = (1.0 - alpha_f) * beta * h * h;
+        let c_d = (1.0 - alpha_f) * gamma * h;
+        let (mut kq, mut kv) = (std::mem::take(&mut self.kq), std::mem::take(&mut self.kv));
+        clear_velocity_jacobian(&mut kv, velocity_jacobian);
+        let mut scratch = StepInfo::default();
+        self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut scratch);
+        newton_matrix(
+            path(),
+            &mut self.newton_matrix,
+            [&self.mass, &kq, &kv],
+            [1.0 - alpha_m, c_k, c_d],
+            velocity_jacobian,
+        );
+        (self.kq, self.kv) = (kq, kv);
+        let c_v = if velocity_jacobian { c_d } else { 0.0 };
+        (self.forces.coupling()).combined(&model, c_k, c_v, &mut self.coupled_blocks);
+        self.solver
+            .factorize_coupled(&self.newton_matrix, &self.coupled_blocks, symmetric)
+            .map_err(|error| StepError::Factorization {
+                matrix: Matrix::Newton,
+                error,
+            })?;
+        self.factored_for = Some(h);
+        self.factored_at = Some(origin.clone());
+        Ok(())
     }
 
     /// The energy guard's reference (start, scale), for checkpoints.
@@ -614,6 +662,11 @@ impl Integrator {
                     })?;
                 info.factorizations += 1;
                 self.factored_for = Some(h);
+                self.factored_at = Some(FactorizationOrigin {
+                    state: s.clone(),
+                    a1: a1.clone(),
+                    h,
+                });
                 fresh = true;
             } else {
                 fresh = self.settings.newton == NewtonKind::Full;

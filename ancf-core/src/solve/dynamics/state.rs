@@ -61,3 +61,17 @@ pub struct PreviousStep {
     /// The acceleration at its start.
     pub a: Vec<f64>,
 }
+
+/// Where the kept factorization of the Newton matrix was formed: the step's
+/// start state, the iterate a₁ of the Jacobian and the step h. A checkpoint
+/// carries it, so a resumed run refactors the same matrix and repeats the
+/// uninterrupted run's iterations bit for bit.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FactorizationOrigin {
+    /// The step's start.
+    pub state: State,
+    /// The iterate (full coordinates) the Jacobian was evaluated at.
+    pub a1: Vec<f64>,
+    /// The step, s.
+    pub h: f64,
+}

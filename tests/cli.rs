@@ -769,3 +769,67 @@ fn results_do_not_depend_on_checkpoint_every() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Killed with SIGKILL five times at different moments and resumed each
+/// time, a run that checkpoints every 37 steps ends with the outputs of an
+/// uninterrupted run, bit for bit.
+#[test]
+fn five_kills_and_resumes_end_as_an_uninterrupted_run() {
+    let dir = tmp("kills");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.3")
+        .replace(
+            "every = 50 ",
+            "every = 50\ncheckpoint_every = 37\nvtk = false ",
+        );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, scene).unwrap();
+    let (whole, killed) = (dir.join("whole"), dir.join("killed"));
+    assert!(run_quiet(&path, &whole).status().unwrap().success());
+    let resume = || {
+        let mut c = ancf();
+        c.args(["run", "--resume", killed.to_str().unwrap(), "--quiet"]);
+        c
+    };
+    for (round, wait_ms) in [15u64, 60, 25, 90, 40].into_iter().enumerate() {
+        let mut child = if round == 0 {
+            run_quiet(&path, &killed).spawn().unwrap()
+        } else {
+            resume().spawn().unwrap()
+        };
+        // A checkpoint must exist before the first kill (else nothing resumes).
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        while !killed.join("checkpoint.json").exists() {
+            assert!(std::time::Instant::now() < deadline, "no checkpoint");
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(wait_ms));
+        let _ = child.kill();
+        child.wait().unwrap();
+    }
+    let last = resume().output().unwrap();
+    assert!(
+        last.status.success(),
+        "{}",
+        String::from_utf8_lossy(&last.stderr)
+    );
+    for file in [
+        "timeseries.csv",
+        "rod_forces.csv",
+        "final_nodes.csv",
+        "supports.csv",
+    ] {
+        let (a, b) = (
+            std::fs::read(whole.join(file)).unwrap(),
+            std::fs::read(killed.join(file)).unwrap(),
+        );
+        assert!(a == b, "{file} differs after five kills");
+    }
+    let (mut sa, mut sb) = (summary(&whole), summary(&killed));
+    sa["wall_time_s"] = serde_json::Value::Null;
+    sb["wall_time_s"] = serde_json::Value::Null;
+    assert_eq!(sa, sb);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -448,6 +448,36 @@ pub struct ContactForces {
     pub touching: Vec<Option<f64>>,
 }
 
+impl ContactForces {
+    /// What a wire element's contact with one partner (pair `pair`) adds:
+    /// the pair touching (with its approach speed), the sample's totals,
+    /// the deepest point, and the element force `qe` at element `el`.
+    fn record(
+        &mut self,
+        pair: usize,
+        el: usize,
+        sample: &crate::forces::contact::ContactSample,
+        deepest: Option<crate::forces::contact::DeepestPoint>,
+        qe: &[f64; 24],
+    ) {
+        if let Some(t) = self.touching.get_mut(pair) {
+            *t = Some(sample.approach_speed);
+        }
+        self.total.accumulate(sample);
+        if let Some(dp) = deepest
+            && self
+                .deepest
+                .is_none_or(|(_, d)| dp.penetration > d.penetration)
+        {
+            self.deepest = Some((el, dp));
+        }
+        let base = NODE_DOFS * el;
+        for i in 0..24 {
+            self.force[base + i] += qe[i];
+        }
+    }
+}
+
 /// Contact at (q, v): the forces, −∂Q/∂q added to `jac_q` and −∂Q/∂v added
 /// to `jac_v` (pattern slots).
 pub fn assemble_contact(
@@ -558,23 +588,10 @@ pub fn assemble_contact_reusing(
             if sample.active == 0 {
                 continue;
             }
-            if let Some(t) = out.touching.get_mut(pair) {
-                *t = Some(sample.approach_speed);
-            }
-            out.total.accumulate(&sample);
+            out.record(pair, el, &sample, beam_out.deepest, &beam_out.q);
             for c in 0..3 {
+                // The member carries the opposite of the force on the wire.
                 out.member_forces[mi][c] -= sample.force[c];
-            }
-            if let Some(dp) = beam_out.deepest
-                && out
-                    .deepest
-                    .is_none_or(|(_, d)| dp.penetration > d.penetration)
-            {
-                out.deepest = Some((el, dp));
-            }
-            let base = NODE_DOFS * el;
-            for i in 0..24 {
-                out.force[base + i] += beam_out.q[i];
             }
             for part in &beam_out.parts {
                 let base = NODE_DOFS * part.el;
@@ -631,24 +648,10 @@ pub fn assemble_contact_reusing(
         if sample.active == 0 {
             continue;
         }
-        if let Some(t) = out.touching.get_mut(pair) {
-            *t = Some(sample.approach_speed);
-        }
-        out.total.accumulate(&sample);
+        out.record(pair, el, &sample, dp, &qe);
         for c in 0..3 {
             // The rod carries the opposite of the force on the wire.
             out.rod_forces[ri][c] -= sample.force[c];
-        }
-        if let Some(dp) = dp
-            && out
-                .deepest
-                .is_none_or(|(_, d)| dp.penetration > d.penetration)
-        {
-            out.deepest = Some((el, dp));
-        }
-        let base = NODE_DOFS * el;
-        for i in 0..24 {
-            out.force[base + i] += qe[i];
         }
         if let (Some(values), Some(k)) = (jac_q.as_deref_mut(), kq.as_mut()) {
             pattern.add_element(values, el, k);

@@ -409,33 +409,28 @@ mod tests {
             }
             coupling.push(CoupledBlock { rows, cols, values });
         }
+        // Solve (matrix) x = b for a known x with `lu`: the largest error.
+        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
+        let error = |lu: &mut SeparatedLu, matrix: &[f64]| {
+            let mut b: Vec<f64> = (0..n)
+                .map(|r| (0..n).map(|c| matrix[r * n + c] * x[c]).sum())
+                .collect();
+            lu.solve_in_place(&mut b);
+            b.iter()
+                .zip(&x)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max)
+        };
         let mut lu = SeparatedLu::new(blocks);
         lu.factorize(&a.values, &coupling).expect("regular");
-        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
-        let mut b: Vec<f64> = (0..n)
-            .map(|r| (0..n).map(|c| full[r * n + c] * x[c]).sum())
-            .collect();
-        lu.solve_in_place(&mut b);
-        let err = b
-            .iter()
-            .zip(&x)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
+        let err = error(&mut lu, &full);
         assert!(err < 1e-12, "{err:e}");
         // Without coupling: the segments alone (no separator).
         let mut plain = SeparatedLu::new(
             BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).expect("block tridiagonal"),
         );
         plain.factorize(&a.values, &[]).expect("regular");
-        let mut b: Vec<f64> = (0..n)
-            .map(|r| (0..n).map(|c| a.dense[r * n + c] * x[c]).sum())
-            .collect();
-        plain.solve_in_place(&mut b);
-        let err = b
-            .iter()
-            .zip(&x)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
+        let err = error(&mut plain, &a.dense);
         assert!(err < 1e-12, "{err:e}");
     }
 }

@@ -153,29 +153,10 @@ impl ContactEvaluator {
         let geometry = &self.geometry[group];
         let l = geometry.length;
         let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0 + margin;
-        // First a sphere around the centerline's Bézier control points
-        // r₁, r₁ + l/3 r₁ₓ, r₂ − l/3 r₂ₓ, r₂ (the cubic lies in their hull):
-        // if even that is out of reach, so is every sample below (the same
-        // answer, for a fraction of the work; the samples were 10 % of the
-        // impact run, perf).
-        let bezier: [[f64; 3]; 4] = std::array::from_fn(|k| {
-            std::array::from_fn(|c| match k {
-                0 => e[c],
-                1 => e[c] + l / 3.0 * e[3 + c],
-                2 => e[12 + c] - l / 3.0 * e[15 + c],
-                _ => e[12 + c],
-            })
-        });
-        let centre: [f64; 3] =
-            std::array::from_fn(|c| 0.25 * bezier.iter().map(|b| b[c]).sum::<f64>());
-        let radius = bezier
-            .iter()
-            .map(|b| {
-                let d = [b[0] - centre[0], b[1] - centre[1], b[2] - centre[2]];
-                dot(d, d)
-            })
-            .fold(0.0, f64::max)
-            .sqrt();
+        // First a sphere holding the centerline: if even that is out of
+        // reach, so is every sample below (the same answer, for a fraction
+        // of the work; the samples were 10 % of the impact run, perf).
+        let (centre, radius) = beam::centerline_sphere(e, l);
         // A point's coordinate along the rod's axis from its centre and its
         // distance from the axis (m).
         let axis_coordinates = |p: &[f64; 3]| {

@@ -193,31 +193,45 @@ impl Integrator {
     /// Refactor the Newton matrix where `origin` says (a checkpoint's), so
     /// that the next steps repeat the checkpointed run's iterations.
     pub fn restore_factorization(&mut self, origin: &FactorizationOrigin) -> Result<(), StepError> {
+        let velocity_jacobian = ForceSum::velocity_dependent(&self.model);
+        let (mut kq, mut kv) = (std::mem::take(&mut self.kq), std::mem::take(&mut self.kv));
+        clear_velocity_jacobian(&mut kv, velocity_jacobian);
+        let mut scratch = StepInfo::default();
+        let (s, a1, h) = (&origin.state, &origin.a1, origin.h);
+        self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut scratch);
+        let factored = self.factor_newton_matrix(&kq, &kv, origin.clone());
+        (self.kq, self.kv) = (kq, kv);
+        factored
+    }
+
+    /// Factor the Newton matrix (1 − α_m) M + c_k K_q + c_d K_v, with the
+    /// coupling blocks of the same evaluation, from the Jacobians `kq`, `kv`
+    /// evaluated where `origin` says, and keep it for steps of `origin.h`.
+    fn factor_newton_matrix(
+        &mut self,
+        kq: &[f64],
+        kv: &[f64],
+        origin: FactorizationOrigin,
+    ) -> Result<(), StepError> {
         let model = Arc::clone(&self.model);
-        let FactorizationOrigin { state: s, a1, h } = origin;
-        let h = *h;
         let AlphaParameters {
             alpha_m,
             alpha_f,
             beta,
             gamma,
         } = self.params;
+        let h = origin.h;
         let symmetric = ForceSum::symmetric(&model);
         let velocity_jacobian = ForceSum::velocity_dependent(&model);
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
-        let (mut kq, mut kv) = (std::mem::take(&mut self.kq), std::mem::take(&mut self.kv));
-        clear_velocity_jacobian(&mut kv, velocity_jacobian);
-        let mut scratch = StepInfo::default();
-        self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut scratch);
         newton_matrix(
             path(),
             &mut self.newton_matrix,
-            [&self.mass, &kq, &kv],
+            [&self.mass, kq, kv],
             [1.0 - alpha_m, c_k, c_d],
             velocity_jacobian,
         );
-        (self.kq, self.kv) = (kq, kv);
         let c_v = if velocity_jacobian { c_d } else { 0.0 };
         (self.forces.coupling()).combined(&model, c_k, c_v, &mut self.coupled_blocks);
         self.solver
@@ -227,7 +241,7 @@ impl Integrator {
                 error,
             })?;
         self.factored_for = Some(h);
-        self.factored_at = Some(origin.clone());
+        self.factored_at = Some(origin);
         Ok(())
     }
 
@@ -536,18 +550,9 @@ impl Integrator {
         kv: &mut [f64],
         info: &mut StepInfo,
     ) -> Result<State, StepError> {
-        let AlphaParameters {
-            alpha_m,
-            alpha_f,
-            beta,
-            gamma,
-        } = self.params;
         let model = Arc::clone(&self.model);
         let model = &*model;
-        let symmetric = ForceSum::symmetric(model);
         let velocity_jacobian = ForceSum::velocity_dependent(model);
-        let c_k = (1.0 - alpha_f) * beta * h * h;
-        let c_d = (1.0 - alpha_f) * gamma * h;
         // Predictor (see `predict`); `base` is the last accepted iterate.
         let mut a1 = predict(model, s, h, self.settings.spectral_radius);
         let mut base_a1 = a1.clone();
@@ -645,28 +650,13 @@ impl Integrator {
                     let mut scratch = StepInfo::default();
                     self.residual(s, h, &a1, Some((&mut *kq, &mut *kv)), &mut scratch);
                 }
-                newton_matrix(
-                    path(),
-                    &mut self.newton_matrix,
-                    [&self.mass, kq, kv],
-                    [1.0 - alpha_m, c_k, c_d],
-                    velocity_jacobian,
-                );
-                let c_v = if velocity_jacobian { c_d } else { 0.0 };
-                (self.forces.coupling()).combined(model, c_k, c_v, &mut self.coupled_blocks);
-                self.solver
-                    .factorize_coupled(&self.newton_matrix, &self.coupled_blocks, symmetric)
-                    .map_err(|error| StepError::Factorization {
-                        matrix: Matrix::Newton,
-                        error,
-                    })?;
-                info.factorizations += 1;
-                self.factored_for = Some(h);
-                self.factored_at = Some(FactorizationOrigin {
+                let origin = FactorizationOrigin {
                     state: s.clone(),
                     a1: a1.clone(),
                     h,
-                });
+                };
+                self.factor_newton_matrix(kq, kv, origin)?;
+                info.factorizations += 1;
                 fresh = true;
             } else {
                 fresh = self.settings.newton == NewtonKind::Full;

@@ -132,7 +132,8 @@ fn frictionless_impact_on_an_elastic_member_conserves_energy() {
 }
 
 /// A member 1e4 times stiffer than steel is the rigid rod: the first
-/// impact's CFC 60 peak and impulse agree with the rod's within 1 %.
+/// impact's CFC 60 peak and impulse agree with the rod's within 0.01 %
+/// (measured: 1e-6; the bar gives way by about 1e-4 of the penetration).
 #[test]
 fn a_very_stiff_member_gives_the_rigid_rods_first_impact() {
     let rod_scene = Scene::from_toml(&impact_text()).unwrap();
@@ -144,7 +145,7 @@ fn a_very_stiff_member_gives_the_rigid_rods_first_impact() {
     let peak = b.first_impact_filtered_peak / a.first_impact_filtered_peak - 1.0;
     let impulse = b.first_impact_impulse / a.first_impact_impulse - 1.0;
     assert!(
-        peak.abs() < 0.01 && impulse.abs() < 0.01,
+        peak.abs() < 1e-4 && impulse.abs() < 1e-4,
         "member {b:?} against rod {a:?}: peak {peak:+.4}, impulse {impulse:+.4}"
     );
 }

@@ -124,7 +124,7 @@ fn newton(
     solver: &mut SparseSolver,
     q: &mut Vec<f64>,
     settings: &StaticSettings,
-    roundoff: f64,
+    roundoff: &[f64],
 ) -> Result<(usize, f64), String> {
     let mut it = 0;
     loop {
@@ -136,7 +136,7 @@ fn newton(
                 "the residual is not finite (NaN or overflow in the element forces)".into(),
             );
         }
-        let at_roundoff = r.iter().all(|v| v.abs() <= roundoff);
+        let at_roundoff = super::at_roundoff(&r, roundoff);
         if it > 0 && (rn <= settings.residual_tolerance * scale || at_roundoff) {
             return Ok((it, u));
         }
@@ -199,7 +199,7 @@ pub fn solve_static_from(
         last_converged: q0.clone(),
         iterations: vec![],
     })?;
-    let roundoff = model.roundoff_force();
+    let roundoff = model.roundoff_forces();
     let mut q = q0;
     let mut iterations = Vec::new();
     let base = 1.0 / settings.load_steps.max(1) as f64;
@@ -215,7 +215,7 @@ pub fn solve_static_from(
             &mut solver,
             &mut trial,
             settings,
-            roundoff,
+            &roundoff,
         ) {
             Ok((its, u)) => {
                 iterations.push(its);

@@ -31,7 +31,7 @@ use crate::solve::reactions::support_forces;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
-use vectors::{clear_velocity_jacobian, midpoint, newton_matrix, norm, norm_inf, sum_of_squares};
+use vectors::{clear_velocity_jacobian, midpoint, newton_matrix, norm, sum_of_squares};
 use workspace::{CANDIDATE_MARGIN, Workspace, same_bits};
 
 /// The integrator: owns the model's force sum (with the pattern), the
@@ -55,8 +55,9 @@ pub struct Integrator {
     /// The external force's norm on the unknowns (N; a residual scale,
     /// constant, so computed once).
     ext_norm: f64,
-    /// Residual entries below this are round-off (N), see [`Model::roundoff_force`].
-    roundoff: f64,
+    /// Residual entries below these are round-off (N), one per unknown, see
+    /// [`Model::roundoff_forces`].
+    roundoff: Vec<f64>,
     /// Total + dissipated energy at the initial state (J), for the energy guard.
     energy_start: f64,
     /// Largest kinetic + strain + |potentials| + contact seen so far (J).
@@ -101,7 +102,7 @@ impl Integrator {
             factored_at: None,
             subdivision: Subdivision::default(),
             ext_norm: norm(&model.gather(forces.external())),
-            roundoff: model.roundoff_force(),
+            roundoff: model.roundoff_forces(),
             energy_start: 0.0,
             energy_scale: 0.0,
             energy_floor: match model.gravity_acceleration() {
@@ -584,7 +585,8 @@ impl Integrator {
             let rn = norm(&r);
             if iterations > 0
                 && rn.is_finite()
-                && (rn <= self.settings.tolerance * scale || norm_inf(&r) <= self.roundoff)
+                && (rn <= self.settings.tolerance * scale
+                    || crate::solve::at_roundoff(&r, &self.roundoff))
             {
                 if self.settings.newton == NewtonKind::Modified && iterations > 6 {
                     self.factored_for = None;

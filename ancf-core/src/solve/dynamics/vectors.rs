@@ -81,17 +81,3 @@ pub(super) fn norm(v: &[f64]) -> f64 {
 pub(super) fn sum_of_squares(v: &[f64]) -> f64 {
     dot::<Plain>(v, v)
 }
-
-/// max |vᵢ| in eight interleaved partial maxima (exact in any order).
-pub(super) fn norm_inf(v: &[f64]) -> f64 {
-    const LANES: usize = 8;
-    let mut acc = [0.0f64; LANES];
-    let chunks = v.chunks_exact(LANES);
-    let tail = chunks.remainder();
-    for c in chunks {
-        for (a, x) in acc.iter_mut().zip(c) {
-            *a = a.max(x.abs());
-        }
-    }
-    tail.iter().chain(&acc).fold(0.0, |m, x| m.max(x.abs()))
-}

@@ -54,9 +54,18 @@ enum Command {
         /// Continue the run whose outputs (and checkpoint.json) are in DIR.
         #[arg(long, value_name = "DIR", conflicts_with = "scene")]
         resume: Option<PathBuf>,
+        /// Fail (exit code 3) on any warning, before the run or after it,
+        /// and on many step cuts.
+        #[arg(long)]
+        strict: bool,
     },
     /// Validate a scene without running it.
-    Check { scene: PathBuf },
+    Check {
+        scene: PathBuf,
+        /// Fail (exit code 3) when the scene has warnings.
+        #[arg(long)]
+        strict: bool,
+    },
     /// Measure element kernels, time steps, parallel speed-up and the impact
     /// scene's real-time factor (release build; run from the repository root).
     Bench {
@@ -125,6 +134,10 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Refuse to start when a variant has warnings; fail (exit code 3)
+        /// when a variant ends with warnings or many step cuts.
+        #[arg(long)]
+        strict: bool,
     },
     /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2).
     Quadrature {
@@ -146,6 +159,15 @@ fn load(path: &std::path::Path) -> Result<Scene, ExitCode> {
     Scene::load(path).map_err(|e| {
         eprintln!("error: {e}");
         ExitCode::from(2)
+    })
+}
+
+/// Under `--strict`, a scene with warnings is not run: exit code 3.
+fn strict_refusal(strict: bool, scene: &Scene) -> Option<ExitCode> {
+    let n = scene.warnings().len();
+    (strict && n > 0).then(|| {
+        eprintln!("error: --strict: the scene has {n} warning(s) above");
+        ExitCode::from(3)
     })
 }
 
@@ -172,7 +194,7 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     match cli.command {
-        Command::Check { scene } => match load(&scene) {
+        Command::Check { scene, strict } => match load(&scene) {
             Ok(s) => {
                 println!(
                     "{}: valid ({} elements, {} unknowns, {})",
@@ -182,7 +204,7 @@ fn main() -> ExitCode {
                     s.model.element(0).kernel_path()
                 );
                 print_warnings(&s);
-                ExitCode::SUCCESS
+                strict_refusal(strict, &s).unwrap_or(ExitCode::SUCCESS)
             }
             Err(code) => code,
         },
@@ -191,9 +213,11 @@ fn main() -> ExitCode {
             out,
             quiet,
             resume,
+            strict,
         } => {
             // Ctrl-C ends the run after the current step, keeping everything written so far.
             let cancel = stop_on_interrupt("an interrupt will stop the run without a summary");
+            let mut printed = 0;
             let (result, out) = match (resume, scene) {
                 (Some(dir), _) => {
                     if !quiet {
@@ -219,6 +243,10 @@ fn main() -> ExitCode {
                     }
                     // Before the work starts, whether quiet or not.
                     print_warnings(&s);
+                    printed = s.warnings().len();
+                    if let Some(code) = strict_refusal(strict, &s) {
+                        return code;
+                    }
                     (
                         run_scene(
                             &s,
@@ -247,6 +275,19 @@ fn main() -> ExitCode {
                     if let Some(note) = ancf::run::step_cuts_note(summary.step_cuts, summary.steps)
                     {
                         eprintln!("note: {note}");
+                    }
+                    let findings = ancf::run::strict_findings(&summary);
+                    // Those found by the run (the scene's own were printed before it).
+                    for w in summary.warnings.iter().skip(printed) {
+                        eprintln!("warning: {w}");
+                    }
+                    if strict && !findings.is_empty() {
+                        eprintln!(
+                            "error: --strict: the run completed with {} finding(s) above; outputs in {}",
+                            findings.len(),
+                            out.display()
+                        );
+                        return ExitCode::from(3);
                     }
                     ExitCode::SUCCESS
                 }
@@ -307,6 +348,7 @@ fn main() -> ExitCode {
             max_parallel,
             collect,
             quiet,
+            strict,
         } => sweep_command(
             sweep,
             out,
@@ -321,6 +363,7 @@ fn main() -> ExitCode {
             },
             collect,
             quiet,
+            strict,
         ),
         Command::Quadrature {
             inner,
@@ -440,6 +483,7 @@ fn sweep_command(
     slurm: ancf::sweep::file::SlurmSpec,
     collect: Option<PathBuf>,
     quiet: bool,
+    strict: bool,
 ) -> ExitCode {
     use ancf::sweep::{Executor, SweepEnd, SweepOptions};
     if jobs == Some(0) {
@@ -466,7 +510,7 @@ fn sweep_command(
     if let Some(dir) = collect {
         ancf::sweep::slurm::refresh_states(&dir);
         return match ancf::sweep::results::collect(&dir) {
-            Ok(end) => sweep_exit(&dir, end),
+            Ok(end) => sweep_exit(&dir, end, strict),
             Err(e) => {
                 eprintln!("error: {e}");
                 ExitCode::from(2)
@@ -483,6 +527,7 @@ fn sweep_command(
         submit_only,
         slurm,
         quiet,
+        strict,
     };
     let sweep = sweep.expect("clap requires a sweep file without --collect");
     match ancf::sweep::run(&sweep, &opts) {
@@ -493,7 +538,7 @@ fn sweep_command(
             );
             ExitCode::SUCCESS
         }
-        Ok(end) => sweep_exit(&out, end),
+        Ok(end) => sweep_exit(&out, end, strict),
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
@@ -501,13 +546,29 @@ fn sweep_command(
     }
 }
 
-fn sweep_exit(out: &std::path::Path, end: ancf::sweep::SweepEnd) -> ExitCode {
+fn sweep_exit(out: &std::path::Path, end: ancf::sweep::SweepEnd, strict: bool) -> ExitCode {
     use ancf::sweep::SweepEnd;
     let table = out.join("results.csv");
     match end {
-        SweepEnd::Completed => {
+        SweepEnd::Completed { warned } => {
             println!("completed: every variant; results in {}", table.display());
+            if warned > 0 {
+                eprintln!(
+                    "warning: {warned} variant(s) ended with warnings or many step cuts (column warnings and step_cuts of {})",
+                    table.display()
+                );
+                if strict {
+                    eprintln!("error: --strict: {warned} variant(s) with findings");
+                    return ExitCode::from(3);
+                }
+            }
             ExitCode::SUCCESS
+        }
+        SweepEnd::Refused { warned } => {
+            eprintln!(
+                "error: --strict: {warned} variant(s) have warnings (above); nothing was run"
+            );
+            ExitCode::from(3)
         }
         SweepEnd::Incomplete { failed, missing } => {
             eprintln!(

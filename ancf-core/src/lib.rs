@@ -64,6 +64,7 @@ pub mod loads;
 pub mod material;
 pub mod math;
 pub mod model;
+pub mod plausibility;
 #[cfg(feature = "scene")]
 pub mod scene;
 pub mod section;

@@ -171,11 +171,23 @@ fn the_core_module_graph_has_no_cycle() {
     }
     // The stages in an order where each imports only earlier ones: the
     // model describes, forces evaluate into linalg's containers, solvers
-    // drive both, loads reduce what they return, a scene maps a file onto
-    // the model and the settings.
+    // drive both, loads reduce what they return, plausibility judges
+    // constants and strains, a scene maps a file onto the model and the
+    // settings.
     let order = [
-        "math", "check", "linalg", "material", "section", "element", "model", "forces", "loads",
-        "solve", "scene", "error",
+        "math",
+        "check",
+        "linalg",
+        "material",
+        "section",
+        "element",
+        "model",
+        "forces",
+        "loads",
+        "solve",
+        "plausibility",
+        "scene",
+        "error",
     ];
     let rank = |m: &str| order.iter().position(|o| *o == m);
     for (module, imports) in &graph {

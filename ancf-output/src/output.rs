@@ -111,6 +111,17 @@ pub struct BeamSummary {
     pub contact: ancf_core::loads::rod_load::RodLoad,
 }
 
+/// A beam's largest strains over the run (the wire first, then each
+/// member): the centerline's and each layer's outer fibres' largest
+/// |E_xx| with time and place, and the largest stretch of the whole beam.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct StrainSummary {
+    /// "wire" or the member's name.
+    pub beam: String,
+    #[serde(flatten)]
+    pub record: ancf_core::loads::strain_record::StrainRecord,
+}
+
 /// How close the wire came to a clearance zone (`[[clearance]]`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct ClearanceSummary {
@@ -200,9 +211,12 @@ pub struct Summary {
     /// Per clearance zone, in the scene's order (absent without any).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub clearance: Vec<ClearanceSummary>,
+    /// Per beam, the wire first: its largest strains over the run.
+    pub strains: Vec<StrainSummary>,
     /// What the scene will likely do badly, known before the run
-    /// ([`ancf_core::scene::Scene::warnings`]); absent when there is
-    /// nothing to say.
+    /// ([`ancf_core::scene::Scene::warnings`]), and what the run showed
+    /// to be out of range (energy gained, strains beyond a law's range,
+    /// [`ancf_core::plausibility`]); absent when there is nothing to say.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
     /// The program that computed it (version, commit, compiler, kernels).

@@ -724,6 +724,7 @@ impl Simulation {
             let _ = err.value(py).setattr("field", builder_field(&e));
             err
         })?;
+        let implausible = ancf_core::plausibility::model_warnings(&model);
         let scene = CoreScene {
             source: String::new(),
             model,
@@ -740,6 +741,7 @@ impl Simulation {
                 cfc: ancf_core::loads::rod_load::DEFAULT_CFC,
             },
             clearance: Vec::new(),
+            implausible,
         };
         let model = scene.model.clone();
         let sim = py
@@ -1036,8 +1038,13 @@ impl Simulation {
             }
             d.set_item("clearance", zones)?;
         }
+        let strains = serde_json::to_string(&self.observed.strain_summary(&self.scene))
+            .expect("strains serialize");
+        let json = PyModule::import(py, "json")?;
+        d.set_item("strains", json.call_method1("loads", (strains,))?)?;
         // As summary.json: present only when there is something to say.
-        let warnings = self.scene.warnings();
+        let mut warnings = self.scene.warnings();
+        warnings.extend(self.observed.strain_warnings(&self.scene));
         if !warnings.is_empty() {
             d.set_item("warnings", warnings)?;
         }

@@ -39,6 +39,8 @@ pub struct SweepOptions {
     /// over the sweep file's `[slurm]`.
     pub slurm: file::SlurmSpec,
     pub quiet: bool,
+    /// Refuse variants with warnings before any runs (`--strict`).
+    pub strict: bool,
     /// Cancelled (Ctrl-C, SIGTERM): local variants are stopped with a
     /// checkpoint, a Slurm job is no longer followed.
     pub cancel: ancf_core::solve::cancel::CancelToken,
@@ -166,8 +168,11 @@ pub fn run_command(out: &Path, id: &str) -> Vec<String> {
 /// How a sweep ended.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum SweepEnd {
-    /// Every variant completed.
-    Completed,
+    /// Every variant completed; `warned` of them with warnings or many
+    /// step cuts.
+    Completed { warned: usize },
+    /// `--strict`: some variants have warnings; nothing was run.
+    Refused { warned: usize },
     /// Some variants failed or are missing (their status is in results.csv).
     Incomplete { failed: usize, missing: usize },
     /// Ctrl-C: finished runs kept, interrupted ones checkpointed.
@@ -202,10 +207,15 @@ pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
         );
     }
     // Before the work starts, whether quiet or not.
+    let mut warned = 0;
     for v in sweep.variants.iter().filter(|v| todo.contains(&v.id)) {
         for w in &v.warnings {
             eprintln!("warning: {}: {w}", v.id);
         }
+        warned += usize::from(!v.warnings.is_empty());
+    }
+    if opts.strict && warned > 0 {
+        return Ok(SweepEnd::Refused { warned });
     }
     let interrupted = match opts.executor {
         Executor::Local => local::run(&out, &todo, opts.jobs, opts.quiet, &opts.cancel)?,

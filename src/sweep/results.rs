@@ -38,7 +38,10 @@ pub struct Row {
     pub max_drift: Option<f64>,
     /// Step attempts rejected and cut in halves (summary.json `step_cuts`).
     pub step_cuts: Option<u64>,
-    /// What the run was warned of before it started (summary.json `warnings`).
+    /// Steps completed (summary.json `steps`).
+    pub steps: Option<u64>,
+    /// What the run was warned of, before it started and after it ended
+    /// (summary.json `warnings`).
     pub warnings: Vec<String>,
 }
 
@@ -83,6 +86,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             tip: None,
             max_drift: None,
             step_cuts: None,
+            steps: None,
             warnings: Vec::new(),
         };
     };
@@ -115,6 +119,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         tip,
         max_drift: number(&s["energy"]["max_drift"]),
         step_cuts: s["step_cuts"].as_u64(),
+        steps: s["steps"].as_u64(),
         warnings: s["warnings"]
             .as_array()
             .map(|w| {
@@ -214,8 +219,18 @@ pub fn collect(out: &Path) -> Result<SweepEnd, String> {
         .filter(|r| r.status != "completed" && r.status != "missing")
         .count();
     let missing = rows.iter().filter(|r| r.status == "missing").count();
+    let warned = rows
+        .iter()
+        .filter(|r| {
+            let cuts = r
+                .step_cuts
+                .zip(r.steps)
+                .is_some_and(|(c, n)| ancf_output::run::many_step_cuts(c as usize, n as usize));
+            !r.warnings.is_empty() || cuts
+        })
+        .count();
     Ok(if failed == 0 && missing == 0 {
-        SweepEnd::Completed
+        SweepEnd::Completed { warned }
     } else {
         SweepEnd::Incomplete { failed, missing }
     })

@@ -102,6 +102,9 @@ pub struct Scene {
     /// Regions the wire must stay out of (`[[clearance]]`): a run reports
     /// how close it came to each.
     pub clearance: Vec<ClearanceZone>,
+    /// Constants outside the ranges of real materials, by field
+    /// ([`crate::plausibility::material_warnings`]).
+    pub implausible: Vec<String>,
 }
 
 /// A scene that cannot be run, with the field at fault.
@@ -188,13 +191,13 @@ impl Scene {
             .reduce(f64::min)
     }
 
-    /// What a valid scene will likely do badly, said before it runs: each
-    /// rod whose line-law contact the time step does not resolve, with the
-    /// step that would.
+    /// What a valid scene will likely do badly, said before it runs:
+    /// material constants outside the ranges of real materials, and each
+    /// contact the time step does not resolve, with the step that would.
     pub fn warnings(&self) -> Vec<String> {
-        self.unresolved_contacts()
-            .iter()
-            .map(ToString::to_string)
+        let unresolved = self.unresolved_contacts();
+        (self.implausible.iter().cloned())
+            .chain(unresolved.iter().map(ToString::to_string))
             .collect()
     }
 
@@ -409,12 +412,18 @@ impl Scene {
             return Err(err("support", message));
         }
         let clearance = clearance_zones(&f.clearance)?;
+        let implausible = (materials.iter().enumerate())
+            .flat_map(|(i, (_, m))| {
+                crate::plausibility::material_warnings(&format!("material[{i}]"), m)
+            })
+            .collect();
         Ok(Scene {
             source: String::new(),
             model,
             analysis,
             output,
             clearance,
+            implausible,
         })
     }
 }

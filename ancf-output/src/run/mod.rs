@@ -186,7 +186,7 @@ pub fn energy_gain_warning(gain: f64, in_play: f64) -> Option<String> {
 pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
     (step_cuts > 0).then(|| {
         let mut note = format!("{step_cuts} step attempt(s) rejected and cut in halves");
-        if 100 * step_cuts >= steps {
+        if many_step_cuts(step_cuts, steps) {
             note.push_str(
                 " (so many that the loads depend on which sub-steps passed: reduce \
                  analysis.time_step until the cuts stop)",
@@ -194,6 +194,26 @@ pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
         }
         note
     })
+}
+
+/// Whether `step_cuts` rejected attempts in `steps` steps are so many (one
+/// step in a hundred or more) that the guards, not the time step, set the
+/// path.
+pub fn many_step_cuts(step_cuts: usize, steps: usize) -> bool {
+    step_cuts > 0 && 100 * step_cuts >= steps
+}
+
+/// What `--strict` fails a completed run for: each warning of its summary
+/// (before and after the run) and many step cuts ([`many_step_cuts`]).
+pub fn strict_findings(summary: &Summary) -> Vec<String> {
+    let mut findings = summary.warnings.clone();
+    if many_step_cuts(summary.step_cuts, summary.steps) {
+        findings.push(format!(
+            "{} step attempts rejected in {} steps: reduce analysis.time_step until the cuts stop",
+            summary.step_cuts, summary.steps
+        ));
+    }
+    findings
 }
 
 /// Continue the run checkpointed in `dir` (`ancf run --resume DIR`): the

@@ -1,11 +1,12 @@
 //! What a run observes at every state besides the simulation's own records:
-//! how close the wire came to each clearance zone, and each frame member's
-//! largest internal loads. The program's run and the Python `Simulation`
+//! how close the wire came to each clearance zone, each frame member's
+//! largest internal loads, and each beam's largest strains. The program's run and the Python `Simulation`
 //! both keep one, so their summaries agree.
 
-use crate::output::{BeamSummary, ClearanceSummary, Summary};
+use crate::output::{BeamSummary, ClearanceSummary, StrainSummary, Summary};
 use ancf_core::loads::clearance_record::ClearanceRecord;
 use ancf_core::loads::member_load::MemberRecord;
+use ancf_core::loads::strain_record::StrainRecord;
 use ancf_core::scene::Scene;
 
 /// The records so far, one per clearance zone and one per frame member, in
@@ -22,6 +23,9 @@ pub struct Observations {
     /// When the wire first touched each frame member (s; `None`: not yet).
     #[serde(default)]
     pub member_first_contact: Vec<Option<f64>>,
+    /// Each beam's largest strains, the wire first.
+    #[serde(default)]
+    pub strains: Vec<StrainRecord>,
 }
 
 impl Observations {
@@ -41,6 +45,8 @@ impl Observations {
             .resize(scene.model.beams.len() - 1, MemberRecord::default());
         self.member_first_contact
             .resize(scene.model.beams.len() - 1, None);
+        self.strains
+            .resize(scene.model.beams.len(), StrainRecord::default());
     }
 
     /// Observe `scene`'s model at coordinates `q`, time `t` (s), the wire's
@@ -63,6 +69,33 @@ impl Observations {
         for ((beam, record), first) in members.zip(&self.member_first_contact) {
             record.observe(model, beam, q, t, *first);
         }
+        for (beam, record) in model.beams.iter().zip(&mut self.strains) {
+            record.observe(model, beam, q, t);
+        }
+    }
+
+    /// summary.json's `strains`: each beam's name and largest strains.
+    pub fn strain_summary(&self, scene: &Scene) -> Vec<StrainSummary> {
+        (scene.model.beams.iter())
+            .zip(&self.strains)
+            .map(|(beam, record)| StrainSummary {
+                beam: beam.name.clone(),
+                record: record.clone(),
+            })
+            .collect()
+    }
+
+    /// What the strains say was outside the range of the beams' laws
+    /// ([`ancf_core::plausibility::strain_warnings`]).
+    pub fn strain_warnings(&self, scene: &Scene) -> Vec<String> {
+        let model = &scene.model;
+        (model.beams.iter())
+            .zip(&self.strains)
+            .flat_map(|(beam, record)| {
+                let section = &model.element(beam.elements.start).section;
+                ancf_core::plausibility::strain_warnings(&beam.name, record, section)
+            })
+            .collect()
     }
 
     /// summary.json's `clearance`: each zone's kind and record.
@@ -120,13 +153,19 @@ impl Observations {
         }
     }
 
-    /// Into `summary`: its `clearance` and `beams`, and the note on entered
-    /// zones at the end of its message.
+    /// Into `summary`: its `clearance`, `beams` and `strains`, and the note
+    /// on entered zones at the end of its message.
+    /// Strains beyond a law's range are warnings, added to the message too.
     pub fn fill(&self, scene: &Scene, summary: &mut Summary) {
         summary.clearance = self.clearance_summary(scene);
         summary.beams = self.member_summary(scene);
+        summary.strains = self.strain_summary(scene);
         if let Some(note) = self.clearance_note() {
             summary.message.push_str(&format!("; {note}"));
+        }
+        for w in self.strain_warnings(scene) {
+            summary.message.push_str(&format!("; warning: {w}"));
+            summary.warnings.push(w);
         }
     }
 }

@@ -1,0 +1,193 @@
+//! How far a beam was strained over a run: the largest axial strain of its
+//! centerline, of each layer's outermost fibres, and the largest stretch
+//! of the whole beam — what says whether a law was used inside the range
+//! it describes (St. Venant–Kirchhoff: small strains), and whether a wire
+//! stretched as no real conductor can.
+//!
+//! The fibre strain is the Green strain E_xx along the beam at distance
+//! (y, z) from the centerline. With r_x(y, z) = a + y b + z c (a the
+//! centerline's r_x, b and c the x-derivatives of r_y and r_z, constant in
+//! an element),
+//!
+//! E_xx = ½(|a|² − 1) + y a·b + z a·c + ½|y b + z c|²,
+//!
+//! bounded on a circle of radius R by |E₀| + R √((a·b)² + (a·c)²) +
+//! ½ R² (|b|² + |c|²), which is exact to first order in the bending.
+//! It is taken at each element's ends and middle, the stretch from
+//! Simpson's rule on |a|.
+
+use crate::element::ElementVector;
+use crate::model::{Beam, Model};
+use crate::section::{Section, SectionShape};
+
+/// One peak: the largest |E_xx| (−), its time (s) and its place (m from
+/// the beam's first node, along it unstretched).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PeakStrain {
+    /// The largest |E_xx| (−).
+    pub max_strain: f64,
+    /// Its time (s).
+    pub time: f64,
+    /// Its place (m from the beam's first node).
+    pub at: f64,
+}
+
+impl PeakStrain {
+    fn visit(&mut self, strain: f64, time: f64, at: f64) {
+        if strain > self.max_strain {
+            *self = PeakStrain {
+                max_strain: strain,
+                time,
+                at,
+            };
+        }
+    }
+}
+
+/// A beam's largest strains so far.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StrainRecord {
+    /// The centerline's largest |E_xx| (stretch or shortening).
+    pub axial: PeakStrain,
+    /// Each layer's outermost fibres (axial and bending), from the centre out.
+    pub layers: Vec<PeakStrain>,
+    /// The largest length / unstretched length − 1 of the whole beam (−) …
+    pub max_stretch: f64,
+    /// … and its time (s).
+    pub max_stretch_time: f64,
+}
+
+/// (E₀, the fibre strain's bound per layer) at ξ of element coordinates
+/// `e` of length `l` (m) in `section`; also |a| (for the stretch).
+fn point_strains(
+    e: &ElementVector,
+    xi: f64,
+    l: f64,
+    section: &Section,
+    layers: &mut [f64],
+) -> (f64, f64) {
+    let g = crate::element::shape_gradients(xi, 0.0, 0.0, l);
+    let a: [f64; 3] = std::array::from_fn(|k| (0..8).map(|i| e[3 * i + k] * g[i][0]).sum());
+    let b: [f64; 3] = std::array::from_fn(|k| (e[18 + k] - e[6 + k]) / l);
+    let c: [f64; 3] = std::array::from_fn(|k| (e[21 + k] - e[9 + k]) / l);
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let aa = dot(a, a);
+    let e0 = 0.5 * (aa - 1.0);
+    let (p, q) = (dot(a, b), dot(a, c));
+    let quad = 0.5 * (dot(b, b) + dot(c, c));
+    for (k, out) in layers.iter_mut().enumerate() {
+        let (linear, r2) = match &section.shape {
+            SectionShape::Circular { radii } => {
+                let r = radii[k].1;
+                (r * p.hypot(q), r * r)
+            }
+            SectionShape::Rectangular { width, height } => (
+                0.5 * (p.abs() * width + q.abs() * height),
+                0.25 * (width * width + height * height),
+            ),
+        };
+        *out = e0.abs() + linear + quad * r2;
+    }
+    (e0.abs(), aa.sqrt())
+}
+
+impl StrainRecord {
+    /// Observe beam `beam` of `model` at coordinates `q` and time `t` (s).
+    pub fn observe(&mut self, model: &Model, beam: &Beam, q: &[f64], t: f64) {
+        let start = model.node_arc(beam.nodes.start);
+        let mut length = 0.0;
+        let mut fibres = [0.0; 8];
+        for el in beam.elements.clone() {
+            let integration = model.element(el);
+            let (l, section) = (integration.length, &integration.section);
+            let n_layers = section.layers.len().min(fibres.len());
+            self.layers.resize(n_layers, PeakStrain::default());
+            let e = model.element_coordinates(q, el);
+            let at0 = model.node_arc(el) - start;
+            let mut stretch = [0.0; 3];
+            for (j, xi) in [0.0, 0.5, 1.0].into_iter().enumerate() {
+                let (axial, a) = point_strains(&e, xi, l, section, &mut fibres[..n_layers]);
+                let at = at0 + xi * l;
+                self.axial.visit(axial, t, at);
+                for (record, &f) in self.layers.iter_mut().zip(&fibres[..n_layers]) {
+                    record.visit(f, t, at);
+                }
+                stretch[j] = a;
+            }
+            length += l / 6.0 * (stretch[0] + 4.0 * stretch[1] + stretch[2]);
+        }
+        let unstretched = model.node_arc(beam.last_node()) - start;
+        let stretch = length / unstretched - 1.0;
+        if stretch > self.max_stretch {
+            self.max_stretch = stretch;
+            self.max_stretch_time = t;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Material;
+    use crate::model::WireBuilder;
+
+    fn wire() -> Model {
+        WireBuilder::new(2.0, 4)
+            .layer(Material::st_venant_kirchhoff(7800.0, 2e11, 0.0, 1.0), 0.01)
+            .layer(Material::st_venant_kirchhoff(2700.0, 7e10, 0.0, 1.0), 0.02)
+            .build()
+            .unwrap()
+    }
+
+    /// A uniform stretch λ: every fibre at ½(λ² − 1), the length λ L.
+    #[test]
+    fn a_uniform_stretch_is_everywhere() {
+        let model = wire();
+        let lambda = 1.03;
+        let mut q = model.reference.clone();
+        for node in 0..5 {
+            q[12 * node] *= lambda;
+            q[12 * node + 3] = lambda;
+        }
+        let mut r = StrainRecord::default();
+        r.observe(&model, model.wire(), &q, 0.5);
+        let e = 0.5 * (lambda * lambda - 1.0);
+        assert!((r.axial.max_strain - e).abs() < 1e-14);
+        assert_eq!(r.layers.len(), 2);
+        for l in &r.layers {
+            assert!((l.max_strain - e).abs() < 1e-14, "{l:?}");
+            assert_eq!(l.time, 0.5);
+        }
+        assert!((r.max_stretch - (lambda - 1.0)).abs() < 1e-14);
+    }
+
+    /// Bent into an arc of radius ρ (the nodes on it, gradients rotated):
+    /// a fibre at R from the centerline strains by about R / ρ, the
+    /// centerline by little; the outer layer's more than the core's.
+    #[test]
+    fn bending_strains_the_outer_fibres() {
+        let model = wire();
+        let rho = 5.0;
+        let mut q = model.reference.clone();
+        for node in 0..5 {
+            let s = 0.5 * node as f64;
+            let phi = s / rho;
+            let b = 12 * node;
+            q[b] = rho * phi.sin();
+            q[b + 2] = rho * (1.0 - phi.cos());
+            q[b + 3..b + 6].copy_from_slice(&[phi.cos(), 0.0, phi.sin()]);
+            q[b + 9..b + 12].copy_from_slice(&[-phi.sin(), 0.0, phi.cos()]);
+        }
+        let mut r = StrainRecord::default();
+        r.observe(&model, model.wire(), &q, 0.0);
+        assert!(r.axial.max_strain < 1e-4, "{:?}", r.axial);
+        for (layer, radius) in r.layers.iter().zip([0.01, 0.02]) {
+            let expected = radius / rho;
+            assert!(
+                (layer.max_strain / expected - 1.0).abs() < 0.02,
+                "{} against {expected}",
+                layer.max_strain
+            );
+        }
+    }
+}

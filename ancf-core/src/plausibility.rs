@@ -1,0 +1,158 @@
+//! What real materials and wires look like: ranges that catch a slip of
+//! units before a run, and strains that say after it where a law was used
+//! outside the range it describes. These are warnings, not errors: a
+//! scene may mean an unusual value (a rigid stand-in, a soft model
+//! material), and `--strict` turns them into a failing exit code.
+
+use crate::loads::strain_record::StrainRecord;
+use crate::material::{Material, MaterialModel};
+use crate::section::Section;
+use std::ops::RangeInclusive;
+
+/// Densities of solids (kg/m³): polymer foam (about 50) to osmium (22 590).
+pub const DENSITY: RangeInclusive<f64> = 50.0..=23_000.0;
+
+/// Young's moduli (Pa) of the materials St. Venant–Kirchhoff describes:
+/// soft PVC insulation (about 1e7) to diamond (about 1.2e12). Rubber below
+/// is Mooney–Rivlin's.
+pub const SVK_YOUNGS_MODULUS: RangeInclusive<f64> = 1e7..=1.2e12;
+
+/// Small-strain shear moduli 2 (μ10 + μ01) (Pa) of rubbers and elastomers:
+/// soft gels (about 1e3) to hard polyurethane (about 1e8).
+pub const MOONEY_RIVLIN_SHEAR_MODULUS: RangeInclusive<f64> = 1e3..=1e8;
+
+/// The strain beyond which St. Venant–Kirchhoff is used outside its range:
+/// its uniaxial force departs from Hooke's by a factor λ(λ + 1)/2, 3 % at
+/// 2 % strain (and metals yield near 0.2 %).
+pub const SVK_STRAIN_LIMIT: f64 = 0.02;
+
+/// The stretch of a metal wire (length / unstretched length − 1) beyond
+/// which it is no longer a wire: steel and aluminium strands yield at
+/// 0.2–0.9 % and break at a few per cent.
+pub const STRETCH_LIMIT: f64 = 0.01;
+
+/// What is implausible in `material` (named `field` in the scene, e.g.
+/// `material[1]`): constants outside the ranges of real materials, most
+/// often a slip of units.
+pub fn material_warnings(field: &str, material: &Material) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut outside = |key: &str, value: f64, range: &RangeInclusive<f64>, what: &str| {
+        if !range.contains(&value) {
+            out.push(format!(
+                "{field}.{key} = {value:e} is outside {:e}–{:e}, the range of {what}: check the units",
+                range.start(),
+                range.end()
+            ));
+        }
+    };
+    outside(
+        "density",
+        material.density,
+        &DENSITY,
+        "solids (kg/m³, foam to osmium)",
+    );
+    match material.model {
+        MaterialModel::StVenantKirchhoff { youngs_modulus, .. } => outside(
+            "youngs_modulus",
+            youngs_modulus,
+            &SVK_YOUNGS_MODULUS,
+            "St. Venant–Kirchhoff materials (Pa, soft PVC to diamond; rubber is Mooney–Rivlin's)",
+        ),
+        MaterialModel::MooneyRivlin { mu10, mu01, .. } => outside(
+            "mu10",
+            2.0 * (mu10 + mu01),
+            &MOONEY_RIVLIN_SHEAR_MODULUS,
+            "rubbers' shear moduli 2 (μ10 + μ01) (Pa, soft gels to hard polyurethane)",
+        ),
+    }
+    out
+}
+
+/// [`material_warnings`] for a model built in code (no material names):
+/// each beam's layers, named `wire layer 0`, `tube1 layer 0`, ….
+pub fn model_warnings(model: &crate::model::Model) -> Vec<String> {
+    let mut out = Vec::new();
+    for beam in &model.beams {
+        let section = &model.element(beam.elements.start).section;
+        for (k, layer) in section.layers.iter().enumerate() {
+            out.extend(material_warnings(
+                &format!("{} layer {k}", beam.name),
+                &layer.material,
+            ));
+        }
+    }
+    out
+}
+
+/// What `record`, beam `name`'s strains over a run with `section`, says
+/// was outside the range of its laws: a stretch of an all-metal
+/// (St. Venant–Kirchhoff) beam beyond [`STRETCH_LIMIT`], else a centerline
+/// strain beyond [`SVK_STRAIN_LIMIT`]; and a solid St. Venant–Kirchhoff
+/// layer's fibre strain beyond it. (A stranded layer, ω < 1, bends by its
+/// strands sliding: its fibre strain is no material strain.)
+pub fn strain_warnings(name: &str, record: &StrainRecord, section: &Section) -> Vec<String> {
+    let svk = |m: &Material| matches!(m.model, MaterialModel::StVenantKirchhoff { .. });
+    let all_svk = section.layers.iter().all(|l| svk(&l.material));
+    let mut out = Vec::new();
+    if all_svk && record.max_stretch > STRETCH_LIMIT {
+        out.push(format!(
+            "{name} stretched by {:.1} % of its length at t = {:.4} s: no metal wire stretches \
+             {:.0} % and stays elastic; check the moduli (Pa) and the loads",
+            100.0 * record.max_stretch,
+            record.max_stretch_time,
+            100.0 * STRETCH_LIMIT
+        ));
+    } else if section.layers.iter().any(|l| svk(&l.material))
+        && record.axial.max_strain > SVK_STRAIN_LIMIT
+    {
+        out.push(format!(
+            "{name}'s centerline strained by {:.1} % at t = {:.4} s, {:.2} m from its start: \
+             St. Venant–Kirchhoff describes strains below {:.0} %",
+            100.0 * record.axial.max_strain,
+            record.axial.time,
+            record.axial.at,
+            100.0 * SVK_STRAIN_LIMIT
+        ));
+    }
+    for (k, (layer, peak)) in section.layers.iter().zip(&record.layers).enumerate() {
+        let solid = matches!(
+            layer.material.model,
+            MaterialModel::StVenantKirchhoff { bending_factor, .. } if bending_factor == 1.0
+        );
+        if solid && peak.max_strain > SVK_STRAIN_LIMIT {
+            out.push(format!(
+                "{name}'s layer {k} strained by {:.1} % in its outer fibres at t = {:.4} s, \
+                 {:.2} m from its start: St. Venant–Kirchhoff describes strains below {:.0} %",
+                100.0 * peak.max_strain,
+                peak.time,
+                peak.at,
+                100.0 * SVK_STRAIN_LIMIT
+            ));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_slip_of_units_is_named() {
+        let steel = Material::st_venant_kirchhoff(7850.0, 2e11, 0.3, 1.0);
+        assert!(material_warnings("material[0]", &steel).is_empty());
+        let kilopascal = Material::st_venant_kirchhoff(7850.0, 2e5, 0.3, 1.0);
+        let w = material_warnings("material[0]", &kilopascal);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].starts_with("material[0].youngs_modulus = 2e5"),
+            "{w:?}"
+        );
+        let tonnes = Material::st_venant_kirchhoff(7.85, 2e11, 0.3, 1.0);
+        assert!(material_warnings("m", &tonnes)[0].contains("m.density"));
+        let rubber = Material::mooney_rivlin(1100.0, 4e5, 1e5, 100.0);
+        assert!(material_warnings("m", &rubber).is_empty());
+        let rubber_in_gpa = Material::mooney_rivlin(1100.0, 4e14, 1e14, 100.0);
+        assert_eq!(material_warnings("m", &rubber_in_gpa).len(), 1);
+    }
+}

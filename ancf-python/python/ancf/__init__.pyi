@@ -33,7 +33,7 @@ class Scene:
     def source(self) -> str: ...
     @property
     def warnings(self) -> list[str]:
-        """Each rod whose line-law contact the time step does not resolve, with the step that would."""
+        """Material constants outside the ranges of real materials, and each contact the time step does not resolve (with the step that would)."""
         ...
 
 class Material:

@@ -833,3 +833,54 @@ fn five_kills_and_resumes_end_as_an_uninterrupted_run() {
     assert_eq!(sa, sb);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// ParaView frames: at most 50 over a run unless `output.vtk_every` asks
+/// for more (a multiple of `output.every`, else refused naming the field).
+#[test]
+fn vtk_frames_follow_their_budget_or_vtk_every() {
+    let dir = tmp("vtk-every");
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = std::fs::read_to_string("scenes/wire_rod_impact.toml")
+        .unwrap()
+        .replace("end_time = 1.0", "end_time = 0.3")
+        .replace("every = 50 ", "every = 1 ");
+    let frames = |extra: &str, name: &str| {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &path,
+            base.replace("every = 1 ", &format!("every = 1\n{extra} ")),
+        )
+        .unwrap();
+        let out = dir.join(name);
+        let run = run_quiet(&path, &out).output().unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        std::fs::read_dir(out.join("vtk"))
+            .unwrap()
+            .filter(|e| {
+                let name = e.as_ref().unwrap().file_name();
+                name.to_string_lossy().starts_with("wire_")
+            })
+            .count()
+    };
+    // 3000 steps: a frame every 60 steps, 0 … 3000.
+    assert_eq!(frames("", "budget"), 51);
+    assert_eq!(frames("vtk_every = 1000", "every_1000"), 4);
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        base.replace("every = 1 ", "every = 2\nvtk_every = 3 "),
+    )
+    .unwrap();
+    let check = ancf().arg("check").arg(&path).output().unwrap();
+    assert_eq!(check.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&check.stderr);
+    assert!(
+        stderr.contains("output.vtk_every: must be a positive multiple of output.every (2), got 3"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -331,6 +331,13 @@ fn an_interrupted_sweep_resumes_where_it_stopped() {
     assert!(resumed.success());
     let (_, rows) = results(&out);
     assert!(rows.iter().all(|r| r[st] == "completed"));
+    // Completed variants keep no checkpoint, and a sweep writes no frames.
+    for id in ["v000", "v001", "v002"] {
+        let run = out.join("runs").join(id);
+        assert!(run.join("summary.json").exists());
+        assert!(!run.join("checkpoint.json").exists(), "{id}");
+        assert!(!run.join("vtk").exists(), "{id}");
+    }
     // The same sweep without interruption.
     let plain = dir.join("plain");
     let status = sweep_cmd(&sweep, &plain, &["--jobs", "2"])

@@ -737,6 +737,7 @@ impl Simulation {
                 every: 1,
                 checkpoint_every: 0,
                 vtk: false,
+                vtk_every: None,
                 plots: false,
                 cfc: ancf_core::loads::rod_load::DEFAULT_CFC,
             },

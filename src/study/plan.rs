@@ -186,6 +186,7 @@ impl Setting {
             every,
             checkpoint_every: Some(0),
             vtk: Some(false),
+            vtk_every: None,
             plots: Some(false),
             cfc: base.output.as_ref().and_then(|o| o.cfc),
         });

@@ -321,6 +321,10 @@ pub fn expand(
             format!("variant {id} ({})", parts.join(", "))
         };
         let mut table = base.clone();
+        // A sweep is for its numbers: no ParaView frames (hundreds of
+        // variants would write GB) unless a parameter asks for them.
+        set_path(&mut table, "output.vtk", toml::Value::Boolean(false))
+            .map_err(|e| SweepError(format!("{}: {e}", describe())))?;
         for (name, value) in names.iter().zip(&values) {
             let paths = linked_paths(name);
             let parts = match value {

@@ -347,6 +347,8 @@ pub struct OutputSpec {
     pub checkpoint_every: Option<usize>,
     /// Write ParaView files.
     pub vtk: Option<bool>,
+    /// A ParaView frame every N steps.
+    pub vtk_every: Option<usize>,
     /// Write PNG plots.
     pub plots: Option<bool>,
     /// Channel frequency class of the filtered rod forces (Hz).

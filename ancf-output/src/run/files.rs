@@ -141,7 +141,8 @@ impl Files {
     }
 
     /// A written step: a timeseries.csv row (with contact's columns when
-    /// `contact` is given) and a VTK frame.
+    /// `contact` is given) and, when `frame`, a VTK frame.
+    #[allow(clippy::too_many_arguments)]
     pub fn row(
         &mut self,
         model: &Model,
@@ -149,6 +150,7 @@ impl Files {
         e: &Energies,
         iterations: usize,
         contact: Option<&ContactSample>,
+        frame: bool,
     ) -> Result<(), String> {
         let p = model.node_position(&s.q, model.wire().last_node());
         let mut row = vec![
@@ -167,7 +169,7 @@ impl Files {
             row.extend([c.normal_force, c.max_penetration, e.contact, e.dissipated]);
         }
         self.series.row(&row).map_err(|e| io_err(&self.dir, e))?;
-        if let Some(v) = self.vtk.as_mut() {
+        if let Some(v) = self.vtk.as_mut().filter(|_| frame) {
             v.frame(s.time, &s.q, &s.v)
                 .map_err(|e| io_err(&self.dir, e))?;
         }

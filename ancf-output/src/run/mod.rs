@@ -443,7 +443,7 @@ fn run_dynamic(
             let mut history = History::default();
             let no_contact = ancf_core::forces::contact::ContactSample::default();
             if let Some(f) = files.as_mut() {
-                f.row(model, state, &e0, 0, contact.map(|_| &no_contact))?;
+                f.row(model, state, &e0, 0, contact.map(|_| &no_contact), true)?;
             }
             history.push(model, state, &e0);
             history.push_shape(model, state);
@@ -471,6 +471,7 @@ fn run_dynamic(
     let bar = progress::Bar::new(n_steps as u64, quiet || !std::io::stderr().is_terminal());
     bar.set_position(done as u64);
     let snapshot_every = (n_steps / 8).max(1);
+    let vtk_every = scene.output.vtk_interval(n_steps);
     // A checkpoint carries where the kept factorization was formed, so a
     // resumed run refactors there and results do not depend on how often
     // a run checkpoints.
@@ -542,12 +543,14 @@ fn run_dynamic(
             p.max_in_play = p.max_in_play.max(e.in_play());
             p.last = e;
             if let Some(f) = files.as_mut() {
+                let frame = k % vtk_every == 0 || k == n_steps;
                 f.row(
                     model,
                     state,
                     &e,
                     info.iterations,
                     contact.map(|_| &info.contact),
+                    frame,
                 )?;
             }
             p.history.push(model, state, &e);

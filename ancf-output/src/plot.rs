@@ -82,17 +82,51 @@ const COLORS: [RGBColor; 9] = [
 ];
 
 /// Tick labels readable at any scale: plain for ordinary magnitudes,
-/// scientific when the axis spans tiny or huge values.
+/// engineering notation (exponents in steps of 3: 12e-6, 3.5e3) when the
+/// axis spans tiny or huge values; as many decimals as the axis' span
+/// needs; a tick at zero to round-off is "0".
 fn tick_label(v: &f64, lo: f64, hi: f64) -> String {
     let m = lo.abs().max(hi.abs());
-    if *v == 0.0 {
+    let span = (hi - lo).abs().max(f64::MIN_POSITIVE);
+    let text = if v.abs() <= 1e-9 * span {
         "0".to_string()
-    } else if !(1e-2..1e4).contains(&m) || (hi - lo) < 1e-3 * m {
-        format!("{v:.2e}")
+    } else if !(1e-2..1e4).contains(&m) || span < 1e-3 * m {
+        let exponent = 3 * (m.log10() / 3.0).floor() as i32;
+        let scale = 10f64.powi(exponent);
+        let digits = (-(span / scale).log10().floor() + 1.0).clamp(0.0, 4.0) as usize;
+        format!("{:.digits$}e{exponent}", v / scale)
     } else {
-        let digits = (-(hi - lo).log10().floor() + 1.0).clamp(0.0, 6.0) as usize;
+        let digits = (-span.log10().floor() + 1.0).clamp(0.0, 6.0) as usize;
         format!("{v:.digits$}")
+    };
+    // A tick that rounds to zero has no sign ("-0.0" reads as a value).
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
     }
+}
+
+/// Values whose magnitude stays below this are zero to round-off in every
+/// quantity the plots show (strains, m, N, J): a panel of them says so
+/// instead of drawing ticks like 1e-44.
+pub const ROUNDOFF_ZERO: f64 = 1e-12;
+
+/// The viridis colour map at `f` ∈ [0, 1] (dark purple to yellow): the
+/// shades stay distinguishable, in grey too.
+fn viridis(f: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let x = f.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let t = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let mix = |p: f64, q: f64| (p + t * (q - p)).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// One chart of a multi-panel figure.
@@ -189,10 +223,24 @@ fn draw_panel<DB: DrawingBackend>(
     p: &Panel,
     scale: f64,
 ) -> Result<bool, DrawingAreaErrorKind<DB::ErrorType>> {
-    let Some((x0, x1, y0, y1)) = bounds(&p.series) else {
+    let Some((x0, x1, mut y0, mut y1)) = bounds(&p.series) else {
         return Ok(false);
     };
+    let all_zero = (p.series.iter())
+        .flat_map(|s| &s.points)
+        .all(|&(_, y)| !y.is_finite() || y.abs() < ROUNDOFF_ZERO);
+    if all_zero {
+        (y0, y1) = (-1.0, 1.0);
+    }
     let size = |px: f64| (px * scale).round() as u32;
+    if p.series.len() > 1 {
+        // Room above the data for the legend (upper corner), so that it
+        // never covers a curve: its rows and margins over the plot height.
+        let plot_height = area.dim_in_pixel().1 as f64 - (45.0 + 50.0) * scale;
+        let legend = (p.series.len() as f64 * 19.0 + 30.0) * scale;
+        let frac = (legend / plot_height.max(1.0)).min(0.6);
+        y1 += (y1 - y0) * frac / (1.0 - frac);
+    }
     let mut chart = ChartBuilder::on(area)
         .caption(p.title, ("sans-serif", size(20.0)))
         .margin(size(10.0))
@@ -208,6 +256,14 @@ fn draw_panel<DB: DrawingBackend>(
         .label_style(("sans-serif", size(14.0)))
         .axis_desc_style(("sans-serif", size(15.0)))
         .draw()?;
+    if all_zero {
+        let font = ("sans-serif", size(16.0)).into_font().color(&BLACK);
+        chart.draw_series(std::iter::once(Text::new(
+            format!("zero throughout (|values| < {ROUNDOFF_ZERO:.0e})"),
+            (x0 + 0.5 * (x1 - x0), 0.5),
+            font.pos(Pos::new(HPos::Center, VPos::Center)),
+        )))?;
+    }
     for (i, s) in p.series.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
         let (width, legend) = (size(2.0), size(20.0) as i32);
@@ -316,6 +372,8 @@ pub fn configurations_plot(
             .configure_mesh()
             .x_desc("x (m)")
             .y_desc("z (m)")
+            .x_label_formatter(&|v| tick_label(v, x0, x1))
+            .y_label_formatter(&|v| tick_label(v, z0, z1))
             .label_style(("sans-serif", px(15)))
             .axis_desc_style(("sans-serif", px(16)))
             .draw()
@@ -345,9 +403,8 @@ pub fn configurations_plot(
         let n = shapes.len().max(2) as f64;
         let legend = px(20) as i32;
         for (i, (t, pts)) in shapes.iter().enumerate() {
-            // Blue (early) to red (late).
-            let f = i as f64 / (n - 1.0);
-            let color = RGBColor((30.0 + 210.0 * f) as u8, 60, (240.0 - 210.0 * f) as u8);
+            // Dark purple (early) to yellow (late).
+            let color = viridis(0.92 * i as f64 / (n - 1.0));
             let label = format!("t = {t:.3} s");
             let width = px(2);
             chart

@@ -40,9 +40,11 @@ impl History {
             .push([s.time, pos[2] - p0[2], strains[0], strains[1], strains[2]]);
     }
 
-    /// Record the centerline's shape at `s`.
+    /// Record the centerline's shape at `s` (once per instant).
     pub fn push_shape(&mut self, model: &Model, s: &State) {
-        self.shapes.push((s.time, centerline(model, &s.q)));
+        if self.shapes.last().is_none_or(|(t, _)| *t != s.time) {
+            self.shapes.push((s.time, centerline(model, &s.q)));
+        }
     }
 }
 

@@ -196,6 +196,20 @@ pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
     })
 }
 
+/// configurations.png's extra shapes in the first impact, where the wire
+/// changes most: at first contact and every 25 ms after, four in all.
+const IMPACT_SNAPSHOTS: (usize, f64) = (4, 0.025);
+
+/// Whether the step of size `h` (s) that ended `since` s after the first
+/// contact is one of the [`IMPACT_SNAPSHOTS`].
+fn impact_snapshot(since: f64, h: f64) -> bool {
+    let (n, spacing) = IMPACT_SNAPSHOTS;
+    (0..n).any(|j| {
+        let at = j as f64 * spacing;
+        since >= at - 1e-9 * h && since - h < at - 1e-9 * h
+    })
+}
+
 /// Whether `step_cuts` rejected attempts in `steps` steps are so many (one
 /// step in a hundred or more) that the guards, not the time step, set the
 /// path.
@@ -558,7 +572,11 @@ fn run_dynamic(
                 p.history.push_contact_point(model, state, &cp);
             }
         }
-        if k % snapshot_every == 0 || k == n_steps {
+        let in_first_impact = sim
+            .contact()
+            .and_then(|c| c.first_time)
+            .is_some_and(|t1| impact_snapshot(state.time - t1, h));
+        if k % snapshot_every == 0 || k == n_steps || in_first_impact {
             p.history.push_shape(model, state);
         }
         let time = state.time;

@@ -12,7 +12,7 @@
 # database: job states come from scontrol), starts munged, slurmctld and
 # slurmd, and waits until the node is idle. Everything Slurm writes goes to
 # /var/spool/slurm-local (logs there too). A real cluster needs none of
-# this: run the same `ancf sweep` on its login node (README, "Sweeps").
+# this: run the same `ancf sweep` on its login node (docs/sweep.md).
 set -euo pipefail
 
 spool=/var/spool/slurm-local

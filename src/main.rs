@@ -139,7 +139,7 @@ enum Command {
         #[arg(long)]
         strict: bool,
     },
-    /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2).
+    /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (Lan, Tian & Yu 2020, Tables 1–2).
     Quadrature {
         /// Inner radius, m (0 for a disk).
         #[arg(long, default_value_t = 0.0)]

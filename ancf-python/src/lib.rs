@@ -1202,7 +1202,7 @@ fn _run(py: Python<'_>, scene: &Scene, out: std::path::PathBuf, quiet: bool) -> 
     })
 }
 
-/// The ring/disk quadrature rule over inner ≤ ρ ≤ outer (SPEC §2): arrays y, z, weight.
+/// The ring/disk quadrature rule over inner ≤ ρ ≤ outer (the paper's disk/ring rule, Lan, Tian & Yu 2020): arrays y, z, weight.
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 fn quadrature<'py>(

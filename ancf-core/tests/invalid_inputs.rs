@@ -243,3 +243,35 @@ fn vectors_of_three_numbers_only() {
         "{e}"
     );
 }
+
+/// An error of TOML syntax or type names the key (or table) on its line,
+/// with the table's index for arrays of tables; the message keeps toml's
+/// line and column.
+#[test]
+fn syntax_and_type_errors_name_their_field() {
+    for (text, field, line) in [
+        (
+            "[wire]\nlength = 1.0\nelements = \"x\"\n",
+            "wire.elements",
+            3,
+        ),
+        (
+            "[[rod]]\ncenter = [0, 0, 0]\naxis = [0, 1, 0]\nradius = 0.1\n[[rod]]\naxis = [0, 1, 0]\nradius = 0.1\ncenter = [1, 2, \"a\"]\n",
+            "rod[1].center",
+            8,
+        ),
+        ("[wire\nlength = 1.0\n", "wire", 1),
+        (
+            "[wire]\nlayers = [ { material = \"a\", outer_radius = 0.01 },\n  { material = 3 } ]\n",
+            "wire",
+            3,
+        ),
+    ] {
+        let e = Scene::from_toml(text).unwrap_err();
+        assert_eq!(e.field, field, "{e}");
+        assert!(
+            e.message.contains(&format!("at line {line}, column")),
+            "{e}"
+        );
+    }
+}

@@ -10,7 +10,9 @@ use ancf_core::solve::simulation::{
 use ancf_output::run::observations::Observations;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyOSError, PyPermissionError, PyRuntimeError, PyValueError,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
@@ -18,7 +20,7 @@ create_exception!(
     ancf,
     SceneError,
     PyValueError,
-    "A scene that cannot be run: `.field` names the field at fault (e.g. \"wire.elements\")."
+    "A scene that cannot be run: `.field` names the field at fault (e.g. \"wire.elements\"); `.line` and `.column` locate an error of TOML syntax or type (else None)."
 );
 create_exception!(
     ancf,
@@ -29,8 +31,21 @@ create_exception!(
 
 fn scene_error(py: Python<'_>, e: &CoreSceneError) -> PyErr {
     let err = SceneError::new_err(e.to_string());
-    let _ = err.value(py).setattr("field", e.field.clone());
+    let value = err.value(py);
+    let _ = value.setattr("field", e.field.clone());
+    let (line, column) = location(&e.message).unzip();
+    let _ = value.setattr("line", line);
+    let _ = value.setattr("column", column);
     err
+}
+
+/// Line and column (from 1) of a TOML error, from toml's "at line N,
+/// column M".
+fn location(message: &str) -> Option<(usize, usize)> {
+    let rest = &message[message.find("at line ")? + "at line ".len()..];
+    let (line, rest) = rest.split_once(", column ")?;
+    let column: String = rest.chars().take_while(char::is_ascii_digit).collect();
+    Some((line.parse().ok()?, column.parse().ok()?))
 }
 
 /// How deep a scene dict may nest: a scene's own nesting is four levels
@@ -119,10 +134,18 @@ impl Scene {
     /// Reads and validates a scene file (TOML). Raises `SceneError`.
     #[staticmethod]
     fn from_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Scene> {
+        // A file that cannot be read is an OSError (FileNotFoundError,
+        // PermissionError, …), as Python's own open() raises.
         let text = std::fs::read_to_string(&path).map_err(|e| {
-            let err = SceneError::new_err(format!("cannot read {}: {e}", path.display()));
-            let _ = err.value(py).setattr("field", "");
-            err
+            let name = path.display().to_string();
+            let (code, what) = (e.raw_os_error().unwrap_or(0), e.to_string());
+            match e.kind() {
+                std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err((code, what, name)),
+                std::io::ErrorKind::PermissionDenied => {
+                    PyPermissionError::new_err((code, what, name))
+                }
+                _ => PyOSError::new_err((code, what, name)),
+            }
         })?;
         Self::from_toml(py, &text)
     }
@@ -149,7 +172,12 @@ impl Scene {
                 },
             )
         })?;
-        Self::from_toml(py, &text)
+        // A line of the text generated here means nothing to the caller:
+        // the field names the place.
+        Self::from_toml(py, &text).inspect_err(|e| {
+            let _ = e.value(py).setattr("line", py.None());
+            let _ = e.value(py).setattr("column", py.None());
+        })
     }
 
     /// Number of elements.
@@ -556,6 +584,21 @@ pub struct Simulation {
     /// The clearance zones' and the frame members' records, as the
     /// program's run keeps them.
     observed: Observations,
+    /// Wall time spent stepping, s (summary's `wall_time_s`).
+    wall: f64,
+    /// Total energy at the start (J) and the largest |total + dissipated −
+    /// that| at the steps a run writes (summary's `energy.max_drift`).
+    drift: (f64, f64),
+}
+
+/// Track the energy drift as the program's run does: at every
+/// `output.every`-th step and the last.
+fn track_drift(sim: &CoreSimulation, every: usize, drift: &mut (f64, f64)) {
+    let (k, n) = sim.steps();
+    if k % every.max(1) == 0 || k == n {
+        let e = sim.energies();
+        drift.1 = drift.1.max((e.total() + e.dissipated - drift.0).abs());
+    }
 }
 
 /// A core error as `SimulationError`, with the core's likely cause.
@@ -570,6 +613,8 @@ impl Simulation {
         let mut s = Simulation {
             observed: Observations::new(&scene),
             scene,
+            wall: 0.0,
+            drift: (sim.energies().total(), 0.0),
             sim,
         };
         s.observe_state(&[]);
@@ -607,7 +652,11 @@ impl Simulation {
 
     /// One step; the error names the step and the time.
     fn advance(&mut self) -> Result<(), PyErr> {
-        let info = self.sim.step().map_err(|e| simulation_error(&e))?;
+        let started = std::time::Instant::now();
+        let step = self.sim.step();
+        self.wall += started.elapsed().as_secs_f64();
+        let info = step.map_err(|e| simulation_error(&e))?;
+        track_drift(&self.sim, self.scene.output.every, &mut self.drift);
         self.observe_state(&info.member_forces);
         Ok(())
     }
@@ -798,6 +847,8 @@ impl Simulation {
                 // Up to `every` steps without the GIL, then a record.
                 let this = &mut *this;
                 let (sim, scene, observed) = (&mut this.sim, &this.scene, &mut this.observed);
+                let drift = &mut this.drift;
+                let started = std::time::Instant::now();
                 let outcome = py.detach(|| {
                     for _ in 0..every {
                         if done(sim) {
@@ -806,9 +857,11 @@ impl Simulation {
                         let info = sim.step()?;
                         let state = sim.state();
                         observed.observe(scene, &state.q, state.time, &info.member_forces);
+                        track_drift(sim, scene.output.every, drift);
                     }
                     Ok(())
                 });
+                this.wall += started.elapsed().as_secs_f64();
                 if let Err(e) = outcome {
                     return Err(simulation_error(&e));
                 }
@@ -947,6 +1000,17 @@ impl Simulation {
                 ancf_output::output::RunStatus::Running.as_str()
             },
         )?;
+        let (steps, n_steps) = self.sim.steps();
+        let message = if self.sim.is_finished() {
+            let h = match &self.scene.analysis {
+                Analysis::Dynamic { settings, .. } => settings.time_step,
+                Analysis::Static { .. } => 0.0,
+            };
+            format!("{n_steps} steps of {h} s")
+        } else {
+            format!("step {steps} of {n_steps}")
+        };
+        d.set_item("message", message)?;
         d.set_item("analysis", "dynamic")?;
         d.set_item("elements", model.element_count())?;
         d.set_item("unknowns", model.n_unknowns)?;
@@ -957,6 +1021,8 @@ impl Simulation {
         d.set_item("step_cuts", p.step_cuts)?;
         d.set_item("kernel", model.element(0).kernel_path().to_string())?;
         d.set_item("simd", ancf_core::math::simd::path().name())?;
+        d.set_item("wall_time_s", self.wall)?;
+        d.set_item("effects", ancf_output::run::effect_names(model))?;
         let tip = PyDict::new(py);
         let tip_node = model.wire().last_node();
         let position = model.node_position(&p.state.q, tip_node);
@@ -967,7 +1033,9 @@ impl Simulation {
             (0..3).map(|c| position[c] - start[c]).collect::<Vec<f64>>(),
         )?;
         d.set_item("tip", tip)?;
-        d.set_item("energy", self.energies(py)?)?;
+        let energy = self.energies(py)?;
+        energy.set_item("max_drift", self.drift.1)?;
+        d.set_item("energy", energy)?;
         if let Some(c) = model.contact() {
             let rods = PyList::empty(py);
             let cfc = self.scene.output.cfc;

@@ -54,8 +54,8 @@ def test_scene_warns_of_a_contact_its_time_step_does_not_resolve():
         (lambda d: d["wire"].update(elements=0), "wire.elements"),
         (lambda d: d["wire"]["layers"][0].update(outer_radius=-0.01), "wire.layers[0].outer_radius"),
         (lambda d: d["wire"].update(length=math.nan), "wire.length"),
-        (lambda d: d["analysis"].update(time_step="1e-3"), ""),  # wrong type: the parser names the line
-        (lambda d: d["wire"].update(colour="red"), ""),  # unknown key
+        (lambda d: d["analysis"].update(time_step="1e-3"), "analysis.time_step"),  # wrong type
+        (lambda d: d["wire"].update(colour="red"), "wire.colour"),  # unknown key
         (lambda d: d["wire"].update(length=object()), "wire.length"),  # not a TOML type
     ],
 )
@@ -75,8 +75,23 @@ def test_unknown_key_and_wrong_type_are_named_in_the_message():
     d["wire"]["colour"] = "red"
     with pytest.raises(ancf.SceneError, match="colour"):
         ancf.Scene.from_dict(d)
-    with pytest.raises(ancf.SceneError, match="cannot read"):
+    with pytest.raises(FileNotFoundError) as e:
         ancf.Scene.from_file(ROOT / "no-such-scene.toml")
+    assert e.value.filename.endswith("no-such-scene.toml")
+    with pytest.raises(FileNotFoundError):
+        ancf.run(ROOT / "no-such-scene.toml", ROOT / "out-never-written")
+    assert not (ROOT / "out-never-written").exists()
+
+
+def test_a_syntax_error_names_its_field_line_and_column():
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Scene.from_toml('[wire]\nlength = 1.0\nelements = "x"\n')
+    assert (e.value.field, e.value.line, e.value.column) == ("wire.elements", 3, 12)
+    d = json.loads(json.dumps(BASE))
+    d["wire"]["elements"] = 0
+    with pytest.raises(ancf.SceneError) as e:
+        ancf.Scene.from_dict(d)
+    assert e.value.field == "wire.elements" and e.value.line is None
 
 
 def test_pendulum_tip_equals_the_cli_run(tmp_path):
@@ -100,6 +115,22 @@ def test_summary_has_the_cli_summary_keys_and_numbers(tmp_path):
         assert ours[key] == cli[key], key
     for key, value in ours["energy"].items():
         assert value == cli["energy"][key], key
+    assert ours["message"] == cli["message"] and ours["effects"] == cli["effects"]
+    assert ours["strains"] == cli["strains"]
+
+
+@pytest.mark.parametrize("text", ["pendulum", "impact"])
+def test_summary_has_exactly_the_keys_of_summary_json(tmp_path, text):
+    path = PENDULUM if text == "pendulum" else IMPACT
+    scene = path.read_text().replace("end_time = 1.0 ", "end_time = 0.3 ")
+    (tmp_path / "s.toml").write_text(scene)
+    sim = ancf.Simulation(ancf.Scene.from_toml(scene))
+    sim.run(every=1000)
+    cli = ancf.run(tmp_path / "s.toml", tmp_path / "out")
+    assert set(sim.summary()) == set(cli)
+    for key in ["contact", "tip", "energy"]:
+        if key in cli:
+            assert set(sim.summary()[key]) == set(cli[key]), key
 
 
 def test_arrays_have_numpy_shapes_and_dtypes():

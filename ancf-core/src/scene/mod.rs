@@ -132,7 +132,9 @@ pub struct Scene {
 /// A scene that cannot be run, with the field at fault.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
-    /// Dotted path of the field, e.g. `material[1].poisson_ratio` (empty for syntax errors).
+    /// Dotted path of the field, e.g. `material[1].poisson_ratio`; for an
+    /// error of TOML syntax or type, the key or table on its line (empty
+    /// when there is none).
     pub field: String,
     /// What is wrong with it.
     pub message: String,
@@ -177,9 +179,56 @@ impl SceneFile {
     /// Parse TOML text (syntax, types and unknown keys; no validation).
     pub fn from_toml(text: &str) -> Result<SceneFile, SceneError> {
         toml::from_str(text).map_err(|e| SceneError {
-            field: String::new(),
+            field: e
+                .span()
+                .map_or_else(String::new, |span| field_at(text, span.start)),
             message: e.to_string().trim_end().to_string(),
         })
+    }
+}
+
+/// The dotted field (`wire.elements`, `rod[1].center`, or the table
+/// `rod[1]` itself) at byte `at` of the TOML `text`: the table header last
+/// opened before it, and the key on its line.
+pub fn field_at(text: &str, at: usize) -> String {
+    let upto = &text[..at.min(text.len())];
+    let line_start = upto.rfind('\n').map_or(0, |i| i + 1);
+    let line_end = text[line_start..]
+        .find('\n')
+        .map_or(text.len(), |i| line_start + i);
+    let mut table = String::new();
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for line in text[..line_end].lines() {
+        let t = line.trim();
+        if let Some(name) = t.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
+            let name = name.trim().to_string();
+            let n = match counts.iter_mut().find(|(k, _)| *k == name) {
+                Some((_, n)) => {
+                    *n += 1;
+                    *n
+                }
+                None => {
+                    counts.push((name.clone(), 0));
+                    0
+                }
+            };
+            table = format!("{name}[{n}]");
+        } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.split(']').next()) {
+            table = name.trim().to_string();
+        }
+    }
+    let line = text[line_start..line_end].trim();
+    let key = (!line.starts_with('['))
+        .then(|| line.split('=').next().map(str::trim))
+        .flatten()
+        .filter(|k| {
+            let bare = |c: char| c.is_ascii_alphanumeric() || "_-.\"".contains(c);
+            !k.is_empty() && k.chars().all(bare) && line.contains('=')
+        });
+    match key {
+        Some(k) if table.is_empty() => k.to_string(),
+        Some(k) => format!("{table}.{k}"),
+        None => table,
     }
 }
 

@@ -59,7 +59,8 @@ pub struct RunRecord {
     pub support_loads: Vec<LoadHistory>,
 }
 
-fn effect_names(model: &Model) -> Vec<String> {
+/// summary.json's `effects`: the model's effects by name.
+pub fn effect_names(model: &Model) -> Vec<String> {
     model
         .effects
         .iter()

@@ -26,6 +26,10 @@ from . import _ancf
 
 __version__ = _ancf.__version__
 
+# Where an error of TOML syntax or type sits (set on such errors; None else).
+SceneError.line = None
+SceneError.column = None
+
 __all__ = [
     "Scene",
     "Simulation",

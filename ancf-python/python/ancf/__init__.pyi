@@ -7,9 +7,11 @@ import numpy as np
 import numpy.typing as npt
 
 class SceneError(ValueError):
-    """A scene that cannot be run; ``field`` names the field at fault."""
+    """A scene that cannot be run; ``field`` names the field at fault, ``line`` and ``column`` (from 1) locate an error of TOML syntax or type."""
 
     field: str
+    line: Optional[int]
+    column: Optional[int]
 
 class SimulationError(RuntimeError):
     """A simulation that could not go on (step, time and likely cause in the message)."""
@@ -18,7 +20,9 @@ class Scene:
     """A validated scene (the same schema and validation as ``ancf check``)."""
 
     @staticmethod
-    def from_file(path: Union[str, PathLike[str]]) -> Scene: ...
+    def from_file(path: Union[str, PathLike[str]]) -> Scene:
+        """Reads and validates a scene file; a file that cannot be read raises FileNotFoundError / PermissionError / OSError."""
+        ...
     @staticmethod
     def from_toml(text: str) -> Scene: ...
     @staticmethod

@@ -5,7 +5,7 @@ use ancf_core::math::quadrature::ring_rule;
 use ancf_core::math::simd::SimdPath;
 use ancf_core::scene::Scene;
 use ancf_core::solve::cancel::CancelToken;
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{CommandFactory, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -138,6 +138,19 @@ enum Command {
         /// when a variant ends with warnings or many step cuts.
         #[arg(long)]
         strict: bool,
+    },
+    /// Print a completion script for SHELL (bash, zsh, fish, elvish,
+    /// powershell), e.g. `ancf completions bash >
+    /// ~/.local/share/bash-completion/completions/ancf`.
+    Completions {
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff) of ancf or of one of its commands, e.g.
+    /// `ancf man run > ancf-run.1 && man ./ancf-run.1`.
+    Man {
+        /// The command (run, check, sweep, …); none: ancf's own page.
+        command: Option<String>,
     },
     /// Print the ring/disk quadrature rule over inner ≤ ρ ≤ outer (Lan, Tian & Yu 2020, Tables 1–2).
     Quadrature {
@@ -365,6 +378,38 @@ fn main() -> ExitCode {
             quiet,
             strict,
         ),
+        Command::Completions { shell } => {
+            let mut cmd = Cli::command();
+            clap_complete::generate(shell, &mut cmd, "ancf", &mut std::io::stdout());
+            ExitCode::SUCCESS
+        }
+        Command::Man { command } => {
+            let cli = Cli::command();
+            let man = match &command {
+                None => clap_mangen::Man::new(cli),
+                Some(name) => match cli.find_subcommand(name) {
+                    Some(sub) => clap_mangen::Man::new(sub.clone()).title(format!("ancf-{name}")),
+                    None => {
+                        let names: Vec<&str> =
+                            cli.get_subcommands().map(|c| c.get_name()).collect();
+                        eprintln!("error: man: no command \"{name}\" (one of {names:?})");
+                        return ExitCode::from(2);
+                    }
+                },
+            };
+            let mut page = Vec::new();
+            match man.render(&mut page) {
+                Ok(()) => {
+                    use std::io::Write;
+                    let _ = std::io::stdout().write_all(&page);
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: the manual page: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
         Command::Quadrature {
             inner,
             outer,

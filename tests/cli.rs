@@ -884,3 +884,32 @@ fn vtk_frames_follow_their_budget_or_vtk_every() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Shell completions and manual pages come from the command definitions.
+#[test]
+fn completions_and_manual_pages() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = ancf().args(["completions", shell]).output().unwrap();
+        assert!(out.status.success(), "{shell}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains("ancf") && text.contains("sweep") && text.contains("strict"),
+            "{shell}"
+        );
+    }
+    let page = ancf().arg("man").output().unwrap();
+    assert!(page.status.success());
+    let text = String::from_utf8_lossy(&page.stdout);
+    assert!(
+        text.contains(".TH ancf 1") && text.contains("quadrature"),
+        "{text}"
+    );
+    let run = ancf().args(["man", "run"]).output().unwrap();
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        text.contains(".TH ancf-run 1") && text.contains("strict"),
+        "{text}"
+    );
+    let bad = ancf().args(["man", "nope"]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+}

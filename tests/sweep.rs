@@ -406,3 +406,40 @@ fn a_killed_sweeps_children_stop_and_a_second_sweep_is_refused() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// report.md leaves a rod the wire never touched out of its statistics
+/// (its zeros are no load), prints numbers to four significant figures and
+/// plots no parameter that has one value only.
+#[test]
+fn the_report_counts_only_touched_rods_and_plots_only_varied_parameters() {
+    let dir = tmp("report");
+    let scene = std::fs::read_to_string("docs/tutorial/drop_cable.toml")
+        .unwrap()
+        .replace("end_time = 0.8 ", "end_time = 0.4 ");
+    std::fs::write(dir.join("cable.toml"), scene).unwrap();
+    let sweep = dir.join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        "scene = \"cable.toml\"\n[parameters]\n\"rod[0].radius\" = [0.02]\n\"rod[0].center\" = [[2.0, 0.0, -0.4], [2.0, 0.0, -5.0]]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    assert!(sweep_cmd(&sweep, &out, &[]).status().unwrap().success());
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let row = report
+        .lines()
+        .find(|l| l.starts_with("| rod 0: filtered peak force (N) | "))
+        .unwrap();
+    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+    assert_eq!(cells[2], "1", "{row}");
+    assert_eq!(cells[3], cells[5], "one value: min = max ({row})");
+    assert!(cells[3].parse::<f64>().unwrap() > 100.0, "{row}");
+    assert!(
+        cells[3].split('.').nth(1).is_some_and(|d| d.len() == 1),
+        "4 figures: {row}"
+    );
+    assert!(report.contains("One value (0.02) in every variant: nothing to plot."));
+    assert!(!out.join("plots/rod_0__radius.png").exists());
+    assert!(out.join("plots/rod_0__center.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

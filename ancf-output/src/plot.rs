@@ -138,6 +138,9 @@ pub struct Panel<'a> {
     pub series: Vec<Series<'a>>,
     /// Points marked with a circle and a label (e.g. a peak).
     pub marks: Vec<(f64, f64, String)>,
+    /// Every point of every series drawn as a dot (a few runs' values,
+    /// not a sampled curve).
+    pub markers: bool,
 }
 
 fn bounds(series: &[Series]) -> Option<(f64, f64, f64, f64)> {
@@ -276,6 +279,14 @@ fn draw_panel<DB: DrawingBackend>(
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + legend, y)], color.stroke_width(width))
             });
+        if p.markers {
+            let dot = size(4.0);
+            chart.draw_series(
+                s.points
+                    .iter()
+                    .map(|&pt| Circle::new(pt, dot, color.filled())),
+            )?;
+        }
     }
     for (x, y, label) in &p.marks {
         chart.draw_series(std::iter::once(Circle::new(

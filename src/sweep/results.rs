@@ -247,6 +247,25 @@ pub fn collect(out: &Path) -> Result<SweepEnd, String> {
 /// A design number of a row, by name (see [`design_numbers`]).
 type Pick = Box<dyn Fn(&Row) -> Option<f64>>;
 
+/// Rod `k`'s numbers in `row` when the wire touched it: an untouched rod's
+/// zeros are no load, and would only pull the statistics down.
+fn touched(row: &Row, k: usize) -> Option<&[Option<f64>; ROD_COLUMNS.len()]> {
+    row.rods.get(k).filter(|v| v[5].is_some())
+}
+
+/// `v` with four significant figures (scientific beyond 1e-3 … 1e6).
+pub fn significant(v: f64) -> String {
+    let m = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-3..1e6).contains(&m) {
+        let digits = (3 - m.log10().floor() as i32).max(0) as usize;
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
 /// The design numbers worth a plot: each rod's filtered peak and impulse, over the run and in its first impact,
 /// the tip displacement and the energy drift.
 fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
@@ -255,22 +274,22 @@ fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
         out.push((
             format!("rod {k}: filtered peak force"),
             "N".into(),
-            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[2])),
+            Box::new(move |r: &Row| touched(r, k).and_then(|v| v[2])),
         ));
         out.push((
             format!("rod {k}: impulse"),
             "N s".into(),
-            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[4])),
+            Box::new(move |r: &Row| touched(r, k).and_then(|v| v[4])),
         ));
         out.push((
             format!("rod {k}: first impact, filtered peak"),
             "N".into(),
-            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[6])),
+            Box::new(move |r: &Row| touched(r, k).and_then(|v| v[6])),
         ));
         out.push((
             format!("rod {k}: first impact, impulse"),
             "N s".into(),
-            Box::new(move |r: &Row| r.rods.get(k).and_then(|v| v[7])),
+            Box::new(move |r: &Row| touched(r, k).and_then(|v| v[7])),
         ));
     }
     out.push((
@@ -298,11 +317,12 @@ fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
     }
     let _ = writeln!(
         md,
-        "\nOver the {} completed variants (spread = (max − min) / mean):\n",
+        "\nOver the {} completed variants (spread = (max − min) / mean; n: the \
+         variants that have the number — a rod the wire never touched has no load):\n",
         done.len()
     );
-    let _ = writeln!(md, "| quantity | min | mean | max | spread |");
-    let _ = writeln!(md, "|---|---|---|---|---|");
+    let _ = writeln!(md, "| quantity | n | min | mean | max | spread |");
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
     for (name, unit, pick) in numbers {
         let values: Vec<f64> = done.iter().filter_map(|r| pick(r)).collect();
         if values.is_empty() {
@@ -321,7 +341,11 @@ fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
         };
         let _ = writeln!(
             md,
-            "| {name} ({unit}) | {min:.4} | {mean:.4} | {max:.4} | {spread} |"
+            "| {name} ({unit}) | {} | {} | {} | {} | {spread} |",
+            values.len(),
+            significant(min),
+            significant(mean),
+            significant(max)
         );
     }
     md
@@ -358,7 +382,7 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
         cells.extend(
             numbers
                 .iter()
-                .map(|(_, _, f)| f(r).map_or("–".into(), |v| format!("{v:.4}"))),
+                .map(|(_, _, f)| f(r).map_or("–".into(), significant)),
         );
         let _ = writeln!(md, "| {} |", cells.join(" | "));
     }
@@ -388,6 +412,14 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
             }
             d
         };
+        if distinct.len() < 2 {
+            let _ = writeln!(
+                md,
+                "\n## Against {name}\n\nOne value ({}) in every variant: nothing to plot.\n",
+                distinct.first().map_or("", |v| v.as_str())
+            );
+            continue;
+        }
         // Linked paths (`a & b`) are plotted against the first path's value.
         let linked = name.contains('&');
         let first_path = name.split('&').next().unwrap_or(name).trim().to_string();
@@ -476,6 +508,7 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
                     })
                     .collect(),
                 marks: Vec::new(),
+                markers: true,
             })
             .collect();
         let file = format!(

@@ -239,6 +239,7 @@ fn plot_forces(
                         format!("filtered peak {:.0} N", load.filtered_peak_force),
                     ),
                 ],
+                markers: false,
             }
         })
         .collect();

@@ -165,9 +165,10 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
         .lines()
         .find(|l| l.starts_with("| tip displacement (m) |"))
         .expect("spread row");
+    // | quantity | n | min | mean | max | spread |
     let cells: Vec<f64> = spread
         .split('|')
-        .skip(2)
+        .skip(3)
         .take(3)
         .map(|c| c.trim().parse().unwrap())
         .collect();

@@ -9,6 +9,9 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 python3 -m venv "$tmp/venv"
 "$tmp/venv/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<2" "numpy>=1.21" pytest
-# The extension shares the workspace's build directory: ancf-core is compiled once.
-CARGO_TARGET_DIR="$PWD/target" "$tmp/venv/bin/pip" install -q --disable-pip-version-check ./ancf-python
+# One abi3 wheel (any CPython ≥ 3.9), built in the workspace's build
+# directory so that ancf-core is compiled once, then installed from it.
+CARGO_TARGET_DIR="$PWD/target" "$tmp/venv/bin/maturin" build --release --quiet \
+    -m ancf-python/Cargo.toml -o "$tmp/dist"
+"$tmp/venv/bin/pip" install -q --disable-pip-version-check "$tmp"/dist/ancf-*.whl
 "$tmp/venv/bin/python" -m pytest -q ancf-python/tests

@@ -275,3 +275,25 @@ fn syntax_and_type_errors_name_their_field() {
         );
     }
 }
+
+/// A rod that the wire starts inside is the geometry's fault, and is
+/// refused before any work naming the rod (a run would begin with the
+/// whole overlap as its contact force); touching it is fine. (A static
+/// start is not checked: its solve meets the contact first.)
+#[test]
+fn a_rod_overlapping_the_wire_at_the_start_is_refused() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/wire_rod_impact.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let rod = "center = [1.0, 0.0, -0.3]";
+    assert!(text.contains(rod));
+    let inside = text.replace(rod, "center = [1.0, 0.0, -0.02]");
+    let e = Scene::from_toml(&inside).unwrap_err();
+    assert_eq!(e.field, "rod[0].center", "{e}");
+    assert!(e.message.contains("the geometry is at fault"), "{e}");
+    // Touching: the wire (radius 14.07 mm) on the rod (20 mm) at 34.07 mm.
+    let touching = text.replace(rod, "center = [1.0, 0.0, -0.03407]");
+    assert!(Scene::from_toml(&touching).is_ok());
+}

@@ -699,6 +699,41 @@ fn surface_stations_resolve_rods(
 /// against the wire.
 const OVERLAP_SAMPLES: usize = 8;
 
+impl Model {
+    /// The first rod whose surface the wire's surface enters, in the
+    /// wire's starting shape, by more than a tenth of the wire's radius:
+    /// (rod index, depth in m, the wire's centerline point there). A run
+    /// that starts so begins with a contact force of the whole overlap —
+    /// the geometry is at fault, not the contact law.
+    pub fn rod_overlap_at_start(&self) -> Option<(usize, f64, [f64; 3])> {
+        use super::beam::{centerline_points, segment_distance};
+        let contact = self.contact()?;
+        let q = self.initial_coordinates();
+        let wire = centerline_points(self, self.wire(), &q, OVERLAP_SAMPLES);
+        let wire_radius = self
+            .element(self.wire().elements.start)
+            .section
+            .outer_radius();
+        for (i, rod) in contact.rods.iter().enumerate() {
+            // An endless rod: a segment far beyond the wire on both sides.
+            let half = rod.length.map_or(1e6, |l| 0.5 * l);
+            let end = |s: f64| std::array::from_fn(|k| rod.center[k] + s * half * rod.axis[k]);
+            let (a, b) = (end(-1.0), end(1.0));
+            let closest = wire
+                .windows(2)
+                .map(|w| (segment_distance(w[0], w[1], a, b), w[0]))
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            if let Some((d, p)) = closest {
+                let depth = wire_radius + rod.radius - d;
+                if depth > 0.1 * wire_radius {
+                    return Some((i, depth, p));
+                }
+            }
+        }
+        None
+    }
+}
+
 /// Every member clear of the wire where both start (their starting
 /// shapes): a member whose surface overlaps the wire's would start in deep
 /// contact, or inside it.

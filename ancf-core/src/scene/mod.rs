@@ -482,6 +482,22 @@ impl Scene {
         if solves_statics && let Some(message) = model.static_holding_error() {
             return Err(err("support", message));
         }
+        // A static solve pushes the wire out of a rod; a run from the
+        // starting shape would begin with the whole overlap as its force.
+        if !solves_statics && let Some((i, depth, p)) = model.rod_overlap_at_start() {
+            return Err(err(
+                format!("rod[{i}].center"),
+                format!(
+                    "the rod overlaps the wire where the run starts: the wire's surface is {:.2} mm \
+                     inside it near [{:.3}, {:.3}, {:.3}] m; move the rod or the wire (the geometry is \
+                     at fault, not the contact)",
+                    1e3 * depth,
+                    p[0],
+                    p[1],
+                    p[2]
+                ),
+            ));
+        }
         let clearance = clearance_zones(&f.clearance)?;
         let implausible = (materials.iter().enumerate())
             .flat_map(|(i, (_, m))| {

@@ -444,3 +444,47 @@ fn the_report_counts_only_touched_rods_and_plots_only_varied_parameters() {
     assert!(out.join("plots/rod_0__center.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Errors name the sweep file's own line and the parameter: a bad value
+/// with the variant it makes (not a line of a generated scene), a value
+/// that is not a list, a table the base scene lacks, a TOML error.
+#[test]
+fn sweep_errors_name_the_sweep_files_line_and_parameter() {
+    let dir = tmp("lines");
+    write_scene(&dir, 4, 0.05);
+    for (body, expected) in [
+        (
+            "mode = \"grid\"\n\n[parameters]\n\"wire.length\" = [1.0, -1.0]\n",
+            "sweep.toml:5: parameters.\"wire.length\": the value -1.0 makes variant v001 (wire.length = -1.0) an invalid scene: wire.length: must be > 0",
+        ),
+        (
+            "[parameters]\n\"wire.elements\" = [4, \"x\"]\n",
+            "sweep.toml:3: parameters.\"wire.elements\": the value x makes variant v001 (wire.elements = x) an invalid scene: wire.elements: invalid type",
+        ),
+        (
+            "[parameters]\n\"wire.length\" = 2.0\n",
+            "sweep.toml:3: parameters.\"wire.length\": a list of values",
+        ),
+        (
+            "[parameters]\n\"rod[0].radius\" = [0.1]\n",
+            "sweep.toml:3: parameters.\"rod[0].radius\": rod[0].radius: the scene has no [[rod]] table",
+        ),
+        (
+            "mode = 3\n[parameters]\n\"wire.length\" = [1.0]\n",
+            "sweep.toml:2: mode: ",
+        ),
+    ] {
+        let sweep = write_sweep(&dir, body);
+        let out = ancf()
+            .arg("sweep")
+            .arg(&sweep)
+            .arg("--out")
+            .arg(dir.join("out"))
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(expected), "{body}\n{stderr}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -170,6 +170,11 @@ fn set_in(
                     "{path}: '{k}' is inside a value that is not a table"
                 ));
             };
+            if !t.contains_key(k) && matches!(rest.first(), Some(Step::Index(_))) {
+                return Err(format!(
+                    "{path}: the scene has no [[{k}]] table (add one to the scene, or drop this parameter)"
+                ));
+            }
             let next = t.entry(k.clone()).or_insert_with(|| {
                 if rest.is_empty() {
                     toml::Value::Boolean(false)
@@ -197,8 +202,7 @@ fn set_in(
 pub fn load(path: &Path) -> Result<Sweep, SweepError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| SweepError(format!("{}: {e}", path.display())))?;
-    let spec: SweepSpec = toml::from_str(&text)
-        .map_err(|e| SweepError(format!("{}: {}", path.display(), e.message())))?;
+    let spec: SweepSpec = toml::from_str(&text).map_err(|e| located(path, &text, &e))?;
     if spec
         .slurm
         .as_ref()
@@ -219,8 +223,8 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
             scene.display()
         ))
     })?;
-    let base: toml::Table = toml::from_str(&base_text)
-        .map_err(|e| SweepError(format!("{}: {}", scene.display(), e.message())))?;
+    let base: toml::Table =
+        toml::from_str(&base_text).map_err(|e| located(&scene, &base_text, &e))?;
     expand(
         scene,
         base,
@@ -228,6 +232,37 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
         &spec.parameters,
         spec.slurm.unwrap_or_default(),
     )
+    .map_err(|e| match parameter_line(&text, &e.0) {
+        Some(line) => SweepError(format!("{}:{line}: {}", path.display(), e.0)),
+        None => SweepError(format!("{}: {}", path.display(), e.0)),
+    })
+}
+
+/// A TOML error of `text` (the file `path`) as `path:line: field: message`.
+fn located(path: &Path, text: &str, e: &toml::de::Error) -> SweepError {
+    match e.span() {
+        Some(span) => {
+            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+            let field = ancf_core::scene::field_at(text, span.start);
+            let field = if field.is_empty() {
+                String::new()
+            } else {
+                format!("{field}: ")
+            };
+            SweepError(format!("{}:{line}: {field}{}", path.display(), e.message()))
+        }
+        None => SweepError(format!("{}: {}", path.display(), e.message())),
+    }
+}
+
+/// The line (from 1) of the sweep file where the parameter an error
+/// names (`parameters."NAME": …`) is given.
+fn parameter_line(text: &str, message: &str) -> Option<usize> {
+    let name = message.strip_prefix("parameters.\"")?.split("\":").next()?;
+    let quoted = format!("\"{name}\"");
+    text.lines()
+        .position(|l| l.trim_start().starts_with(&quoted))
+        .map(|i| i + 1)
 }
 
 /// The variants of `parameters` (name → list of values) over `base`.
@@ -333,13 +368,34 @@ pub fn expand(
             };
             for (path, part) in paths.iter().zip(parts) {
                 set_path(&mut table, path, part)
-                    .map_err(|e| SweepError(format!("{}: {e}", describe())))?;
+                    .map_err(|e| SweepError(format!("parameters.\"{name}\": {e}")))?;
             }
         }
         let scene_text =
             toml::to_string(&table).map_err(|e| SweepError(format!("{}: {e}", describe())))?;
-        let scene = Scene::from_toml(&scene_text)
-            .map_err(|e| SweepError(format!("{}: {e}", describe())))?;
+        let scene = Scene::from_toml(&scene_text).map_err(|e| {
+            // The parameter that set the field at fault, when one did; the
+            // complaint without the generated text's line.
+            let culprit = names.iter().zip(&values).find(|(n, _)| {
+                linked_paths(n).iter().any(|p| {
+                    !e.field.is_empty() && (e.field.starts_with(p) || p.starts_with(&e.field))
+                })
+            });
+            let complaint = e.message.lines().last().unwrap_or("").trim();
+            let field = if e.field.is_empty() {
+                String::new()
+            } else {
+                format!("{}: ", e.field)
+            };
+            match culprit {
+                Some((n, v)) => SweepError(format!(
+                    "parameters.\"{n}\": the value {} makes {} an invalid scene: {field}{complaint}",
+                    value_text(v),
+                    describe()
+                )),
+                None => SweepError(format!("{}: {field}{complaint}", describe())),
+            }
+        })?;
         variants.push(Variant {
             id,
             values,

@@ -184,7 +184,7 @@ pub enum SweepEnd {
 /// `ancf sweep SWEEP.toml`: checks every variant, runs what is missing and
 /// writes results.csv and report.md.
 pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
-    let sweep = file::load(sweep_path).map_err(|e| format!("{}: {e}", sweep_path.display()))?;
+    let sweep = file::load(sweep_path).map_err(|e| e.to_string())?;
     // One sweep in a folder at a time (each variant's run locks its own).
     let _lock = ancf_output::lock::OutputLock::acquire(&opts.out)?;
     prepare(&sweep, &opts.out)?;

@@ -488,3 +488,52 @@ fn sweep_errors_name_the_sweep_files_line_and_parameter() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A finished sweep is extended in place: a new value runs alone (the
+/// finished variants keep their ids and runs), the results hold all of
+/// them; a base scene changed under the same values is refused.
+#[test]
+fn a_sweep_is_extended_in_place() {
+    let dir = tmp("extend");
+    let scene = write_scene(&dir, 4, 0.05);
+    let out = dir.join("out");
+    let first = write_sweep(&dir, "[parameters]\n\"wire.length\" = [1.0, 1.1]\n");
+    assert!(sweep_cmd(&first, &out, &[]).status().unwrap().success());
+    let summary_of =
+        |id: &str| std::fs::read_to_string(out.join("runs").join(id).join("summary.json")).unwrap();
+    let before = summary_of("v001");
+    let more = write_sweep(&dir, "[parameters]\n\"wire.length\" = [1.0, 1.2, 1.1]\n");
+    let run = sweep_cmd(&more, &out, &[]).output().unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(
+        summary_of("v001"),
+        before,
+        "a finished variant was run again"
+    );
+    let (header, rows) = results(&out);
+    let (id, length) = (column(&header, "id"), column(&header, "wire.length"));
+    let got: Vec<(String, String)> = rows
+        .iter()
+        .map(|r| (r[id].clone(), r[length].clone()))
+        .collect();
+    assert_eq!(
+        got,
+        [("v000", "1.0"), ("v001", "1.1"), ("v002", "1.2")]
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+    );
+    let st = column(&header, "status");
+    assert!(rows.iter().all(|r| r[st] == "completed"), "{rows:?}");
+    // The same values over another base scene: refused, nothing touched.
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(&scene, text.replace("end_time = 0.05", "end_time = 0.06")).unwrap();
+    let refused = sweep_cmd(&more, &out, &[]).output().unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(stderr.contains("the base scene changed"), "{stderr}");
+    assert_eq!(summary_of("v001"), before);
+    let _ = std::fs::remove_dir_all(dir);
+}

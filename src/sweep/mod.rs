@@ -122,17 +122,25 @@ pub fn run_state(out: &Path, id: &str) -> RunState {
 
 /// Prepares `out` for `sweep`: writes sweep.json and each variant's
 /// scene.toml, or, when `out` already holds this sweep, keeps everything.
-/// A folder holding another sweep is refused (nothing is overwritten).
-pub fn prepare(sweep: &Sweep, out: &Path) -> Result<(), String> {
-    let manifest = Manifest::of(sweep);
+/// A folder holding the same base scene and parameters with other values
+/// is extended: a variant whose values it already holds keeps its id and
+/// run (its scene must be the one the folder holds), new values get new
+/// ids after the last, and completed variants the sweep no longer names
+/// stay in the results. A folder holding another sweep is refused
+/// (nothing is overwritten).
+pub fn prepare(sweep: &mut Sweep, out: &Path) -> Result<(), String> {
+    let mut manifest = Manifest::of(sweep);
     if out.join("sweep.json").exists() {
         let old = Manifest::read(out)?;
         if old != manifest {
-            return Err(format!(
-                "{} holds another sweep (its base scene, parameters or values differ); \
-                 choose another --out or remove it",
-                out.display()
-            ));
+            if old.scene != manifest.scene || old.parameters != manifest.parameters {
+                return Err(format!(
+                    "{} holds another sweep (its base scene or parameters differ); \
+                     choose another --out or remove it",
+                    out.display()
+                ));
+            }
+            manifest = extend(&old, sweep, out)?;
         }
     }
     let io = |e: std::io::Error| format!("{}: {e}", out.display());
@@ -147,6 +155,61 @@ pub fn prepare(sweep: &Sweep, out: &Path) -> Result<(), String> {
     }
     let text = serde_json::to_string_pretty(&manifest).expect("manifest serializes");
     std::fs::write(out.join("sweep.json"), text + "\n").map_err(io)
+}
+
+/// `sweep` over the folder `out` that holds `old` (same scene and
+/// parameters): `sweep`'s variants take the ids of the old ones with their
+/// values, new ones the ids after the last; the manifest of both.
+fn extend(old: &Manifest, sweep: &mut Sweep, out: &Path) -> Result<Manifest, String> {
+    let next = old
+        .variants
+        .iter()
+        .filter_map(|(id, _)| id.strip_prefix('v')?.parse::<usize>().ok())
+        .max()
+        .map_or(0, |n| n + 1);
+    let total = next + sweep.variants.len();
+    let width = total.saturating_sub(1).to_string().len().max(3);
+    let mut fresh = next;
+    let mut ids = Vec::new();
+    for v in &sweep.variants {
+        let values: Vec<String> = v.values.iter().map(file::value_text).collect();
+        match old.variants.iter().find(|(_, vals)| *vals == values) {
+            Some((id, _)) => {
+                let held = std::fs::read_to_string(run_dir(out, id).join("scene.toml")).ok();
+                if held.as_deref().is_some_and(|t| t != v.scene_text) {
+                    return Err(format!(
+                        "{}: variant {id} ({}) holds another scene than this sweep makes for \
+                         those values (the base scene changed); choose another --out",
+                        out.display(),
+                        values.join(", ")
+                    ));
+                }
+                ids.push(id.clone());
+            }
+            None => {
+                ids.push(format!("v{fresh:0width$}"));
+                fresh += 1;
+            }
+        }
+    }
+    for (v, id) in sweep.variants.iter_mut().zip(ids) {
+        v.id = id;
+    }
+    let mut manifest = Manifest::of(sweep);
+    // Completed variants of the folder that this sweep no longer names.
+    let kept: Vec<(String, Vec<String>)> = (old.variants.iter())
+        .filter(|(id, _)| !manifest.variants.iter().any(|(n, _)| n == id))
+        .filter(|(id, _)| run_state(out, id) == RunState::Completed)
+        .cloned()
+        .collect();
+    manifest.variants.splice(0..0, kept);
+    let number = |id: &str| {
+        id.trim_start_matches('v')
+            .parse::<usize>()
+            .unwrap_or(usize::MAX)
+    };
+    manifest.variants.sort_by_key(|(id, _)| number(id));
+    Ok(manifest)
 }
 
 /// The command line that runs (or resumes) variant `id` with this `ancf`.
@@ -184,10 +247,10 @@ pub enum SweepEnd {
 /// `ancf sweep SWEEP.toml`: checks every variant, runs what is missing and
 /// writes results.csv and report.md.
 pub fn run(sweep_path: &Path, opts: &SweepOptions) -> Result<SweepEnd, String> {
-    let sweep = file::load(sweep_path).map_err(|e| e.to_string())?;
+    let mut sweep = file::load(sweep_path).map_err(|e| e.to_string())?;
     // One sweep in a folder at a time (each variant's run locks its own).
     let _lock = ancf_output::lock::OutputLock::acquire(&opts.out)?;
-    prepare(&sweep, &opts.out)?;
+    prepare(&mut sweep, &opts.out)?;
     let out = std::path::absolute(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
     let todo: Vec<String> = sweep
         .variants

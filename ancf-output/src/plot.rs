@@ -90,13 +90,14 @@ fn tick_label(v: &f64, lo: f64, hi: f64) -> String {
     let span = (hi - lo).abs().max(f64::MIN_POSITIVE);
     let text = if v.abs() <= 1e-9 * span {
         "0".to_string()
-    } else if !(1e-2..1e4).contains(&m) || span < 1e-3 * m {
+    } else if !(1e-2..1e4).contains(&m) {
         let exponent = 3 * (m.log10() / 3.0).floor() as i32;
         let scale = 10f64.powi(exponent);
         let digits = (-(span / scale).log10().floor() + 1.0).clamp(0.0, 4.0) as usize;
         format!("{:.digits$}e{exponent}", v / scale)
     } else {
-        let digits = (-span.log10().floor() + 1.0).clamp(0.0, 6.0) as usize;
+        // A tick step is about a fifth of the span.
+        let digits = (-(0.2 * span).log10().floor()).clamp(0.0, 6.0) as usize;
         format!("{v:.digits$}")
     };
     // A tick that rounds to zero has no sign ("-0.0" reads as a value).
@@ -256,6 +257,7 @@ fn draw_panel<DB: DrawingBackend>(
         .y_desc(p.y_label)
         .y_label_formatter(&|v| tick_label(v, y0, y1))
         .x_label_formatter(&|v| tick_label(v, x0, x1))
+        .x_labels(6)
         .label_style(("sans-serif", size(14.0)))
         .axis_desc_style(("sans-serif", size(15.0)))
         .draw()?;

@@ -271,7 +271,20 @@ fn draw_panel<DB: DrawingBackend>(
     }
     for (i, s) in p.series.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
-        let (width, legend) = (size(2.0), size(20.0) as i32);
+        // A series denser than the pixels with spikes (a raw force at every
+        // step) is drawn one pixel wide: thick joins of its steep spikes
+        // overshoot the data by far (lines below zero on a magnitude).
+        let dense = s.points.len() > area.dim_in_pixel().0 as usize;
+        let spiky = s
+            .points
+            .windows(3)
+            .any(|w| (w[2].1 - 2.0 * w[1].1 + w[0].1).abs() > 0.3 * (y1 - y0));
+        let width = if dense && spiky {
+            scale.round().max(1.0) as u32
+        } else {
+            size(2.0)
+        };
+        let legend = size(20.0) as i32;
         chart
             .draw_series(LineSeries::new(
                 s.points.iter().copied(),

@@ -380,10 +380,16 @@ pub fn configurations_plot(
         return Err(format!("{}: nothing to plot", path.display()));
     }
     let pad = 0.05 * (x1 - x0).max(z1 - z0);
-    let (x0, x1, z0, z1) = (x0 - pad, x1 + pad, z0 - pad, z1 + pad);
-    let width = 1100u32;
-    let height =
-        ((width as f64 - 100.0) * (z1 - z0) / (x1 - x0) + 120.0).clamp(300.0, 1400.0) as u32;
+    let (x0, mut x1, z0, z1) = (x0 - pad, x1 + pad, z0 - pad, z1 + pad);
+    // The legend goes right of the shapes, in room of its own.
+    let (width, legend_px) = (1100u32, 170.0);
+    let plot_px = width as f64 - 100.0;
+    let data_px = plot_px - legend_px;
+    x1 += (x1 - x0) * legend_px / data_px;
+    let rows = shapes.len() as f64 * 19.0 + 150.0;
+    let height = (data_px * (z1 - z0) / (x1 - x0) * (plot_px / data_px) + 120.0)
+        .max(rows)
+        .clamp(300.0, 1400.0) as u32;
     save_png(path, (width, height), |root, s| {
         let e = |err: DrawingAreaErrorKind<_>| format!("{}: {err}", path.display());
         let px = |v: u32| v * s;
@@ -444,7 +450,7 @@ pub fn configurations_plot(
                     PathElement::new(vec![(x, y), (x + legend, y)], color.stroke_width(width))
                 });
         }
-        draw_legend(&mut chart, s as f64, 14.0, SeriesLabelPosition::LowerLeft).map_err(e)?;
+        draw_legend(&mut chart, s as f64, 14.0, SeriesLabelPosition::UpperRight).map_err(e)?;
         Ok(())
     })
 }

@@ -67,7 +67,7 @@ pub fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String
         "energy (J)",
         &series,
     )?;
-    let rods: Vec<(f64, f64, f64)> = contact
+    let mut rods: Vec<(f64, f64, f64)> = contact
         .map(|c| {
             c.rods
                 .iter()
@@ -76,6 +76,15 @@ pub fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String
                 .collect()
         })
         .unwrap_or_default();
+    // Frame members across the plane (along y), seen end-on at their middle.
+    for beam in model.beams.iter().skip(1) {
+        if beam.axis[1].abs() > 0.99 {
+            let (a, b) = (beam.nodes.start, beam.nodes.end - 1);
+            let mid = |k: usize| 0.5 * (model.reference[12 * a + k] + model.reference[12 * b + k]);
+            let radius = model.element(beam.elements.start).section.outer_radius();
+            rods.push((mid(0), mid(2), radius));
+        }
+    }
     configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
     if !h.contact_point.is_empty() {
         let col = |i: usize| {

@@ -110,6 +110,14 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
         assert!(!summary[key].is_null(), "summary lacks {key}");
     }
     assert_eq!(summary["step_cuts"], 0);
+    // The steps' cost against one force evaluation and one solve.
+    let p = &summary["performance"];
+    let us = |k: &str| p[k].as_f64().unwrap();
+    assert!(us("force_us") > 0.0 && us("solve_us") > 0.0, "{p}");
+    assert!(us("step_us") > us("force_us") + us("solve_us"), "{p}");
+    let ratio = us("step_us") / (us("force_us") + us("solve_us"));
+    assert!((us("limit_ratio") - ratio).abs() < 1e-9 * ratio, "{p}");
+    assert!(us("iterations_per_step") >= 1.0, "{p}");
     assert!(!String::from_utf8_lossy(&out.stderr).contains("note:"));
     assert_eq!(summary["tip"]["position"].as_array().unwrap().len(), 3);
     assert_eq!(summary["tip"]["displacement"].as_array().unwrap().len(), 3);
@@ -458,8 +466,11 @@ fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
         assert!(x == y, "{file} differs after resuming");
     }
     let (mut sa, mut sb) = (summary(&a), summary(&b));
-    sa["wall_time_s"] = serde_json::Value::Null;
-    sb["wall_time_s"] = serde_json::Value::Null;
+    // Timings differ between any two runs.
+    for key in ["wall_time_s", "performance"] {
+        sa[key] = serde_json::Value::Null;
+        sb[key] = serde_json::Value::Null;
+    }
     assert_eq!(sa, sb);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -828,8 +839,11 @@ fn five_kills_and_resumes_end_as_an_uninterrupted_run() {
         assert!(a == b, "{file} differs after five kills");
     }
     let (mut sa, mut sb) = (summary(&whole), summary(&killed));
-    sa["wall_time_s"] = serde_json::Value::Null;
-    sb["wall_time_s"] = serde_json::Value::Null;
+    // Timings differ between any two runs.
+    for key in ["wall_time_s", "performance"] {
+        sa[key] = serde_json::Value::Null;
+        sb[key] = serde_json::Value::Null;
+    }
     assert_eq!(sa, sb);
     let _ = std::fs::remove_dir_all(&dir);
 }

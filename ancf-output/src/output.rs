@@ -111,6 +111,28 @@ pub struct BeamSummary {
     pub contact: ancf_core::loads::rod_load::RodLoad,
 }
 
+/// What a dynamic run's steps cost against the least a step can cost: one
+/// force evaluation and one linear solve of the same model, timed inside
+/// the run (so both share the machine's load). The limit ratio is a
+/// scene's cost on any CPU: 1 would be one Newton iteration per step with
+/// no overhead.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct PerformanceSummary {
+    /// Wall time per accepted step (µs), the stepping alone (no output).
+    pub step_us: f64,
+    /// One force evaluation without a Jacobian (µs, the mean in the run).
+    pub force_us: f64,
+    /// One solve with the factored Newton matrix (µs, the mean).
+    pub solve_us: f64,
+    /// step_us / (force_us + solve_us).
+    pub limit_ratio: f64,
+    /// Newton iterations per accepted step (rejected attempts' included).
+    pub iterations_per_step: f64,
+    /// Newton matrix factorizations and rejected step attempts.
+    pub factorizations: usize,
+    pub rejected: usize,
+}
+
 /// A beam's largest strains over the run (the wire first, then each
 /// member): the centerline's and each layer's outer fibres' largest
 /// |E_xx| with time and place, and the largest stretch of the whole beam.
@@ -213,6 +235,10 @@ pub struct Summary {
     pub clearance: Vec<ClearanceSummary>,
     /// Per beam, the wire first: its largest strains over the run.
     pub strains: Vec<StrainSummary>,
+    /// Dynamic runs: what the steps cost against one force evaluation and
+    /// one solve (timings of this process; a resumed run's from its resume).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub performance: Option<PerformanceSummary>,
     /// What the scene will likely do badly, known before the run
     /// ([`ancf_core::scene::Scene::warnings`]), and what the run showed
     /// to be out of range (energy gained, strains beyond a law's range,

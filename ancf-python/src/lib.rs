@@ -584,8 +584,10 @@ pub struct Simulation {
     /// The clearance zones' and the frame members' records, as the
     /// program's run keeps them.
     observed: Observations,
-    /// Wall time spent stepping, s (summary's `wall_time_s`).
+    /// Wall time spent stepping, s (summary's `wall_time_s`), and what the
+    /// steps cost (summary's `performance`).
     wall: f64,
+    cost: ancf_output::run::Cost,
     /// Total energy at the start (J) and the largest |total + dissipated −
     /// that| at the steps a run writes (summary's `energy.max_drift`).
     drift: (f64, f64),
@@ -614,6 +616,7 @@ impl Simulation {
             observed: Observations::new(&scene),
             scene,
             wall: 0.0,
+            cost: Default::default(),
             drift: (sim.energies().total(), 0.0),
             sim,
         };
@@ -654,8 +657,11 @@ impl Simulation {
     fn advance(&mut self) -> Result<(), PyErr> {
         let started = std::time::Instant::now();
         let step = self.sim.step();
-        self.wall += started.elapsed().as_secs_f64();
+        let took = started.elapsed().as_secs_f64();
+        self.wall += took;
+        self.cost.stepping += took;
         let info = step.map_err(|e| simulation_error(&e))?;
+        self.cost.add(&info);
         track_drift(&self.sim, self.scene.output.every, &mut self.drift);
         self.observe_state(&info.member_forces);
         Ok(())
@@ -848,13 +854,17 @@ impl Simulation {
                 let this = &mut *this;
                 let (sim, scene, observed) = (&mut this.sim, &this.scene, &mut this.observed);
                 let drift = &mut this.drift;
+                let cost = &mut this.cost;
                 let started = std::time::Instant::now();
                 let outcome = py.detach(|| {
                     for _ in 0..every {
                         if done(sim) {
                             break;
                         }
+                        let begun = std::time::Instant::now();
                         let info = sim.step()?;
+                        cost.stepping += begun.elapsed().as_secs_f64();
+                        cost.add(&info);
                         let state = sim.state();
                         observed.observe(scene, &state.q, state.time, &info.member_forces);
                         track_drift(sim, scene.output.every, drift);
@@ -1022,6 +1032,11 @@ impl Simulation {
         d.set_item("kernel", model.element(0).kernel_path().to_string())?;
         d.set_item("simd", ancf_core::math::simd::path().name())?;
         d.set_item("wall_time_s", self.wall)?;
+        if let Some(p) = self.cost.summary() {
+            let json = serde_json::to_string(&p).expect("performance serializes");
+            let loads = PyModule::import(py, "json")?.getattr("loads")?;
+            d.set_item("performance", loads.call1((json,))?)?;
+        }
         d.set_item("effects", ancf_output::run::effect_names(model))?;
         let tip = PyDict::new(py);
         let tip_node = model.wire().last_node();

@@ -197,6 +197,55 @@ pub fn step_cuts_note(step_cuts: usize, steps: usize) -> Option<String> {
     })
 }
 
+/// The steps' cost as this process ran them (summary.json `performance`);
+/// the Python `Simulation` keeps one too.
+#[derive(Clone, Debug, Default)]
+pub struct Cost {
+    steps: usize,
+    /// Wall time spent in the steps, s.
+    pub stepping: f64,
+    iterations: usize,
+    factorizations: usize,
+    rejected: usize,
+    force: (f64, usize),
+    solve: (f64, usize),
+}
+
+impl Cost {
+    /// Count a step that took `info`.
+    pub fn add(&mut self, info: &ancf_core::solve::dynamics::StepInfo) {
+        self.steps += 1;
+        self.iterations += info.iterations;
+        self.factorizations += info.factorizations;
+        self.rejected += info.rejected;
+        self.force.0 += info.force_seconds;
+        self.force.1 += info.force_evaluations;
+        self.solve.0 += info.solve_seconds;
+        self.solve.1 += info.solves;
+    }
+
+    /// summary.json's `performance` (`None` before a step with a solve).
+    pub fn summary(&self) -> Option<crate::output::PerformanceSummary> {
+        (self.steps > 0 && self.force.1 > 0 && self.solve.1 > 0).then(|| {
+            let us = |(t, n): (f64, usize)| 1e6 * t / n as f64;
+            let (step_us, force_us, solve_us) = (
+                us((self.stepping, self.steps)),
+                us(self.force),
+                us(self.solve),
+            );
+            crate::output::PerformanceSummary {
+                step_us,
+                force_us,
+                solve_us,
+                limit_ratio: step_us / (force_us + solve_us),
+                iterations_per_step: self.iterations as f64 / self.steps as f64,
+                factorizations: self.factorizations,
+                rejected: self.rejected,
+            }
+        })
+    }
+}
+
 /// configurations.png's extra shapes in the first impact, where the wire
 /// changes most: at first contact and every 25 ms after, four in all.
 const IMPACT_SNAPSHOTS: (usize, f64) = (4, 0.025);
@@ -486,6 +535,7 @@ fn run_dynamic(
     let bar = progress::Bar::new(n_steps as u64, quiet || !std::io::stderr().is_terminal());
     bar.set_position(done as u64);
     let snapshot_every = (n_steps / 8).max(1);
+    let mut cost = Cost::default();
     let vtk_every = scene.output.vtk_interval(n_steps);
     // A checkpoint carries where the kept factorization was formed, so a
     // resumed run refactors there and results do not depend on how often
@@ -511,8 +561,14 @@ fn run_dynamic(
             break;
         }
         let t_before = sim.state().time;
-        let info = match sim.step() {
-            Ok(info) => info,
+        let started = std::time::Instant::now();
+        let stepped = sim.step();
+        cost.stepping += started.elapsed().as_secs_f64();
+        let info = match stepped {
+            Ok(info) => {
+                cost.add(&info);
+                info
+            }
             Err(e @ SimulationError::Step { .. }) => {
                 summary.status = RunStatus::Failed;
                 let cause = match (&e, model.ill_conditioning()) {
@@ -601,6 +657,7 @@ fn run_dynamic(
     summary.newton_iterations = progress.newton_iterations;
     summary.factorizations = progress.factorizations;
     summary.step_cuts = progress.step_cuts;
+    summary.performance = cost.summary();
     if let Some(note) = step_cuts_note(progress.step_cuts, progress.step)
         && summary.status == RunStatus::Completed
     {

@@ -496,7 +496,12 @@ impl Integrator {
             events: &s.contact_events,
             pairs,
         };
+        let timed = kq.is_none().then(std::time::Instant::now);
         self.forces.evaluate(model, at, kq, kv);
+        if let Some(started) = timed {
+            info.force_seconds += started.elapsed().as_secs_f64();
+            info.force_evaluations += 1;
+        }
         if let Some(cf) = self.forces.contact() {
             info.contact = cf.total;
             info.deepest = cf.deepest;
@@ -666,7 +671,10 @@ impl Integrator {
             base_a1.copy_from_slice(&a1);
             base_rn = rn;
             da = r;
+            let started = std::time::Instant::now();
             self.solver.solve_in_place(&mut da);
+            info.solve_seconds += started.elapsed().as_secs_f64();
+            info.solves += 1;
             alpha = 1.0;
             model.scatter_add(&da, -1.0, &mut a1);
             iterations += 1;

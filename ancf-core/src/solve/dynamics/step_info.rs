@@ -53,4 +53,14 @@ pub struct StepInfo {
     pub reactions: Vec<[f64; 3]>,
     /// Power dissipated by damping (W) at the step's midpoint.
     pub damping_power: f64,
+    /// Wall time (s) of the step's force evaluations without a Jacobian:
+    /// one iteration's force, for the limit ratio.
+    pub force_seconds: f64,
+    /// Their number.
+    pub force_evaluations: usize,
+    /// Wall time (s) of the step's linear solves with a factored Newton
+    /// matrix.
+    pub solve_seconds: f64,
+    /// Their number.
+    pub solves: usize,
 }

@@ -460,6 +460,9 @@ pub struct BenchReport {
     pub parallel_speedup_256_mooney_rivlin: f64,
     /// Simulated seconds per wall second for scenes/wire_rod_impact.toml, one thread.
     pub impact_realtime_factor: f64,
+    /// The same run's limit ratio: wall time per step over one force
+    /// evaluation plus one solve (summary.json `performance`).
+    pub impact_limit_ratio: f64,
     pub threads_available: usize,
 }
 
@@ -549,33 +552,35 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
     let cover = pendulum_with(n_par, rubber());
     let cover_step = || pendulum_step(&cover, NewtonKind::Full, 5).0;
     let parallel_speedup_256_mooney_rivlin = paired(3, &cover_step);
-    let impact_realtime_factor = single.install(|| -> Result<f64, String> {
-        let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").map_err(|e| {
-            format!("scenes/wire_rod_impact.toml (run from the repository root): {e}")
+    let (impact_realtime_factor, impact_limit_ratio) =
+        single.install(|| -> Result<(f64, f64), String> {
+            let text = std::fs::read_to_string("scenes/wire_rod_impact.toml").map_err(|e| {
+                format!("scenes/wire_rod_impact.toml (run from the repository root): {e}")
+            })?;
+            let text = if quick {
+                text.replace("end_time = 1.0", "end_time = 0.05")
+            } else {
+                text
+            };
+            let text = text.replace("every = 50 ", "every = 1000000 ");
+            let mut scene = Scene::from_toml(&text).map_err(|e| e.to_string())?;
+            scene.output.vtk = false;
+            scene.output.plots = false;
+            let dir = std::env::temp_dir().join(format!("ancf-bench-{}", std::process::id()));
+            let t = Instant::now();
+            let s = run_scene(
+                &scene,
+                &RunOptions {
+                    out: dir.clone(),
+                    quiet: true,
+                    cancel: Default::default(),
+                },
+            )?;
+            let wall = t.elapsed().as_secs_f64();
+            let _ = std::fs::remove_dir_all(&dir);
+            let ratio = s.performance.as_ref().map_or(f64::NAN, |p| p.limit_ratio);
+            Ok((s.time / wall, ratio))
         })?;
-        let text = if quick {
-            text.replace("end_time = 1.0", "end_time = 0.05")
-        } else {
-            text
-        };
-        let text = text.replace("every = 50 ", "every = 1000000 ");
-        let mut scene = Scene::from_toml(&text).map_err(|e| e.to_string())?;
-        scene.output.vtk = false;
-        scene.output.plots = false;
-        let dir = std::env::temp_dir().join(format!("ancf-bench-{}", std::process::id()));
-        let t = Instant::now();
-        let s = run_scene(
-            &scene,
-            &RunOptions {
-                out: dir.clone(),
-                quiet: true,
-                cancel: Default::default(),
-            },
-        )?;
-        let wall = t.elapsed().as_secs_f64();
-        let _ = std::fs::remove_dir_all(&dir);
-        Ok(s.time / wall)
-    })?;
     Ok(BenchReport {
         cpu: cpu_model(),
         simd: ancf_core::math::simd::path().name().into(),
@@ -611,6 +616,7 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         parallel_step_speedup,
         parallel_speedup_256_mooney_rivlin,
         impact_realtime_factor,
+        impact_limit_ratio,
         threads_available: std::thread::available_parallelism().map_or(1, |n| n.get()),
     })
 }
@@ -685,6 +691,10 @@ pub fn table(r: &BenchReport) -> String {
     s += &format!(
         "Impact scene real-time factor (simulated s per wall s, 1 thread): {:.3}\n",
         r.impact_realtime_factor
+    );
+    s += &format!(
+        "Impact scene limit ratio (wall time per step / one force evaluation + one solve): {:.2}\n",
+        r.impact_limit_ratio
     );
     s
 }

@@ -699,38 +699,42 @@ fn surface_stations_resolve_rods(
 /// against the wire.
 const OVERLAP_SAMPLES: usize = 8;
 
+/// The closest approach of two polylines (points in order), and the point
+/// of `wire` that starts the segment where it happens: (distance m, point).
+fn closest_approach(wire: &[[f64; 3]], line: &[[f64; 3]]) -> Option<(f64, [f64; 3])> {
+    wire.windows(2)
+        .flat_map(|w| {
+            line.windows(2)
+                .map(move |m| (super::beam::segment_distance(w[0], w[1], m[0], m[1]), w[0]))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
 impl Model {
+    /// The wire's centerline at the starting coordinates `q`, sampled for
+    /// the overlap checks, and its outer radius (m).
+    fn starting_wire(&self, q: &[f64]) -> (Vec<[f64; 3]>, f64) {
+        let points = super::beam::centerline_points(self, self.wire(), q, OVERLAP_SAMPLES);
+        let radius = (self.element(self.wire().elements.start).section).outer_radius();
+        (points, radius)
+    }
+
     /// The first rod whose surface the wire's surface enters, in the
     /// wire's starting shape, by more than a tenth of the wire's radius:
     /// (rod index, depth in m, the wire's centerline point there). A run
     /// that starts so begins with a contact force of the whole overlap —
     /// the geometry is at fault, not the contact law.
     pub fn rod_overlap_at_start(&self) -> Option<(usize, f64, [f64; 3])> {
-        use super::beam::{centerline_points, segment_distance};
         let contact = self.contact()?;
-        let q = self.initial_coordinates();
-        let wire = centerline_points(self, self.wire(), &q, OVERLAP_SAMPLES);
-        let wire_radius = self
-            .element(self.wire().elements.start)
-            .section
-            .outer_radius();
-        for (i, rod) in contact.rods.iter().enumerate() {
+        let (wire, wire_radius) = self.starting_wire(&self.initial_coordinates());
+        contact.rods.iter().enumerate().find_map(|(i, rod)| {
             // An endless rod: a segment far beyond the wire on both sides.
             let half = rod.length.map_or(1e6, |l| 0.5 * l);
             let end = |s: f64| std::array::from_fn(|k| rod.center[k] + s * half * rod.axis[k]);
-            let (a, b) = (end(-1.0), end(1.0));
-            let closest = wire
-                .windows(2)
-                .map(|w| (segment_distance(w[0], w[1], a, b), w[0]))
-                .min_by(|x, y| x.0.total_cmp(&y.0));
-            if let Some((d, p)) = closest {
-                let depth = wire_radius + rod.radius - d;
-                if depth > 0.1 * wire_radius {
-                    return Some((i, depth, p));
-                }
-            }
-        }
-        None
+            let (d, p) = closest_approach(&wire, &[end(-1.0), end(1.0)])?;
+            let depth = wire_radius + rod.radius - d;
+            (depth > 0.1 * wire_radius).then_some((i, depth, p))
+        })
     }
 }
 
@@ -738,25 +742,15 @@ impl Model {
 /// shapes): a member whose surface overlaps the wire's would start in deep
 /// contact, or inside it.
 fn members_clear_of_the_wire(model: &Model) -> Result<(), ModelError> {
-    use super::beam::{centerline_points, segment_distance};
     if model.beams.len() < 2 {
         return Ok(());
     }
     let q = model.initial_coordinates();
-    let wire = centerline_points(model, model.wire(), &q, OVERLAP_SAMPLES);
-    let radius = |b: &super::Beam| model.element(b.elements.start).section.outer_radius();
-    let wire_radius = radius(model.wire());
+    let (wire, wire_radius) = model.starting_wire(&q);
     for (i, member) in model.beams.iter().enumerate().skip(1) {
-        let line = centerline_points(model, member, &q, OVERLAP_SAMPLES);
-        let clearance = wire_radius + radius(member);
-        let closest = wire
-            .windows(2)
-            .flat_map(|w| {
-                line.windows(2)
-                    .map(move |m| (segment_distance(w[0], w[1], m[0], m[1]), w[0]))
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        if let Some((d, p)) = closest
+        let line = super::beam::centerline_points(model, member, &q, OVERLAP_SAMPLES);
+        let clearance = wire_radius + model.element(member.elements.start).section.outer_radius();
+        if let Some((d, p)) = closest_approach(&wire, &line)
             && d < clearance
         {
             return Err(ModelError::Member {

@@ -175,21 +175,20 @@ fn load(path: &std::path::Path) -> Result<Scene, ExitCode> {
     })
 }
 
-/// Under `--strict`, a scene with warnings is not run: exit code 3.
-fn strict_refusal(strict: bool, scene: &Scene) -> Option<ExitCode> {
-    let n = scene.warnings().len();
-    (strict && n > 0).then(|| {
-        eprintln!("error: --strict: the scene has {n} warning(s) above");
-        ExitCode::from(3)
-    })
-}
-
 /// What a valid scene will likely do badly ([`Scene::warnings`]), on
-/// stderr.
-fn print_warnings(scene: &ancf_core::scene::Scene) {
-    for w in scene.warnings() {
+/// stderr; how many. Under `--strict` a scene with warnings is not run:
+/// exit code 3.
+fn print_warnings(scene: &Scene, strict: bool) -> Result<usize, ExitCode> {
+    let warnings = scene.warnings();
+    for w in &warnings {
         eprintln!("warning: {w}");
     }
+    let n = warnings.len();
+    if strict && n > 0 {
+        eprintln!("error: --strict: the scene has {n} warning(s) above");
+        return Err(ExitCode::from(3));
+    }
+    Ok(n)
 }
 
 fn main() -> ExitCode {
@@ -216,8 +215,7 @@ fn main() -> ExitCode {
                     s.model.n_unknowns,
                     s.model.element(0).kernel_path()
                 );
-                print_warnings(&s);
-                strict_refusal(strict, &s).unwrap_or(ExitCode::SUCCESS)
+                print_warnings(&s, strict).map_or_else(|code| code, |_| ExitCode::SUCCESS)
             }
             Err(code) => code,
         },
@@ -255,11 +253,10 @@ fn main() -> ExitCode {
                         );
                     }
                     // Before the work starts, whether quiet or not.
-                    print_warnings(&s);
-                    printed = s.warnings().len();
-                    if let Some(code) = strict_refusal(strict, &s) {
-                        return code;
-                    }
+                    printed = match print_warnings(&s, strict) {
+                        Ok(n) => n,
+                        Err(code) => return code,
+                    };
                     (
                         run_scene(
                             &s,

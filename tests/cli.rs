@@ -19,6 +19,24 @@ fn summary(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
 
+/// Runs `a` and `b` wrote the same `files` bit for bit, and the same
+/// summary.json but for its timings (which differ between any two runs).
+fn assert_same_outputs(a: &Path, b: &Path, files: &[&str], when: &str) {
+    for file in files {
+        let (x, y) = (
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+        );
+        assert!(x == y, "{file} differs {when}");
+    }
+    let (mut sa, mut sb) = (summary(a), summary(b));
+    for key in ["wall_time_s", "performance"] {
+        sa[key] = serde_json::Value::Null;
+        sb[key] = serde_json::Value::Null;
+    }
+    assert_eq!(sa, sb, "summary.json differs {when}");
+}
+
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("ancf-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -454,25 +472,17 @@ fn resumed_run_equals_uninterrupted_run_bit_for_bit() {
         "{}",
         String::from_utf8_lossy(&resumed.stderr)
     );
-    for file in [
-        "final_nodes.csv",
-        "timeseries.csv",
-        "rod_forces.csv",
-        "vtk/wire.pvd",
-    ] {
-        let (x, y) = (
-            std::fs::read(a.join(file)).unwrap(),
-            std::fs::read(b.join(file)).unwrap(),
-        );
-        assert!(x == y, "{file} differs after resuming");
-    }
-    let (mut sa, mut sb) = (summary(&a), summary(&b));
-    // Timings differ between any two runs.
-    for key in ["wall_time_s", "performance"] {
-        sa[key] = serde_json::Value::Null;
-        sb[key] = serde_json::Value::Null;
-    }
-    assert_eq!(sa, sb);
+    assert_same_outputs(
+        &a,
+        &b,
+        &[
+            "final_nodes.csv",
+            "timeseries.csv",
+            "rod_forces.csv",
+            "vtk/wire.pvd",
+        ],
+        "after resuming",
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -827,25 +837,17 @@ fn five_kills_and_resumes_end_as_an_uninterrupted_run() {
         "{}",
         String::from_utf8_lossy(&last.stderr)
     );
-    for file in [
-        "timeseries.csv",
-        "rod_forces.csv",
-        "final_nodes.csv",
-        "supports.csv",
-    ] {
-        let (a, b) = (
-            std::fs::read(whole.join(file)).unwrap(),
-            std::fs::read(killed.join(file)).unwrap(),
-        );
-        assert!(a == b, "{file} differs after five kills");
-    }
-    let (mut sa, mut sb) = (summary(&whole), summary(&killed));
-    // Timings differ between any two runs.
-    for key in ["wall_time_s", "performance"] {
-        sa[key] = serde_json::Value::Null;
-        sb[key] = serde_json::Value::Null;
-    }
-    assert_eq!(sa, sb);
+    assert_same_outputs(
+        &whole,
+        &killed,
+        &[
+            "timeseries.csv",
+            "rod_forces.csv",
+            "final_nodes.csv",
+            "supports.csv",
+        ],
+        "after five kills",
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -31,6 +31,14 @@ fn edited(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
     path
 }
 
+/// `ancf run SCENE --strict --quiet --out OUT`.
+fn run_strict(scene: &Path, out: &Path) -> Output {
+    ancf(
+        &["run", "--strict", "--quiet", "--out", out.to_str().unwrap()],
+        scene,
+    )
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -51,10 +59,7 @@ fn a_modulus_in_the_wrong_units_is_named() {
     let strict = ancf(&["check", "--strict"], &scene);
     assert_eq!(strict.status.code(), Some(3), "{}", stderr(&strict));
     let out = dir.join("out");
-    let run = ancf(
-        &["run", "--strict", "--quiet", "--out", out.to_str().unwrap()],
-        &scene,
-    );
+    let run = run_strict(&scene, &out);
     assert_eq!(run.status.code(), Some(3), "{}", stderr(&run));
     assert!(!out.join("summary.json").exists());
     // The shipped scenes warn of nothing.
@@ -123,10 +128,7 @@ fn a_coarse_step_fails_under_strict() {
         t.replace("time_step = 1e-4", "time_step = 5e-3")
     });
     let out = dir.join("out");
-    let strict = ancf(
-        &["run", "--strict", "--quiet", "--out", out.to_str().unwrap()],
-        &scene,
-    );
+    let strict = run_strict(&scene, &out);
     assert_eq!(strict.status.code(), Some(3), "{}", stderr(&strict));
     assert!(stderr(&strict).contains("does not resolve rod 0's line contact"));
     assert!(!out.join("summary.json").exists());
@@ -148,10 +150,7 @@ fn many_step_cuts_fail_under_strict() {
     });
     assert!(ancf(&["check", "--strict"], &scene).status.success());
     let out = dir.join("out");
-    let run = ancf(
-        &["run", "--strict", "--quiet", "--out", out.to_str().unwrap()],
-        &scene,
-    );
+    let run = run_strict(&scene, &out);
     assert_eq!(run.status.code(), Some(3), "{}", stderr(&run));
     assert!(stderr(&run).contains("error: --strict"), "{}", stderr(&run));
     assert!(out.join("summary.json").exists());

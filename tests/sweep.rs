@@ -475,13 +475,7 @@ fn sweep_errors_name_the_sweep_files_line_and_parameter() {
         ),
     ] {
         let sweep = write_sweep(&dir, body);
-        let out = ancf()
-            .arg("sweep")
-            .arg(&sweep)
-            .arg("--out")
-            .arg(dir.join("out"))
-            .output()
-            .unwrap();
+        let out = sweep_cmd(&sweep, &dir.join("out"), &[]).output().unwrap();
         assert_eq!(out.status.code(), Some(2));
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(stderr.contains(expected), "{body}\n{stderr}");

@@ -156,6 +156,35 @@ pub struct ClearanceSummary {
     pub record: ancf_core::loads::clearance_record::ClearanceRecord,
 }
 
+/// The steps of a dynamic run (summary.json's `time_steps`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct TimeStepSummary {
+    /// Whether the steps were chosen by the error estimate
+    /// (`analysis.time_step = "auto"`).
+    pub adaptive: bool,
+    /// The shortest, the longest and the mean step completed (s).
+    pub shortest_s: f64,
+    pub longest_s: f64,
+    pub mean_s: f64,
+    /// Converged attempts the error estimate rejected and tried again
+    /// shorter (adaptive runs; their work is in the run's counts).
+    pub retried: usize,
+}
+
+impl TimeStepSummary {
+    /// From a simulation's progress; `None` before its first step.
+    pub fn of(progress: &ancf_core::solve::simulation::Snapshot) -> Option<Self> {
+        let [shortest_s, longest_s] = progress.step_range?;
+        Some(TimeStepSummary {
+            adaptive: progress.step_size.is_some(),
+            shortest_s,
+            longest_s,
+            mean_s: progress.state.time / progress.step.max(1) as f64,
+            retried: progress.step_retries,
+        })
+    }
+}
+
 /// How a run ended (summary.json's `status`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -235,6 +264,9 @@ pub struct Summary {
     pub clearance: Vec<ClearanceSummary>,
     /// Per beam, the wire first: its largest strains over the run.
     pub strains: Vec<StrainSummary>,
+    /// Dynamic runs: the steps' sizes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_steps: Option<TimeStepSummary>,
     /// Dynamic runs: what the steps cost against one force evaluation and
     /// one solve (timings of this process; a resumed run's from its resume).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -265,12 +297,16 @@ pub const TIMESERIES_HEADER: &str =
     "time,tip_x,tip_y,tip_z,kinetic,strain,gravity,total,loads,newton_iterations";
 
 impl TimeSeries {
-    /// With rods, the columns `contact_force,penetration,contact_energy,dissipated` follow.
+    /// With rods, the columns `contact_force,penetration,contact_energy,dissipated` follow;
+    /// `time_step` (the size of the step that ended at the row's time, s; 0 at t = 0) ends
+    /// every row.
     pub fn create(dir: &Path, contact: bool) -> std::io::Result<Self> {
         let header = if contact {
-            format!("{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated")
+            format!(
+                "{TIMESERIES_HEADER},contact_force,penetration,contact_energy,dissipated,time_step"
+            )
         } else {
-            TIMESERIES_HEADER.to_string()
+            format!("{TIMESERIES_HEADER},time_step")
         };
         Ok(TimeSeries {
             table: Table::create(&dir.join("timeseries.csv"), &header)?,

@@ -4,7 +4,7 @@
 
 use ancf_core::model::contact::{ContactLaw, surface_stiffness_matching_line};
 use ancf_core::model::station_spacing;
-use ancf_core::scene::{
+use ancf_core::scene::{TimeStepSpec, 
     Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
 };
 
@@ -132,7 +132,9 @@ impl Setting {
             section: Some(self.section),
         });
         if let Some(h) = self.time_step {
-            f.analysis.time_step = Some(h);
+            f.analysis.time_step = Some(TimeStepSpec::Fixed(h));
+            f.analysis.error_tolerance = None;
+            f.analysis.max_time_step = None;
         }
         if let Some(r) = self.spectral_radius {
             f.analysis.spectral_radius = Some(r);

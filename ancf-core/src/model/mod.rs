@@ -1073,6 +1073,16 @@ impl Model {
         })
     }
 
+    /// The longest step (s) that resolves every line-law contact of the
+    /// model (h ω_c ≤ [`contact::RESOLVED_STEP_FREQUENCY`]): an adaptive
+    /// run's steps near a rod or member stay below it. `None` without a
+    /// line-law contact.
+    pub fn contact_step_limit(&self) -> Option<f64> {
+        (self.unresolved_contacts(f64::INFINITY).iter())
+            .map(|u| u.resolving_step())
+            .reduce(f64::min)
+    }
+
     /// The elastic supports (empty without any).
     pub fn springs(&self) -> &[spring::SpringAt] {
         self.effects

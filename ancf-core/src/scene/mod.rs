@@ -19,7 +19,7 @@ use crate::model::spring::Spring;
 use crate::model::{
     BeamBuilder, Model, ModelError, PointLoad, Segment, Support, SupportKind, WireBuilder,
 };
-use crate::solve::dynamics::{DynamicSettings, NewtonKind};
+use crate::solve::dynamics::{DynamicSettings, NewtonKind, StepControl};
 use crate::solve::statics::StaticSettings;
 
 /// The scene file's own defaults (those of the model and the solvers live
@@ -242,13 +242,14 @@ impl Scene {
     }
 
     /// The rods whose line-law contact `analysis.time_step` does not
-    /// resolve ([`Model::unresolved_contacts`]); none for a static analysis.
+    /// resolve ([`Model::unresolved_contacts`]); none for a static analysis
+    /// or adaptive steps (which stay below the limit near a rod).
     pub fn unresolved_contacts(&self) -> Vec<crate::model::contact::UnresolvedContact> {
         match &self.analysis {
-            Analysis::Dynamic { settings, .. } => {
+            Analysis::Dynamic { settings, .. } if settings.step_control.is_none() => {
                 self.model.unresolved_contacts(settings.time_step)
             }
-            Analysis::Static { .. } => Vec::new(),
+            Analysis::Dynamic { .. } | Analysis::Static { .. } => Vec::new(),
         }
     }
 
@@ -664,6 +665,8 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
             for (name, given) in [
                 ("end_time", a.end_time.is_some()),
                 ("time_step", a.time_step.is_some()),
+                ("error_tolerance", a.error_tolerance.is_some()),
+                ("max_time_step", a.max_time_step.is_some()),
                 ("spectral_radius", a.spectral_radius.is_some()),
                 ("newton", a.newton.is_some()),
                 ("initial", a.initial.is_some()),
@@ -710,9 +713,42 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
                     "missing (s), required for a dynamic run",
                 )
             })?;
+            let (time_step, step_control) = match time_step {
+                TimeStepSpec::Fixed(h) => {
+                    for (name, given) in [
+                        ("error_tolerance", a.error_tolerance.is_some()),
+                        ("max_time_step", a.max_time_step.is_some()),
+                    ] {
+                        if given {
+                            return Err(err(
+                                format!("analysis.{name}"),
+                                "only for time_step = \"auto\"",
+                            ));
+                        }
+                    }
+                    (h, None)
+                }
+                TimeStepSpec::Auto => {
+                    let tolerance = a.error_tolerance.ok_or_else(|| {
+                        err(
+                            "analysis.error_tolerance",
+                            "missing (m), required with time_step = \"auto\": the position error \
+                             the run may accumulate",
+                        )
+                    })?;
+                    let control = StepControl {
+                        tolerance,
+                        max_step: a
+                            .max_time_step
+                            .unwrap_or_else(|| StepControl::default_max_step(end_time)),
+                    };
+                    (control.first_step(end_time), Some(control))
+                }
+            };
             let d = DynamicSettings::default();
             let settings = DynamicSettings {
                 time_step,
+                step_control,
                 end_time,
                 spectral_radius: a.spectral_radius.unwrap_or(d.spectral_radius),
                 newton: match a.newton {

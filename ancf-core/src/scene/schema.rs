@@ -44,6 +44,46 @@ impl<'de> Deserialize<'de> for NodeRef {
     }
 }
 
+/// `[analysis] time_step`: seconds, or `"auto"` (adaptive steps).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TimeStepSpec {
+    /// A fixed step (s).
+    Fixed(f64),
+    /// Steps chosen from a local error estimate.
+    Auto,
+}
+
+impl<'de> Deserialize<'de> for TimeStepSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = TimeStepSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a time step in seconds or \"auto\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<TimeStepSpec, E> {
+                Ok(TimeStepSpec::Fixed(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<TimeStepSpec, E> {
+                Ok(TimeStepSpec::Fixed(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<TimeStepSpec, E> {
+                Ok(TimeStepSpec::Fixed(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<TimeStepSpec, E> {
+                if v == "auto" {
+                    Ok(TimeStepSpec::Auto)
+                } else {
+                    Err(E::custom(format!(
+                        "unknown time step \"{v}\" (use seconds or \"auto\")"
+                    )))
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// `[analysis] kind`.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
@@ -98,8 +138,12 @@ pub struct AnalysisSpec {
     pub initial: Option<InitialSpec>,
     /// Dynamic: end time (s).
     pub end_time: Option<f64>,
-    /// Dynamic: time step h (s).
-    pub time_step: Option<f64>,
+    /// Dynamic: time step h (s), or `"auto"`.
+    pub time_step: Option<TimeStepSpec>,
+    /// Dynamic, adaptive: the position error (m) the run may accumulate.
+    pub error_tolerance: Option<f64>,
+    /// Dynamic, adaptive: the longest step (s).
+    pub max_time_step: Option<f64>,
     /// Dynamic: generalized-α ρ∞.
     pub spectral_radius: Option<f64>,
     /// Static (and a static start): load increments.

@@ -30,12 +30,16 @@
 use crate::loads::contact_record::ContactRecord;
 use crate::loads::rod_load::LoadHistory;
 use crate::model::Model;
+use crate::solve::dynamics::step_size::{Verdict, judge, towards_event};
 use crate::solve::dynamics::{
     DynamicSettings, Energies, Integrator, State, StepError, StepInfo, Subdivision,
 };
 use crate::solve::statics::{StaticError, StaticSettings, solve_static};
 use std::ops::ControlFlow;
 use std::sync::Arc;
+
+/// The shortest step an adaptive run may take, as a fraction of its end time.
+const MIN_STEP_FRACTION: f64 = 1e-12;
 
 /// Where a simulation starts.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,6 +135,17 @@ pub struct Snapshot {
     /// the two counts above).
     #[serde(default)]
     pub step_cuts: usize,
+    /// An adaptive run's converged attempts whose error estimate was over
+    /// its share, tried again shorter (their work is in the counts above).
+    #[serde(default)]
+    pub step_retries: usize,
+    /// An adaptive run's next step (s); `None` for fixed steps.
+    #[serde(default)]
+    pub step_size: Option<f64>,
+    /// The shortest and the longest step completed so far (s; `None`
+    /// before the first).
+    #[serde(default)]
+    pub step_range: Option<[f64; 2]>,
     /// Support releases done.
     pub released: usize,
     /// The force on each rod at every step.
@@ -216,6 +231,9 @@ impl Simulation {
                 newton_iterations: 0,
                 factorizations: 0,
                 step_cuts: 0,
+                step_retries: 0,
+                step_size: settings.step_control.as_ref().map(|_| settings.time_step),
+                step_range: None,
                 released: 0,
                 rod_loads: vec![LoadHistory::default(); rods],
                 member_loads: vec![LoadHistory::default(); members],
@@ -325,18 +343,31 @@ impl Simulation {
                 p.a.len()
             ));
         }
-        let steps = Self::step_count(settings);
-        if s.step > steps {
-            return Err(format!("step {} is beyond the run's {steps} steps", s.step));
-        }
-        let t = s.step as f64 * settings.time_step;
-        if !(state.time.is_finite()
-            && (state.time - t.min(settings.end_time)).abs() <= 1e-6 * settings.time_step.max(t))
-        {
-            return Err(format!(
-                "state.time = {} s does not match step {} of {} s",
-                state.time, s.step, settings.time_step
-            ));
+        if settings.step_control.is_some() {
+            if !(state.time >= 0.0 && state.time <= settings.end_time) {
+                return Err(format!(
+                    "state.time = {} s is outside the run's 0 … {} s",
+                    state.time, settings.end_time
+                ));
+            }
+            if !s.step_size.is_some_and(|h| h > 0.0 && h.is_finite()) {
+                return Err("step_size: an adaptive run's next step is missing or not positive".into());
+            }
+        } else {
+            let steps = Self::step_count(settings);
+            if s.step > steps {
+                return Err(format!("step {} is beyond the run's {steps} steps", s.step));
+            }
+            let t = s.step as f64 * settings.time_step;
+            if !(state.time.is_finite()
+                && (state.time - t.min(settings.end_time)).abs()
+                    <= 1e-6 * settings.time_step.max(t))
+            {
+                return Err(format!(
+                    "state.time = {} s does not match step {} of {} s",
+                    state.time, s.step, settings.time_step
+                ));
+            }
         }
         if s.subdivision.depth > settings.max_cuts {
             return Err(format!(
@@ -436,26 +467,39 @@ impl Simulation {
             p.released += 1;
         }
         let k = p.step + 1;
-        let hk = if k == self.steps {
-            self.settings.end_time - p.state.time
+        let (next, info) = if self.settings.step_control.is_some() {
+            self.adaptive_step(k)?
         } else {
-            h
+            let hk = if k == self.steps {
+                self.settings.end_time - p.state.time
+            } else {
+                h
+            };
+            let failed = |error| SimulationError::Step {
+                step: k,
+                time: p.state.time + hk,
+                error,
+            };
+            self.integrator.step(&p.state, hk).map_err(failed)?
         };
+        let p = &mut self.progress;
         let failed = |error| SimulationError::Step {
             step: k,
-            time: p.state.time + hk,
+            time: next.time,
             error,
         };
-        let (next, info) = self.integrator.step(&p.state, hk).map_err(failed)?;
         // Every step's energy is finite, whatever the run writes.
         if !self.integrator.energy_is_finite(&next) {
             return Err(failed(StepError::NonFiniteEnergy));
         }
+        let hk = next.time - p.state.time;
+        p.step_range = Some(p.step_range.map_or([hk, hk], |[a, b]| [a.min(hk), b.max(hk)]));
         p.state = next;
         p.step = k;
         p.newton_iterations += info.iterations;
         p.factorizations += info.factorizations;
         p.step_cuts += info.rejected;
+        p.step_retries += info.retried;
         for (history, force) in p.rod_loads.iter_mut().zip(&info.rod_forces) {
             history.push(p.state.time, *force);
         }
@@ -469,6 +513,77 @@ impl Simulation {
             record.push(p.state.time, &info.contact, info.deepest);
         }
         Ok(info)
+    }
+
+    /// One step of an adaptive run (step `k`): from the controller's step,
+    /// shortened to end at the next release or the end time and, while a
+    /// rod or member is within reach, to the contact's resolution limit;
+    /// tried again shorter while its local error estimate exceeds its
+    /// share of the tolerance ([`crate::solve::dynamics::step_size`]).
+    /// Sets the controller's next step.
+    fn adaptive_step(&mut self, k: usize) -> Result<(State, StepInfo), SimulationError> {
+        let Some(control) = self.settings.step_control.clone() else {
+            unreachable!("adaptive_step is called for adaptive runs only")
+        };
+        let end = self.settings.end_time;
+        let p = &mut self.progress;
+        let t = p.state.time;
+        let event = (self.phase_starts.get(p.phase + 1).copied())
+            .unwrap_or(end)
+            .min(end);
+        let limit = self.integrator.model.contact_step_limit();
+        let mut h = p.step_size.unwrap_or(self.settings.time_step);
+        let mut info = StepInfo::default();
+        loop {
+            let mut h_try = towards_event(t, h, event);
+            if let Some(limit) = limit
+                && h_try > limit
+                && self.integrator.contact_within_reach(&p.state, h_try)
+            {
+                h_try = limit;
+            }
+            let at_event = h_try == event - t;
+            let failed = |error| SimulationError::Step {
+                step: k,
+                time: t + h_try,
+                error,
+            };
+            let (mut next, attempt) = self.integrator.step(&p.state, h_try).map_err(failed)?;
+            let verdict = if attempt.rejected > 0 {
+                // Newton needed shorter steps: keep what converged, go on at
+                // the sub-steps' size.
+                Verdict::Accept {
+                    next: h_try / attempt.substeps.max(1) as f64,
+                }
+            } else {
+                let error = self.integrator.local_error(h_try, &p.state, &next);
+                judge(&control, h_try, error)
+            };
+            match verdict {
+                Verdict::Accept { next: h_next } => {
+                    if at_event {
+                        next.time = event;
+                    }
+                    let retried = std::mem::replace(&mut info, attempt);
+                    info.add_work(&retried);
+                    p.step_size = Some(h_next);
+                    return Ok((next, info));
+                }
+                Verdict::Retry { h: shorter } => {
+                    if shorter < MIN_STEP_FRACTION * end {
+                        let error = self.integrator.local_error(h_try, &p.state, &next);
+                        return Err(failed(StepError::ErrorEstimate {
+                            h: h_try,
+                            error,
+                            allowed: control.tolerance,
+                        }));
+                    }
+                    // The rejected attempt's factorization was for its h.
+                    info.add_retried(&attempt);
+                    h = shorter;
+                }
+            }
+        }
     }
 
     /// Steps until `time` (s) or the end time, whichever comes first,
@@ -492,7 +607,10 @@ impl Simulation {
 
     /// Whether every step up to the end time is done.
     pub fn is_finished(&self) -> bool {
-        self.progress.step >= self.steps
+        match self.progress.step_size {
+            Some(_) => self.progress.state.time >= self.settings.end_time,
+            None => self.progress.step >= self.steps,
+        }
     }
 
     /// Whether the simulation has reached `time` (s; within round-off of
@@ -517,8 +635,17 @@ impl Simulation {
     }
 
     /// Steps completed and steps in all.
+    /// An adaptive run's total is an estimate: those done and the rest
+    /// at the next step's size.
     pub fn steps(&self) -> (usize, usize) {
-        (self.progress.step, self.steps)
+        let p = &self.progress;
+        match p.step_size {
+            Some(h) => {
+                let left = ((self.settings.end_time - p.state.time) / h - 1e-9).ceil();
+                (p.step, p.step + left.max(0.0) as usize)
+            }
+            None => (p.step, self.steps),
+        }
     }
 
     /// The force on each rod at every step.

@@ -168,6 +168,7 @@ impl Files {
         if let Some(c) = contact {
             row.extend([c.normal_force, c.max_penetration, e.contact, e.dissipated]);
         }
+        row.push(s.previous.as_ref().map_or(0.0, |p| p.h));
         self.series.row(&row).map_err(|e| io_err(&self.dir, e))?;
         if let Some(v) = self.vtk.as_mut().filter(|_| frame) {
             v.frame(s.time, &s.q, &s.v)

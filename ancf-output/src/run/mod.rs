@@ -542,7 +542,13 @@ fn run_dynamic(
     // a run checkpoints.
     let checkpoint_every = scene.output.checkpoint_every;
     summary.status = RunStatus::Completed;
-    summary.message = format!("{}{n_steps} steps of {h} s", p.message);
+    summary.message = match &settings.step_control {
+        None => format!("{}{n_steps} steps of {h} s", p.message),
+        Some(c) => format!(
+            "{}adaptive steps (error tolerance {:e} m per step, at most {:e} s)",
+            p.message, c.tolerance, c.max_step
+        ),
+    };
     while !sim.is_finished() {
         let k = sim.steps().0 + 1;
         if cancel.is_cancelled() {
@@ -596,7 +602,8 @@ fn run_dynamic(
         let state = sim.state();
         p.observed
             .observe(scene, &state.q, state.time, &info.member_forces);
-        if k % scene.output.every == 0 || k == n_steps {
+        let last = sim.is_finished();
+        if k % scene.output.every == 0 || last {
             let e = sim.energies();
             if !e.total().is_finite() {
                 summary.status = RunStatus::Failed;
@@ -614,7 +621,7 @@ fn run_dynamic(
             p.max_in_play = p.max_in_play.max(e.in_play());
             p.last = e;
             if let Some(f) = files.as_mut() {
-                let frame = k % vtk_every == 0 || k == n_steps;
+                let frame = k % vtk_every == 0 || last;
                 f.row(
                     model,
                     state,
@@ -632,12 +639,12 @@ fn run_dynamic(
         let in_first_impact = sim
             .contact()
             .and_then(|c| c.first_time)
-            .is_some_and(|t1| impact_snapshot(state.time - t1, h));
-        if k % snapshot_every == 0 || k == n_steps || in_first_impact {
+            .is_some_and(|t1| impact_snapshot(state.time - t1, state.time - t_before));
+        if k % snapshot_every == 0 || last || in_first_impact {
             p.history.push_shape(model, state);
         }
         let time = state.time;
-        if checkpoint_every > 0 && k % checkpoint_every == 0 && k < n_steps {
+        if checkpoint_every > 0 && k % checkpoint_every == 0 && !last {
             p.sim = sim.checkpoint();
             if let Some(f) = files.as_mut() {
                 f.checkpoint(scene, &mut p)?;
@@ -658,6 +665,7 @@ fn run_dynamic(
     summary.factorizations = progress.factorizations;
     summary.step_cuts = progress.step_cuts;
     summary.performance = cost.summary();
+    summary.time_steps = crate::output::TimeStepSummary::of(progress);
     if let Some(note) = step_cuts_note(progress.step_cuts, progress.step)
         && summary.status == RunStatus::Completed
     {

@@ -60,6 +60,16 @@ pub enum StepError {
         /// The last failure.
         cause: Box<StepError>,
     },
+    /// An adaptive run's local error estimate stayed above the tolerance
+    /// down to a step of `h` s.
+    ErrorEstimate {
+        /// The shortest step tried, s.
+        h: f64,
+        /// Its local error estimate, m.
+        error: f64,
+        /// The tolerance, m.
+        allowed: f64,
+    },
     /// Something else: a snapshot that does not fit the model.
     Invalid(String),
 }
@@ -97,6 +107,11 @@ impl StepError {
             StepError::Factorization { .. } => {
                 "a singular matrix: too few supports (a free rigid motion) or an element turned inside out"
             }
+            StepError::ErrorEstimate { .. } => {
+                "a tolerance too tight for the motion (analysis.error_tolerance), or a motion the \
+                 estimate cannot follow (an element turned inside out, a contact too stiff); loosen \
+                 analysis.error_tolerance or give a fixed analysis.time_step"
+            }
             StepError::Invalid(_) => "a checkpoint or snapshot that does not belong to this scene",
         }
     }
@@ -130,6 +145,11 @@ impl std::fmt::Display for StepError {
             StepError::Halved { cuts, h, cause } => write!(
                 f,
                 "{cause} (after halving the step {cuts} times, h = {h:.3e} s)"
+            ),
+            StepError::ErrorEstimate { h, error, allowed } => write!(
+                f,
+                "the local error estimate {error:.3e} m stays above analysis.error_tolerance = \
+                 {allowed:.3e} m down to h = {h:.3e} s"
             ),
             StepError::Invalid(message) => f.write_str(message),
         }

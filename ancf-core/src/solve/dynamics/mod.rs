@@ -11,6 +11,7 @@ mod predictor;
 mod settings;
 mod state;
 mod step_info;
+pub mod step_size;
 mod vectors;
 mod workspace;
 
@@ -21,6 +22,7 @@ pub use predictor::predict;
 pub use settings::{DEFAULT_SPECTRAL_RADIUS, DynamicSettings, MAX_STEPS, NewtonKind};
 pub use state::{FactorizationOrigin, PreviousStep, State};
 pub use step_info::{SUBDIVISION_HOLD, StepInfo, Subdivision};
+pub use step_size::StepControl;
 
 use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values};
 use crate::forces::sum::{At, ForceSum};
@@ -294,6 +296,29 @@ impl Integrator {
         } else {
             s.q.iter().chain(&s.v).all(|x| x.is_finite())
         }
+    }
+
+    /// The local error estimate (m) of the step of `h` s from `s` to
+    /// `next`, see [`step_size`].
+    pub fn local_error(&self, h: f64, s: &State, next: &State) -> f64 {
+        let rho = self.settings.spectral_radius;
+        step_size::local_error(&self.model, &self.params, rho, h, s, next)
+    }
+
+    /// Whether a step of `h` s from `s` may bring the wire into contact:
+    /// the broad phase lets a pair through with twice the reach of the
+    /// centerline's predicted move h v + h²/2 a, plus a wire radius. False
+    /// without contact.
+    pub fn contact_within_reach(&mut self, s: &State, h: f64) -> bool {
+        let Some(c) = self.forces.contact_evaluator() else {
+            return false;
+        };
+        let w = &mut self.work;
+        w.qm.clear();
+        w.qm.extend((s.q.iter().zip(&s.v).zip(&s.a)).map(|((q, v), a)| q + h * v + 0.5 * h * h * a));
+        let reach = 2.0 * centerline_shift(&self.model, &s.q, &w.qm) + c.wire_radius;
+        contact_candidates(&self.model, c, &s.q, reach, &mut w.reach_pairs);
+        !w.reach_pairs.is_empty()
     }
 
     /// Energies of a state.

@@ -1,5 +1,6 @@
 //! The integrator's settings, checked once, with their defaults.
 
+use super::step_size::{StepControl, check_against_run};
 use crate::check::{ParameterError, count_in, positive, refuse};
 
 /// How often the Newton matrix is refactorized.
@@ -33,6 +34,10 @@ pub struct DynamicSettings {
     pub tolerance: f64,
     /// How many times a step may be halved before the run fails. Default 10.
     pub max_cuts: usize,
+    /// Adaptive steps: `Some` chooses each step from a local error estimate
+    /// ([`super::step_size`]), `time_step` being the first; `None` (the
+    /// default) steps `time_step` throughout.
+    pub step_control: Option<StepControl>,
 }
 
 /// ρ∞ unless said otherwise: 0.9 damps the unresolved axial modes of a
@@ -71,6 +76,9 @@ impl DynamicSettings {
         }
         crate::check::relative_tolerance("tolerance", self.tolerance)?;
         count_in("max_iterations", self.max_iterations, 1..=10_000)?;
+        if let Some(control) = &self.step_control {
+            check_against_run(control, end_time)?;
+        }
         Ok(())
     }
 }
@@ -85,6 +93,7 @@ impl Default for DynamicSettings {
             max_iterations: 25,
             tolerance: 1e-10,
             max_cuts: 10,
+            step_control: None,
         }
     }
 }

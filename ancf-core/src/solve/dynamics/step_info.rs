@@ -37,6 +37,10 @@ pub struct StepInfo {
     /// Attempts rejected and cut in halves (their Newton iterations and
     /// factorizations are counted above: the work the step cost).
     pub rejected: usize,
+    /// Attempts of an adaptive run whose local error estimate exceeded
+    /// their share of the tolerance, tried again shorter (their work is
+    /// counted above too).
+    pub retried: usize,
     /// Contact at the step's generalized-α midpoint (last sub-step).
     pub contact: ContactSample,
     /// Deepest penetrating point: (element, point).
@@ -63,4 +67,26 @@ pub struct StepInfo {
     pub solve_seconds: f64,
     /// Their number.
     pub solves: usize,
+}
+
+impl StepInfo {
+    /// Count the work of `attempt`, a converged attempt the step-size rule
+    /// threw away, in this step's.
+    pub fn add_retried(&mut self, attempt: &StepInfo) {
+        self.add_work(attempt);
+        self.retried += 1;
+    }
+
+    /// Add `other`'s work (iterations, factorizations, rejections, timed
+    /// forces and solves) to this step's.
+    pub fn add_work(&mut self, other: &StepInfo) {
+        self.iterations += other.iterations;
+        self.factorizations += other.factorizations;
+        self.rejected += other.rejected;
+        self.retried += other.retried;
+        self.force_seconds += other.force_seconds;
+        self.force_evaluations += other.force_evaluations;
+        self.solve_seconds += other.solve_seconds;
+        self.solves += other.solves;
+    }
 }

@@ -12,6 +12,9 @@ pub(super) struct Workspace {
     /// coordinates they were found at (see `contact_candidates`).
     pub(super) contact_pairs: Vec<usize>,
     pub(super) contact_pairs_at: Vec<f64>,
+    /// The pairs within reach of an adaptive step (see
+    /// `Integrator::contact_within_reach`).
+    pub(super) reach_pairs: Vec<usize>,
 }
 
 /// Whether two vectors are equal bit for bit: integer compares, eight at a
@@ -41,6 +44,7 @@ impl Workspace {
             ma: vec![0.0; n],
             contact_pairs: Vec::new(),
             contact_pairs_at: Vec::new(),
+            reach_pairs: Vec::new(),
         }
     }
 }

@@ -1012,11 +1012,10 @@ impl Simulation {
         )?;
         let (steps, n_steps) = self.sim.steps();
         let message = if self.sim.is_finished() {
-            let h = match &self.scene.analysis {
-                Analysis::Dynamic { settings, .. } => settings.time_step,
-                Analysis::Static { .. } => 0.0,
-            };
-            format!("{n_steps} steps of {h} s")
+            match &self.scene.analysis {
+                Analysis::Dynamic { settings, .. } => ancf_output::run::stepping(settings, n_steps),
+                Analysis::Static { .. } => format!("{n_steps} steps"),
+            }
         } else {
             format!("step {steps} of {n_steps}")
         };
@@ -1032,9 +1031,13 @@ impl Simulation {
         d.set_item("kernel", model.element(0).kernel_path().to_string())?;
         d.set_item("simd", ancf_core::math::simd::path().name())?;
         d.set_item("wall_time_s", self.wall)?;
+        let loads = PyModule::import(py, "json")?.getattr("loads")?;
+        if let Some(t) = ancf_output::output::TimeStepSummary::of(p) {
+            let json = serde_json::to_string(&t).expect("time steps serialize");
+            d.set_item("time_steps", loads.call1((json,))?)?;
+        }
         if let Some(p) = self.cost.summary() {
             let json = serde_json::to_string(&p).expect("performance serializes");
-            let loads = PyModule::import(py, "json")?.getattr("loads")?;
             d.set_item("performance", loads.call1((json,))?)?;
         }
         d.set_item("effects", ancf_output::run::effect_names(model))?;

@@ -260,6 +260,18 @@ fn impact_snapshot(since: f64, h: f64) -> bool {
     })
 }
 
+/// How a dynamic run steps, for its summary's message: `N steps of h s`,
+/// or the adaptive steps' tolerance and longest step.
+pub fn stepping(settings: &DynamicSettings, n_steps: usize) -> String {
+    match &settings.step_control {
+        None => format!("{n_steps} steps of {} s", settings.time_step),
+        Some(c) => format!(
+            "adaptive steps (error tolerance {:e} m per step, at most {:e} s)",
+            c.tolerance, c.max_step
+        ),
+    }
+}
+
 /// Whether `step_cuts` rejected attempts in `steps` steps are so many (one
 /// step in a hundred or more) that the guards, not the time step, set the
 /// path.
@@ -462,7 +474,6 @@ fn run_dynamic(
 ) -> Result<(Vec<f64>, History), String> {
     let model = &scene.model;
     let contact = model.contact();
-    let h = settings.time_step;
     let (mut p, mut sim, mut files) = match resume {
         Some(p) => {
             let sim = Simulation::resume(model, settings.clone(), p.sim.clone())
@@ -542,13 +553,7 @@ fn run_dynamic(
     // a run checkpoints.
     let checkpoint_every = scene.output.checkpoint_every;
     summary.status = RunStatus::Completed;
-    summary.message = match &settings.step_control {
-        None => format!("{}{n_steps} steps of {h} s", p.message),
-        Some(c) => format!(
-            "{}adaptive steps (error tolerance {:e} m per step, at most {:e} s)",
-            p.message, c.tolerance, c.max_step
-        ),
-    };
+    summary.message = format!("{}{}", p.message, stepping(settings, n_steps));
     while !sim.is_finished() {
         let k = sim.steps().0 + 1;
         if cancel.is_cancelled() {

@@ -195,6 +195,36 @@ const CASES: &[(&str, &str, &str, &str)] = &[
         "analysis.time_step",
     ),
     (
+        "a time step that is neither seconds nor auto",
+        "time_step = 1e-3",
+        "time_step = \"fast\"",
+        "analysis.time_step",
+    ),
+    (
+        "adaptive steps without a tolerance",
+        "time_step = 1e-3",
+        "time_step = \"auto\"",
+        "analysis.error_tolerance",
+    ),
+    (
+        "a negative error tolerance",
+        "time_step = 1e-3",
+        "time_step = \"auto\"\nerror_tolerance = -1e-6",
+        "analysis.error_tolerance",
+    ),
+    (
+        "an error tolerance for fixed steps",
+        "time_step = 1e-3",
+        "time_step = 1e-3\nerror_tolerance = 1e-6",
+        "analysis.error_tolerance",
+    ),
+    (
+        "a longest step beyond the run",
+        "time_step = 1e-3",
+        "time_step = \"auto\"\nerror_tolerance = 1e-6\nmax_time_step = 1.0",
+        "analysis.max_time_step",
+    ),
+    (
         "negative end time",
         "end_time = 0.01",
         "end_time = -1.0",

@@ -46,8 +46,8 @@ fn a_free_falling_wire_matches_the_closed_form_with_the_longest_steps() {
         .build()
         .unwrap();
     let tolerance = 1e-6;
-    let mut sim = Simulation::new(&model, adaptive(tolerance, 0.05, 1.0), Initial::Reference)
-        .unwrap();
+    let mut sim =
+        Simulation::new(&model, adaptive(tolerance, 0.05, 1.0), Initial::Reference).unwrap();
     let mut worst = 0.0f64;
     sim.run_until(1.0, |sim, _| {
         let s = sim.state();
@@ -170,11 +170,12 @@ fn halving_the_tolerance_reduces_the_error_by_two_to_the_two_thirds() {
     // log error against log tolerance.
     let xs: Vec<f64> = tolerances.iter().map(|t| t.ln()).collect();
     let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-    let (mx, my) = (
-        xs.iter().sum::<f64>() / 4.0,
-        ys.iter().sum::<f64>() / 4.0,
-    );
-    let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+    let (mx, my) = (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
         / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
     assert!(
         (slope - 2.0 / 3.0).abs() < 0.15,
@@ -252,18 +253,32 @@ fn an_adaptive_run_resumes_bit_for_bit() {
     let model = &scene.model;
     let s = settings(&scene);
     let mut whole = Simulation::new(model, s.clone(), Initial::Reference).unwrap();
-    whole.run_until(0.3, |_, _| ControlFlow::Continue(())).unwrap();
+    whole
+        .run_until(0.3, |_, _| ControlFlow::Continue(()))
+        .unwrap();
     let mut first = Simulation::new(model, s.clone(), Initial::Reference).unwrap();
-    first.run_until(0.27, |_, _| ControlFlow::Continue(())).unwrap();
+    first
+        .run_until(0.27, |_, _| ControlFlow::Continue(()))
+        .unwrap();
     let json = serde_json::to_string(&first.checkpoint()).unwrap();
     drop(first);
     let snapshot: Snapshot = serde_json::from_str(&json).unwrap();
     let mut resumed = Simulation::resume(model, s, snapshot).unwrap();
-    resumed.run_until(0.3, |_, _| ControlFlow::Continue(())).unwrap();
+    resumed
+        .run_until(0.3, |_, _| ControlFlow::Continue(()))
+        .unwrap();
     let (a, b) = (whole.state(), resumed.state());
     assert_eq!(whole.steps().0, resumed.steps().0);
     assert_eq!(a.time.to_bits(), b.time.to_bits());
-    assert!(a.q.iter().zip(&b.q).all(|(x, y)| x.to_bits() == y.to_bits()));
-    assert!(a.v.iter().zip(&b.v).all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert!(
+        a.q.iter()
+            .zip(&b.q)
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    );
+    assert!(
+        a.v.iter()
+            .zip(&b.v)
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    );
     assert_eq!(whole.rod_loads()[0].force, resumed.rod_loads()[0].force);
 }

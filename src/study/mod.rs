@@ -114,6 +114,33 @@ impl Outcome {
     }
 }
 
+/// `samples` (in time order) interpolated linearly at the multiples of
+/// `dt` (s) within their span.
+fn on_grid(samples: &[Sample], dt: f64) -> Vec<Sample> {
+    let Some(last) = samples.last() else {
+        return Vec::new();
+    };
+    let n = (last.time / dt + 1e-9).floor() as usize;
+    (0..=n)
+        .filter_map(|j| {
+            let t = j as f64 * dt;
+            let k = samples.partition_point(|s| s.time < t);
+            let b = samples.get(k)?;
+            let Some(a) = k.checked_sub(1).map(|i| &samples[i]) else {
+                return Some(Sample { time: t, ..*b });
+            };
+            let w = ((t - a.time) / (b.time - a.time)).clamp(0.0, 1.0);
+            let mix = |x: f64, y: f64| x + w * (y - x);
+            Some(Sample {
+                time: t,
+                tip: std::array::from_fn(|c| mix(a.tip[c], b.tip[c])),
+                energy: mix(a.energy, b.energy),
+                kinetic: mix(a.kinetic, b.kinetic),
+            })
+        })
+        .collect()
+}
+
 /// Run one setting in memory, as `ancf run` would (call it inside a
 /// one-thread rayon pool for a single-threaded timing).
 /// Short runs are repeated (up to 5 times, 0.5 s in all) and the fastest
@@ -154,7 +181,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
         member_loads,
         ..
     } = best.expect("at least one run");
-    let samples = (0..history.time.len())
+    let samples: Vec<Sample> = (0..history.time.len())
         .map(|k| Sample {
             time: history.time[k],
             tip: history.tip[k],
@@ -162,6 +189,12 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
             kinetic: history.energies[k].kinetic,
         })
         .collect();
+    // Adaptive steps do not land on the sample times: their rows (every
+    // step) are interpolated there.
+    let samples = match (setting.error_tolerance, sample_interval) {
+        (Some(_), Some(dt)) => on_grid(&samples, dt),
+        _ => samples,
+    };
     let first = summary.contact.as_ref().and_then(|c| c.first_time);
     let window_impulse = first.filter(|_| summary.analysis == "dynamic").map(|t| {
         (rod_loads.iter().chain(&member_loads))

@@ -4,8 +4,9 @@
 
 use ancf_core::model::contact::{ContactLaw, surface_stiffness_matching_line};
 use ancf_core::model::station_spacing;
-use ancf_core::scene::{TimeStepSpec, 
+use ancf_core::scene::{
     Analysis, AnalysisKind, ContactSpec, NewtonSpec, OutputSpec, QuadratureSpec, Scene, SceneFile,
+    TimeStepSpec,
 };
 
 /// How much to sweep.
@@ -30,8 +31,11 @@ pub struct Setting {
     pub axial: usize,
     /// Ring-rule order of the section.
     pub section: usize,
-    /// Dynamic scenes: time step h, s.
+    /// Dynamic scenes: time step h, s (`None` with adaptive steps).
     pub time_step: Option<f64>,
+    /// Dynamic scenes: adaptive steps with this error tolerance (m per
+    /// step, `analysis.time_step = "auto"`).
+    pub error_tolerance: Option<f64>,
     /// Dynamic scenes: generalized-α ρ∞.
     pub spectral_radius: Option<f64>,
     /// Dynamic scenes: full or modified Newton.
@@ -53,20 +57,26 @@ impl Setting {
     /// The scene's own setting.
     pub fn of_scene(scene: &Scene) -> Setting {
         let m = &scene.model;
-        let (time_step, spectral_radius, full_newton, tolerance) = match &scene.analysis {
-            ancf_core::scene::Analysis::Dynamic { settings, .. } => (
-                Some(settings.time_step),
-                Some(settings.spectral_radius),
-                Some(settings.newton == ancf_core::solve::dynamics::NewtonKind::Full),
-                Some(settings.tolerance),
-            ),
-            ancf_core::scene::Analysis::Static { .. } => (None, None, None, None),
-        };
+        let (time_step, error_tolerance, spectral_radius, full_newton, tolerance) =
+            match &scene.analysis {
+                ancf_core::scene::Analysis::Dynamic { settings, .. } => (
+                    settings
+                        .step_control
+                        .is_none()
+                        .then_some(settings.time_step),
+                    (settings.step_control.as_ref()).map(|c| c.tolerance),
+                    Some(settings.spectral_radius),
+                    Some(settings.newton == ancf_core::solve::dynamics::NewtonKind::Full),
+                    Some(settings.tolerance),
+                ),
+                ancf_core::scene::Analysis::Static { .. } => (None, None, None, None, None),
+            };
         Setting {
             elements: m.wire().elements.len(),
             axial: m.element(0).axial.nodes.len(),
             section: m.section().order,
             time_step,
+            error_tolerance,
             spectral_radius,
             full_newton,
             tolerance,
@@ -93,6 +103,9 @@ impl Setting {
         );
         if let Some(h) = self.time_step {
             s += &format!(", h {h:.3e} s");
+        }
+        if let Some(t) = self.error_tolerance {
+            s += &format!(", adaptive h (error ≤ {t:.0e} m/step)");
         }
         if let Some(r) = self.spectral_radius {
             s += &format!(", ρ∞ {r}");
@@ -135,6 +148,10 @@ impl Setting {
             f.analysis.time_step = Some(TimeStepSpec::Fixed(h));
             f.analysis.error_tolerance = None;
             f.analysis.max_time_step = None;
+        }
+        if let Some(t) = self.error_tolerance {
+            f.analysis.time_step = Some(TimeStepSpec::Auto);
+            f.analysis.error_tolerance = Some(t);
         }
         if let Some(r) = self.spectral_radius {
             f.analysis.spectral_radius = Some(r);
@@ -342,10 +359,10 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
 
     // Dynamic: time step × elements at the scene's ρ∞ and Newton kind, then
     // ρ∞ and the other Newton kind at the scene's element count.
-    let h0 = base.time_step.expect("dynamic scene has a time step");
+    let h0 = fixed_step(scene, &base);
     let contact = base.stations.is_some() || base.zone_points.is_some();
     if level == Level::Refinement {
-        return refinement_plan(&base, length);
+        return refinement_plan(&base, h0, length);
     }
     let h_factors: &[f64] = if quick {
         &[2.0, 1.0]
@@ -431,6 +448,19 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
             }
         }
     }
+    // Adaptive steps beside the fixed ones, at the scene's mesh: the
+    // tables and plots then compare them at equal accuracy.
+    let tolerances: &[f64] = if quick { &[1e-6] } else { &[1e-5, 1e-6, 1e-7] };
+    for &t in tolerances {
+        push_unique(
+            &mut stepping,
+            Setting {
+                time_step: None,
+                error_tolerance: Some(t),
+                ..base.clone()
+            },
+        );
+    }
     let h_min = h0 * h_factors.iter().copied().fold(f64::INFINITY, f64::min);
     let h_max = h0 * h_factors.iter().copied().fold(0.0, f64::max);
     let n_max = *element_counts.iter().max().unwrap();
@@ -515,6 +545,7 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
         // the elements takes ten minutes; the contact errors are far larger
         // than what the factor 2 leaves).
         time_step: Some(if contact { h_min / 2.0 } else { h_min / 4.0 }),
+        error_tolerance: None,
         spectral_radius: Some(1.0),
         // Modified Newton: the tolerance, not the Newton kind, sets how
         // close the reference is to its converged solution (on the impact
@@ -547,12 +578,25 @@ fn reference_axial(scene: &Scene, base: &Setting) -> usize {
     base.axial.max(if all_preintegrated { 3 } else { 5 })
 }
 
+/// The fixed step the study refines: the scene's, or a tenth of an adaptive
+/// scene's longest step.
+fn fixed_step(scene: &Scene, base: &Setting) -> f64 {
+    match (&scene.analysis, base.time_step) {
+        (_, Some(h)) => h,
+        (Analysis::Dynamic { settings, .. }, None) => {
+            (settings.step_control.as_ref()).map_or(settings.time_step, |c| c.max_step / 10.0)
+        }
+        (Analysis::Static { .. }, None) => unreachable!("a static scene has no time step"),
+    }
+}
+
 /// `base` at time step `h` (s) on `n` elements, with the surface-law
 /// stations that mesh needs.
 fn at_step_and_mesh(base: &Setting, length: f64, h: f64, n: usize) -> Setting {
     Setting {
         elements: n,
         time_step: Some(h),
+        error_tolerance: None,
         stations: stations_for(base, length, n),
         ..base.clone()
     }
@@ -561,8 +605,7 @@ fn at_step_and_mesh(base: &Setting, length: f64, h: f64, n: usize) -> Setting {
 /// [`Level::Refinement`] of a dynamic scene: one family, the scene's
 /// setting refined in h, in the elements and in the contact points, three
 /// levels each; the reference run is the finest mesh at the finest step.
-fn refinement_plan(base: &Setting, length: f64) -> Plan {
-    let h0 = base.time_step.expect("dynamic scene has a time step");
+fn refinement_plan(base: &Setting, h0: f64, length: f64) -> Plan {
     let at = |h: f64, n: usize| at_step_and_mesh(base, length, h, n);
     let half = (base.elements / 2).max(1);
     let mut settings = Vec::new();

@@ -516,7 +516,7 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
     let mut csv = String::from(
         "family,elements,axial,section,time_step,spectral_radius,full_newton,stations,stiffness_factor,status,wall_s,\
          iterations_per_step,tip_error,divergence_time,energy_error,peak_force,peak_force_error,peak_time,peak_time_error,\
-         max_penetration,impulse,impulse_error,first_contact,zone_points,window_tip_error,window_impulse,window_impulse_error,law,step_cuts\n",
+         max_penetration,impulse,impulse_error,first_contact,zone_points,window_tip_error,window_impulse,window_impulse_error,law,step_cuts,error_tolerance\n",
     );
     for (fi, fam) in input.plan.families.iter().enumerate() {
         let outcomes = &input.outcomes[fi];
@@ -964,7 +964,7 @@ fn runs_table(
         md.push('\n');
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{:.6e},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             slug,
             s.elements,
             s.axial,
@@ -994,6 +994,7 @@ fn runs_table(
             opt(e.window_impulse),
             s.law.map_or("", |l| l.name()),
             o.step_cuts,
+            opt(s.error_tolerance),
         );
     }
 }

@@ -11,6 +11,7 @@
 
 pub mod file;
 pub mod local;
+pub mod quantiles;
 pub mod results;
 pub mod slurm;
 

@@ -348,6 +348,50 @@ fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
             significant(max)
         );
     }
+    md += &quantile_table(numbers, &done);
+    md
+}
+
+/// Each design number's median, 90 % and 95 % quantile over the completed
+/// variants with their bootstrap intervals ([`super::quantiles`]).
+fn quantile_table(numbers: &[(String, String, Pick)], done: &[&Row]) -> String {
+    use super::quantiles::{CONFIDENCE, RESAMPLES, with_interval};
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "
+Quantiles over the variants, each with its {:.0} % confidence interval \
+         (percentile bootstrap, {RESAMPLES} resamples, seeded): the value a design takes \
+         at the 90 % or 95 % level, and how well this ensemble pins it down. With few \
+         variants an upper quantile's interval reaches the largest value; more variants \
+         narrow it as 1/√n.\n",
+        100.0 * CONFIDENCE
+    );
+    let _ = writeln!(md, "| quantity | n | median | 90 % | 95 % |");
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for (name, unit, pick) in numbers {
+        let values: Vec<f64> = done.iter().filter_map(|r| pick(r)).collect();
+        if values.is_empty() {
+            continue;
+        }
+        let cell = |p: f64| {
+            let (q, lo, hi) = with_interval(&values, p);
+            format!(
+                "{} [{}, {}]",
+                significant(q),
+                significant(lo),
+                significant(hi)
+            )
+        };
+        let _ = writeln!(
+            md,
+            "| {name} ({unit}) | {} | {} | {} | {} |",
+            values.len(),
+            cell(0.5),
+            cell(0.9),
+            cell(0.95)
+        );
+    }
     md
 }
 

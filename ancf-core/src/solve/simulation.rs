@@ -351,7 +351,9 @@ impl Simulation {
                 ));
             }
             if !s.step_size.is_some_and(|h| h > 0.0 && h.is_finite()) {
-                return Err("step_size: an adaptive run's next step is missing or not positive".into());
+                return Err(
+                    "step_size: an adaptive run's next step is missing or not positive".into(),
+                );
             }
         } else {
             let steps = Self::step_count(settings);
@@ -493,7 +495,10 @@ impl Simulation {
             return Err(failed(StepError::NonFiniteEnergy));
         }
         let hk = next.time - p.state.time;
-        p.step_range = Some(p.step_range.map_or([hk, hk], |[a, b]| [a.min(hk), b.max(hk)]));
+        p.step_range = Some(
+            p.step_range
+                .map_or([hk, hk], |[a, b]| [a.min(hk), b.max(hk)]),
+        );
         p.state = next;
         p.step = k;
         p.newton_iterations += info.iterations;

@@ -315,7 +315,9 @@ impl Integrator {
         };
         let w = &mut self.work;
         w.qm.clear();
-        w.qm.extend((s.q.iter().zip(&s.v).zip(&s.a)).map(|((q, v), a)| q + h * v + 0.5 * h * h * a));
+        w.qm.extend(
+            (s.q.iter().zip(&s.v).zip(&s.a)).map(|((q, v), a)| q + h * v + 0.5 * h * h * a),
+        );
         let reach = 2.0 * centerline_shift(&self.model, &s.q, &w.qm) + c.wire_radius;
         contact_candidates(&self.model, c, &s.q, reach, &mut w.reach_pairs);
         !w.reach_pairs.is_empty()

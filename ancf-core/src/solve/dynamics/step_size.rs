@@ -219,20 +219,14 @@ mod tests {
             judge(&control(), 1e-3, 0.5e-3),
             Verdict::Accept { next: 1e-3 }
         );
-        assert_eq!(
-            judge(&control(), 1e-3, 0.0),
-            Verdict::Accept { next: 2e-3 }
-        );
+        assert_eq!(judge(&control(), 1e-3, 0.0), Verdict::Accept { next: 2e-3 });
         // r = 0.0625: (0.5 / 0.0625)^⅓ = 2.
         match judge(&control(), 1e-3, 0.0625e-3) {
             Verdict::Accept { next } => assert!((next - 2e-3).abs() < 1e-15),
             v => panic!("{v:?}"),
         }
         // Never beyond the longest step.
-        assert_eq!(
-            judge(&control(), 8e-3, 0.0),
-            Verdict::Accept { next: 0.01 }
-        );
+        assert_eq!(judge(&control(), 8e-3, 0.0), Verdict::Accept { next: 0.01 });
     }
 
     #[test]

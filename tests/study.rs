@@ -142,9 +142,15 @@ kind = "pin"
     assert!(report.contains("a finer run computed by the study"));
     assert!(report.contains("energy error"));
     let rows = runs(&report_dir);
-    assert_eq!(rows.len(), 4, "h ∈ {{1e-2, 5e-3}} × elements ∈ {{2, 4}}");
+    assert_eq!(
+        rows.len(),
+        5,
+        "h ∈ {{1e-2, 5e-3}} × elements ∈ {{2, 4}}, and adaptive steps"
+    );
+    let (adaptive, fixed): (Vec<_>, Vec<_>) =
+        rows.iter().partition(|r| !r["error_tolerance"].is_empty());
     let err = |h: f64, n: f64| {
-        let r = rows
+        let r = fixed
             .iter()
             .find(|r| (num(r, "time_step") - h).abs() < 1e-12 && num(r, "elements") == n)
             .unwrap();
@@ -155,6 +161,36 @@ kind = "pin"
     let fine = err(5e-3, 4.0);
     assert!(coarse > 0.0 && fine > 0.0);
     assert!(fine < coarse / 2.0, "coarse {coarse:e}, fine {fine:e}");
+    // The adaptive run (1e-6 m per step, on the scene's 2 elements) is
+    // compared at the same sample times. Its steps resolve the swing in
+    // time: its energy error is far below the fixed steps' on that mesh,
+    // and its trajectory error is the mesh's own (the fixed runs' errors
+    // on 2 elements grow from h = 1e-2 to 5e-3 s, time and mesh errors
+    // cancelling at the coarser step).
+    let [a] = &adaptive[..] else {
+        panic!("one adaptive run, got {}", adaptive.len())
+    };
+    assert_eq!(a["status"], "completed");
+    assert_eq!(num(a, "error_tolerance"), 1e-6);
+    let fixed_row = |h: f64| {
+        fixed
+            .iter()
+            .find(|r| (num(r, "time_step") - h).abs() < 1e-12 && num(r, "elements") == 2.0)
+            .unwrap()
+    };
+    let finer = fixed_row(5e-3);
+    assert!(
+        num(a, "energy_error") < 0.1 * num(finer, "energy_error"),
+        "energy error: adaptive {:e}, h = 5e-3 s {:e}",
+        num(a, "energy_error"),
+        num(finer, "energy_error")
+    );
+    let (tip_a, tip_f) = (num(a, "tip_error"), num(finer, "tip_error"));
+    assert!(
+        (tip_a / tip_f - 1.0).abs() < 0.25,
+        "trajectory error: adaptive {tip_a:e}, h = 5e-3 s {tip_f:e}"
+    );
+    assert!(report.contains("Fixed and adaptive steps side by side"));
 }
 
 /// `--level refinement` on a graded wire striking two

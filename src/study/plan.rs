@@ -448,9 +448,14 @@ pub fn plan(file: &SceneFile, scene: &Scene, level: Level) -> Plan {
             }
         }
     }
-    // Adaptive steps beside the fixed ones, at the scene's mesh: the
+    // Adaptive steps beside the fixed ones, at the scene's mesh, error
+    // tolerances 1e-4 … 1e-7 m per step: the
     // tables and plots then compare them at equal accuracy.
-    let tolerances: &[f64] = if quick { &[1e-6] } else { &[1e-5, 1e-6, 1e-7] };
+    let tolerances: &[f64] = if quick {
+        &[1e-6]
+    } else {
+        &[1e-4, 1e-5, 1e-6, 1e-7]
+    };
     for &t in tolerances {
         push_unique(
             &mut stepping,

@@ -593,6 +593,9 @@ pub fn write(input: &ReportInput, out: &Path) -> Result<PathBuf, String> {
             );
             convergence_section(&mut md, fam, outcomes, &base);
         }
+        if fam.kind == FamilyKind::Dynamic {
+            adaptive_section(&mut md, fam, outcomes, &errors, &base);
+        }
         if fam.kind == FamilyKind::Contact {
             let _ = writeln!(
                 md,
@@ -736,6 +739,63 @@ impl Convergence {
             Some((_, gci)) => (at - fine).abs() / fine.abs() + gci,
             None => self.spread(),
         }
+    }
+}
+
+/// The family's adaptive runs beside the scene's fixed step: wall time and
+/// the errors that the tables above judge, as ratios of cost at the
+/// accuracy each reaches (nothing when the family has no adaptive run).
+fn adaptive_section(
+    md: &mut String,
+    fam: &Family,
+    outcomes: &[Outcome],
+    errors: &[Errors],
+    base: &Setting,
+) {
+    let runs: Vec<usize> = (0..fam.settings.len())
+        .filter(|&i| fam.settings[i].error_tolerance.is_some() || fam.settings[i] == *base)
+        .collect();
+    if !runs
+        .iter()
+        .any(|&i| fam.settings[i].error_tolerance.is_some())
+    {
+        return;
+    }
+    let base_wall = runs
+        .iter()
+        .find(|&&i| fam.settings[i] == *base && outcomes[i].completed())
+        .map(|&i| outcomes[i].wall_s);
+    let pct = |v: Option<f64>| v.map_or("–".into(), |v| format!("{:.3}", 100.0 * v));
+    let _ = writeln!(
+        md,
+        "
+Fixed and adaptive steps side by side (`analysis.time_step = \"auto\"`, the \
+         tolerance bounding each step's position error; wall time relative to the scene's own \
+         setting, errors in %):\n"
+    );
+    let _ = writeln!(
+        md,
+        "| setting | wall time (s) | × the scene's | trajectory | energy | filtered peak | impulse, first 0.1 s | impulse, whole run |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
+    for i in runs {
+        let (s, o, e) = (&fam.settings[i], &outcomes[i], &errors[i]);
+        if !o.completed() {
+            let _ = writeln!(md, "| {} | {} | | | | | | |", s.label(), o.status);
+            continue;
+        }
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            s.label(),
+            secs(o.wall_s),
+            base_wall.map_or("–".into(), |b| format!("{:.2}", o.wall_s / b)),
+            pct(e.tip),
+            pct(e.energy),
+            pct(e.peak_force),
+            pct(e.window_impulse),
+            pct(e.impulse),
+        );
     }
 }
 

@@ -577,3 +577,30 @@ def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
 def test_the_package_says_its_version():
     assert ancf.__version__.count(".") == 2
     assert ancf.__version__ == ancf._ancf.__version__
+
+
+def test_adaptive_steps_from_a_dict_match_the_cli(tmp_path):
+    scene = json.loads(json.dumps(BASE))
+    scene["analysis"].update(end_time=0.2, time_step="auto", error_tolerance=1e-6)
+    sim = ancf.Simulation(ancf.Scene.from_dict(scene))
+    sim.run(every=1)
+    ours = sim.summary()
+    steps = ours["time_steps"]
+    assert steps["adaptive"] is True
+    assert steps["shortest_s"] <= steps["mean_s"] <= steps["longest_s"] <= 0.2 / 100
+    assert abs(sim.time - 0.2) == 0.0, "the last step ends at end_time exactly"
+    assert "adaptive steps" in ours["message"]
+    toml = PENDULUM.read_text().replace("time_step = 1e-3", 'time_step = "auto"\nerror_tolerance = 1e-6')
+    (tmp_path / "a.toml").write_text(toml)
+    cli = ancf.run(tmp_path / "a.toml", tmp_path / "out")
+    again = ancf.Simulation(ancf.Scene.from_toml(toml))
+    again.run(every=1000)
+    assert again.summary()["time_steps"] == cli["time_steps"]
+    assert again.summary()["steps"] == cli["steps"]
+
+
+def test_a_time_step_that_is_neither_seconds_nor_auto_names_the_field():
+    scene = json.loads(json.dumps(BASE))
+    scene["analysis"]["time_step"] = "fast"
+    with pytest.raises(ancf.SceneError, match="analysis.time_step"):
+        ancf.Scene.from_dict(scene)

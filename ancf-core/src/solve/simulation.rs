@@ -41,6 +41,11 @@ use std::sync::Arc;
 /// The shortest step an adaptive run may take, as a fraction of its end time.
 const MIN_STEP_FRACTION: f64 = 1e-12;
 
+/// The step (as a fraction of the contact's resolution limit, or of the
+/// longest step without one) to which an adaptive run's first contact is
+/// located.
+pub const LOCATE_FRACTION: f64 = 1.0 / 32.0;
+
 /// Where a simulation starts.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Initial {
@@ -135,8 +140,9 @@ pub struct Snapshot {
     /// the two counts above).
     #[serde(default)]
     pub step_cuts: usize,
-    /// An adaptive run's converged attempts whose error estimate was over
-    /// its share, tried again shorter (their work is in the counts above).
+    /// An adaptive run's converged attempts tried again shorter: their
+    /// error estimate was over the tolerance, or they made the first
+    /// contact before it was located (their work is in the counts above).
     #[serde(default)]
     pub step_retries: usize,
     /// An adaptive run's next step (s); `None` for fixed steps.
@@ -523,8 +529,11 @@ impl Simulation {
     /// One step of an adaptive run (step `k`): from the controller's step,
     /// shortened to end at the next release or the end time and, while a
     /// rod or member is within reach, to the contact's resolution limit;
-    /// tried again shorter while its local error estimate exceeds its
-    /// share of the tolerance ([`crate::solve::dynamics::step_size`]).
+    /// tried again shorter while its local error estimate exceeds the
+    /// tolerance ([`crate::solve::dynamics::step_size`]), and halved while
+    /// it makes the run's first contact and is longer than
+    /// [`LOCATE_FRACTION`] of that limit (the contact's start is then known
+    /// to that fraction of a resolved step).
     /// Sets the controller's next step.
     fn adaptive_step(&mut self, k: usize) -> Result<(State, StepInfo), SimulationError> {
         let Some(control) = self.settings.step_control.clone() else {
@@ -537,6 +546,10 @@ impl Simulation {
             .unwrap_or(end)
             .min(end);
         let limit = self.integrator.model.contact_step_limit();
+        // The run's first contact is located: an attempt that makes it is
+        // halved until it is this short.
+        let locating = p.contact.as_ref().is_some_and(|c| c.first_time.is_none());
+        let locate = limit.unwrap_or(control.max_step) * LOCATE_FRACTION;
         let mut h = p.step_size.unwrap_or(self.settings.time_step);
         let mut info = StepInfo::default();
         loop {
@@ -554,6 +567,11 @@ impl Simulation {
                 error,
             };
             let (mut next, attempt) = self.integrator.step(&p.state, h_try).map_err(failed)?;
+            if locating && attempt.contact.active > 0 && h_try > locate {
+                info.add_retried(&attempt);
+                h = 0.5 * h_try;
+                continue;
+            }
             let verdict = if attempt.rejected > 0 {
                 // Newton needed shorter steps: keep what converged, go on at
                 // the sub-steps' size.

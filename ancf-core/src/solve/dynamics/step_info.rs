@@ -37,9 +37,9 @@ pub struct StepInfo {
     /// Attempts rejected and cut in halves (their Newton iterations and
     /// factorizations are counted above: the work the step cost).
     pub rejected: usize,
-    /// Attempts of an adaptive run whose local error estimate exceeded
-    /// their share of the tolerance, tried again shorter (their work is
-    /// counted above too).
+    /// Converged attempts of an adaptive run tried again shorter: their
+    /// local error estimate exceeded the tolerance, or they made the first
+    /// contact before it was located (their work is counted above too).
     pub retried: usize,
     /// Contact at the step's generalized-α midpoint (last sub-step).
     pub contact: ContactSample,
@@ -70,7 +70,7 @@ pub struct StepInfo {
 }
 
 impl StepInfo {
-    /// Count the work of `attempt`, a converged attempt the step-size rule
+    /// Count the work of `attempt`, a converged attempt an adaptive run
     /// threw away, in this step's.
     pub fn add_retried(&mut self, attempt: &StepInfo) {
         self.add_work(attempt);

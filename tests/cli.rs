@@ -376,6 +376,7 @@ fn bench_json_has_the_documented_keys() {
         "parallel_speedup_256",
         "impact_realtime_factor",
         "impact_limit_ratio",
+        "span_break_limit_ratio",
     ] {
         assert!(
             v[key].as_f64().is_some_and(|x| x > 0.0 && x.is_finite()),

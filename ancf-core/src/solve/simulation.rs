@@ -572,15 +572,15 @@ impl Simulation {
                 h = 0.5 * h_try;
                 continue;
             }
-            let verdict = if attempt.rejected > 0 {
-                // Newton needed shorter steps: keep what converged, go on at
-                // the sub-steps' size.
-                Verdict::Accept {
+            // Newton needed shorter steps: keep what converged, go on at the
+            // sub-steps' size (no estimate: the step was taken in pieces).
+            let error = (attempt.rejected == 0)
+                .then(|| self.integrator.local_error(h_try, &p.state, &next));
+            let verdict = match error {
+                None => Verdict::Accept {
                     next: h_try / attempt.substeps.max(1) as f64,
-                }
-            } else {
-                let error = self.integrator.local_error(h_try, &p.state, &next);
-                judge(&control, h_try, error)
+                },
+                Some(error) => judge(&control, h_try, error),
             };
             match verdict {
                 Verdict::Accept { next: h_next } => {
@@ -594,14 +594,12 @@ impl Simulation {
                 }
                 Verdict::Retry { h: shorter } => {
                     if shorter < MIN_STEP_FRACTION * end {
-                        let error = self.integrator.local_error(h_try, &p.state, &next);
                         return Err(failed(StepError::ErrorEstimate {
                             h: h_try,
-                            error,
+                            error: error.unwrap_or(f64::NAN),
                             allowed: control.tolerance,
                         }));
                     }
-                    // The rejected attempt's factorization was for its h.
                     info.add_retried(&attempt);
                     h = shorter;
                 }

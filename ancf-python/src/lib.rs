@@ -3,6 +3,7 @@
 //! `Simulation`; results come back as NumPy arrays. Every error is a Python
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
 
+use ancf_core::solve::dynamics::StepControl;
 use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
 use ancf_core::solve::simulation::{
     Initial, Simulation as CoreSimulation, SimulationError as CoreSimError,
@@ -273,6 +274,53 @@ impl Material {
 /// A `ValueError` naming the argument: "`name`: `message`".
 fn value_error(name: &str, message: &str) -> PyErr {
     PyValueError::new_err(format!("{name}: {message}"))
+}
+
+/// `from_wire`'s step arguments as the integrator takes them: the first
+/// (or only) step h (s) and, for `time_step="auto"`, the step control.
+/// Arguments that do not fit together are refused by name; the values
+/// themselves are checked with the other settings.
+fn stepping(
+    time_step: &Bound<'_, PyAny>,
+    end_time: f64,
+    error_tolerance: Option<f64>,
+    max_time_step: Option<f64>,
+) -> PyResult<(f64, Option<StepControl>)> {
+    let auto = match time_step.extract::<String>() {
+        Ok(text) if text == "auto" => true,
+        Ok(text) => {
+            return Err(value_error(
+                "time_step",
+                &format!("seconds or \"auto\", got \"{text}\""),
+            ));
+        }
+        Err(_) => false,
+    };
+    if !auto {
+        let h = time_step
+            .extract::<f64>()
+            .map_err(|_| value_error("time_step", "seconds or \"auto\""))?;
+        for (name, given) in [
+            ("error_tolerance", error_tolerance.is_some()),
+            ("max_time_step", max_time_step.is_some()),
+        ] {
+            if given {
+                return Err(value_error(name, "only for time_step=\"auto\""));
+            }
+        }
+        return Ok((h, None));
+    }
+    let tolerance = error_tolerance.ok_or_else(|| {
+        value_error(
+            "error_tolerance",
+            "required with time_step=\"auto\": the position error (m) a step may make",
+        )
+    })?;
+    let control = StepControl {
+        tolerance,
+        max_step: max_time_step.unwrap_or_else(|| StepControl::default_max_step(end_time)),
+    };
+    Ok((control.first_step(end_time), Some(control)))
 }
 
 /// The name of a rod parameter as `Wire.rod` spells it.
@@ -755,17 +803,26 @@ impl Simulation {
 
     /// Starts a wire built in code at rest, stepping `time_step` (s) up to
     /// `end_time` (s) with generalized-α of spectral radius ρ∞.
+    /// `time_step="auto"` chooses each step from the local error estimate
+    /// instead, to `error_tolerance` (m of position error per step,
+    /// required then) with steps of at most `max_time_step` (s; default
+    /// end_time / 100), as `analysis.time_step = "auto"` in a scene file.
     #[staticmethod]
-    #[pyo3(signature = (wire, time_step, end_time, spectral_radius=None))]
+    #[pyo3(signature = (wire, time_step, end_time, spectral_radius=None, error_tolerance=None, max_time_step=None))]
     fn from_wire(
         py: Python<'_>,
         wire: &Wire,
-        time_step: f64,
+        time_step: &Bound<'_, PyAny>,
         end_time: f64,
         spectral_radius: Option<f64>,
+        error_tolerance: Option<f64>,
+        max_time_step: Option<f64>,
     ) -> PyResult<Simulation> {
+        let (time_step, step_control) =
+            stepping(time_step, end_time, error_tolerance, max_time_step)?;
         let settings = ancf_core::solve::dynamics::DynamicSettings {
             time_step,
+            step_control,
             end_time,
             spectral_radius: spectral_radius
                 .unwrap_or(ancf_core::solve::dynamics::DEFAULT_SPECTRAL_RADIUS),

@@ -604,3 +604,40 @@ def test_a_time_step_that_is_neither_seconds_nor_auto_names_the_field():
     scene["analysis"]["time_step"] = "fast"
     with pytest.raises(ancf.SceneError, match="analysis.time_step"):
         ancf.Scene.from_dict(scene)
+
+
+def test_adaptive_steps_of_a_wire_built_in_code_equal_the_scene_file():
+    core = ancf.Material.st_venant_kirchhoff(density=7200.0, youngs_modulus=2e9)
+    wire = (
+        ancf.Wire(1.0, 4)
+        .layer(core, 0.01)
+        .layer(core, 0.02)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+    )
+    built = ancf.Simulation.from_wire(
+        wire, time_step="auto", end_time=0.2, spectral_radius=1.0, error_tolerance=1e-6,
+        max_time_step=5e-3)
+    text = PENDULUM.read_text().replace("end_time = 1.0", "end_time = 0.2").replace(
+        "time_step = 1e-3", 'time_step = "auto"\nerror_tolerance = 1e-6\nmax_time_step = 5e-3')
+    from_file = ancf.Simulation(ancf.Scene.from_toml(text))
+    ours, theirs = built.run(every=1), from_file.run(every=1)
+    assert list(ours.time) == list(theirs.time)
+    assert ours.tip.tolist() == theirs.tip.tolist()
+    steps = built.summary()["time_steps"]
+    assert steps["adaptive"] is True and steps["longest_s"] <= 5e-3
+    assert steps == from_file.summary()["time_steps"]
+
+
+@pytest.mark.parametrize("arguments, field", [
+    (dict(time_step="fast"), "time_step"),
+    (dict(time_step="auto"), "error_tolerance"),
+    (dict(time_step="auto", error_tolerance=-1e-6), "error_tolerance"),
+    (dict(time_step="auto", error_tolerance=1e-6, max_time_step=1.0), "max_time_step"),
+    (dict(time_step=1e-3, error_tolerance=1e-6), "error_tolerance"),
+    (dict(time_step=1e-3, max_time_step=1e-2), "max_time_step"),
+])
+def test_adaptive_step_arguments_that_do_not_fit_name_the_argument(arguments, field):
+    wire = ancf.Wire(1.0, 4).layer(ancf.Material.st_venant_kirchhoff(7800.0, 2e11), 0.01)
+    with pytest.raises(ValueError, match=f"^{field}: "):
+        ancf.Simulation.from_wire(wire, end_time=0.1, **arguments)

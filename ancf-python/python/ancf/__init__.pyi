@@ -1,7 +1,7 @@
 """Type stubs of the ancf package (units: SI)."""
 
 from os import PathLike
-from typing import Any, Callable, Optional, Union
+from typing import Any, Callable, Literal, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -120,7 +120,14 @@ class Simulation:
 
     def __init__(self, scene: Scene) -> None: ...
     @staticmethod
-    def from_wire(wire: Wire, time_step: float, end_time: float, spectral_radius: Optional[float] = None) -> Simulation: ...
+    def from_wire(
+        wire: Wire,
+        time_step: Union[float, Literal["auto"]],
+        end_time: float,
+        spectral_radius: Optional[float] = None,
+        error_tolerance: Optional[float] = None,
+        max_time_step: Optional[float] = None,
+    ) -> Simulation: ...
     def step(self) -> None: ...
     def run(
         self,

@@ -852,6 +852,47 @@ fn five_kills_and_resumes_end_as_an_uninterrupted_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An adaptive run's ParaView frames come by time: one each fiftieth of
+/// the run, whatever its steps (a count of steps is not known ahead).
+#[test]
+fn adaptive_runs_write_a_frame_each_fiftieth_of_the_run() {
+    let dir = tmp("vtk-adaptive");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::fs::read_to_string("scenes/pendulum.toml")
+        .unwrap()
+        .replace(
+            "time_step = 1e-3 ",
+            "time_step = \"auto\"\nerror_tolerance = 1e-4 ",
+        );
+    assert!(scene.contains("\"auto\""));
+    let path = dir.join("auto.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out = dir.join("out");
+    let run = run_quiet(&path, &out).output().unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let pvd = std::fs::read_to_string(out.join("vtk/wire.pvd")).unwrap();
+    let times: Vec<f64> = pvd
+        .lines()
+        .filter_map(|l| l.split("timestep=\"").nth(1))
+        .map(|t| t.split('"').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(times.len(), 51, "t = 0 and one per 0.02 s: {times:?}");
+    assert_eq!((times[0], times[50]), (0.0, 1.0));
+    // Each frame is the first state at or past its fiftieth, and the steps
+    // are far shorter than a fiftieth (≤ end_time / 100).
+    for (k, t) in times.iter().enumerate().skip(1) {
+        let due = k as f64 * 0.02;
+        assert!(*t >= due - 1e-12 && *t < due + 0.01, "frame {k} at {t} s");
+    }
+    let steps = summary(&out)["steps"].as_u64().unwrap();
+    assert!(steps != 1000 && steps > 100, "{steps} steps");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// ParaView frames: at most 50 over a run unless `output.vtk_every` asks
 /// for more (a multiple of `output.every`, else refused naming the field).
 #[test]

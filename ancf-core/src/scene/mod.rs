@@ -93,6 +93,15 @@ impl OutputSettings {
             self.every * rows.div_ceil(VTK_FRAMES).max(1)
         })
     }
+
+    /// An adaptive run's ParaView frames: one each time the run passes a
+    /// multiple of this period (s), `end_time` / [`VTK_FRAMES`], since its
+    /// step count is not known ahead (the first and last state are written
+    /// too). `None` for fixed steps, or when `vtk_every` asks for frames
+    /// by steps.
+    pub fn vtk_period(&self, adaptive: bool, end_time: f64) -> Option<f64> {
+        (adaptive && self.vtk_every.is_none()).then(|| end_time / VTK_FRAMES as f64)
+    }
 }
 
 impl Default for OutputSettings {

@@ -548,6 +548,7 @@ fn run_dynamic(
     let snapshot_every = (n_steps / 8).max(1);
     let mut cost = Cost::default();
     let vtk_every = scene.output.vtk_interval(n_steps);
+    let vtk_period = (scene.output).vtk_period(settings.step_control.is_some(), settings.end_time);
     // A checkpoint carries where the kept factorization was formed, so a
     // resumed run refactors there and results do not depend on how often
     // a run checkpoints.
@@ -608,7 +609,13 @@ fn run_dynamic(
         p.observed
             .observe(scene, &state.q, state.time, &info.member_forces);
         let last = sim.is_finished();
-        if k % scene.output.every == 0 || last {
+        // A ParaView frame is due, with a row (every `vtk_every`-th step is
+        // a row already).
+        let frame_due = match vtk_period {
+            Some(period) => (state.time / period).floor() > (t_before / period).floor(),
+            None => k % vtk_every == 0,
+        };
+        if k % scene.output.every == 0 || last || frame_due {
             let e = sim.energies();
             if !e.total().is_finite() {
                 summary.status = RunStatus::Failed;
@@ -626,7 +633,7 @@ fn run_dynamic(
             p.max_in_play = p.max_in_play.max(e.in_play());
             p.last = e;
             if let Some(f) = files.as_mut() {
-                let frame = k % vtk_every == 0 || last;
+                let frame = frame_due || last;
                 f.row(
                     model,
                     state,

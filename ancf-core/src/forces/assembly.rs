@@ -225,10 +225,13 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 /// with it, while 128 elements and more still gain.
 pub const PARALLEL_MIN_WORK_US: f64 = 100.0;
 
-/// Elements per chunk: 8 chunks at 256 elements, so that rayon can balance
-/// two cores, and 1 extra element evaluation in 32 (16 per chunk measured
-/// the same on 2 threads, with twice the extra work).
-const CHUNK_ELEMENTS: usize = 32;
+/// Nodes per chunk: about 8 chunks at 256 elements, so that rayon can
+/// balance two cores, and 1 extra element evaluation in 33 (16 per chunk
+/// measured the same on 2 threads, with twice the extra work). 33, so that
+/// a chunk's 32 interior elements go four at a time through the Jacobian
+/// kernel: with 32 nodes, 3 of its 31 went one by one, at 3.3 times a
+/// batched element's cost each (perf, the span-break scene's contact phase).
+const CHUNK_ELEMENTS: usize = 33;
 
 /// One chunk of the parallel split of the chain (element `e` touches nodes
 /// `e` and `e + 1`). Chunk c owns the nodes [c s, (c + 1) s): it writes the

@@ -326,3 +326,64 @@ fn step_candidates_give_the_contact_of_every_pair_within_their_margin() {
         "{moved_in} iterates moved into contact"
     );
 }
+
+/// A Newton step clears and adds only the part of −∂Q/∂v that contact
+/// wrote (`ContactForces::velocity_elements`): every nonzero value of a
+/// frictional contact's velocity Jacobian must lie in the columns of the
+/// elements it names, and it names none when nothing touches.
+#[test]
+fn the_velocity_jacobian_lies_in_the_elements_contact_names() {
+    use ancf_core::forces::assembly::{assemble_contact, pattern};
+    use ancf_core::material::Material;
+    use ancf_core::model::WireBuilder;
+    let steel = Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0);
+    let model = WireBuilder::new(2.0, 40)
+        .layer(steel, RW)
+        .rod(Rod::line([0.5, 0.0, -0.045], [0.0, 1.0, 0.0], 0.02, 5e8).with_friction(0.3))
+        .rod(
+            Rod::line([1.6, 0.0, -0.12], [0.3, 1.0, 0.2], 0.03, 5e8)
+                .with_length(0.5)
+                .with_friction(0.5),
+        )
+        .build()
+        .unwrap();
+    let c = ContactEvaluator::new(model.contact().unwrap(), &model.element_lengths());
+    let pattern = pattern(&model);
+    let mut rng = Rng::new(11);
+    let (mut touched, mut apart, mut narrow) = (0, 0, 0);
+    for _ in 0..200 {
+        let mut q = model.reference.clone();
+        let drop = 0.08 * rng.uniform();
+        for (i, x) in q.iter_mut().enumerate() {
+            *x += 0.002 * rng.uniform() - if i % 12 == 2 { drop } else { 0.0 };
+        }
+        let v: Vec<f64> = (0..q.len()).map(|_| rng.uniform()).collect();
+        let mut kv = pattern.zeros();
+        let cf = assemble_contact(&model, &c, &pattern, &q, &v, None, Some(&mut kv));
+        match cf.velocity_elements {
+            Some((first, last)) => {
+                touched += 1;
+                let inside = pattern.node_values(first..last + 2);
+                if inside.len() < kv.len() / 2 {
+                    narrow += 1;
+                }
+                for (slot, value) in kv.iter().enumerate() {
+                    assert!(
+                        *value == 0.0 || inside.contains(&slot),
+                        "slot {slot} = {value:e} outside elements {first}..={last}"
+                    );
+                }
+                assert!(kv[inside].iter().any(|x| *x != 0.0));
+            }
+            None => {
+                apart += 1;
+                assert_eq!(cf.total.active, 0);
+                assert!(kv.iter().all(|x| *x == 0.0));
+            }
+        }
+    }
+    assert!(
+        touched > 20 && apart > 20 && narrow > 10,
+        "{touched} / {apart} / {narrow}"
+    );
+}

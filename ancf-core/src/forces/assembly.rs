@@ -449,9 +449,22 @@ pub struct ContactForces {
     /// `Some(largest rate of penetration, m/s)` where the pair touches,
     /// else `None`. Empty without contact damping.
     pub touching: Vec<Option<f64>>,
+    /// The elements whose −∂Q/∂v blocks this evaluation added to (first
+    /// to last, ends included), when it was asked for one and any pair
+    /// touched: what a caller that zeroes only the written part of that
+    /// Jacobian must clear next time.
+    pub velocity_elements: Option<(usize, usize)>,
 }
 
 impl ContactForces {
+    /// Widen [`ContactForces::velocity_elements`] to element `el`.
+    fn wrote_velocity_jacobian(&mut self, el: usize) {
+        self.velocity_elements = Some(match self.velocity_elements {
+            Some((first, last)) => (first.min(el), last.max(el)),
+            None => (el, el),
+        });
+    }
+
     /// What a wire element's contact with one partner (pair `pair`) adds:
     /// the pair touching (with its approach speed), the sample's totals,
     /// the deepest point, and the element force `qe` at element `el`.
@@ -610,8 +623,10 @@ pub fn assemble_contact_reusing(
             }
             if let Some(values) = jac_v.as_deref_mut() {
                 pattern.add_element(values, el, &beam_out.kv);
+                out.wrote_velocity_jacobian(el);
                 for part in &beam_out.parts {
                     pattern.add_element(values, part.el, &part.kv_mm);
+                    out.wrote_velocity_jacobian(part.el);
                 }
             }
             if let Some(c) = coupling.as_deref_mut() {
@@ -663,6 +678,7 @@ pub fn assemble_contact_reusing(
         if let (Some(values), Some(k)) = (jac_v.as_deref_mut(), kv.as_mut()) {
             pattern.add_element(values, el, k);
             k.fill(0.0);
+            out.wrote_velocity_jacobian(el);
         }
     }
     out

@@ -74,6 +74,12 @@ pub struct Integrator {
     kq: Vec<f64>,
     kv: Vec<f64>,
     newton_matrix: Vec<f64>,
+    /// The value slots of `kv` the last Jacobian evaluation may have
+    /// written (all of them with structural or support damping; with
+    /// friction or contact damping alone, the columns of the elements in
+    /// contact): the part to clear before the next one, and the only part
+    /// the Newton matrix adds.
+    kv_written: std::ops::Range<usize>,
     /// The Newton matrix's blocks coupling two beams in contact (outside
     /// the pattern; empty without them).
     coupled_blocks: Vec<crate::linalg::coupled::CoupledBlock>,
@@ -118,6 +124,7 @@ impl Integrator {
             kq: pattern.zeros(),
             kv: pattern.zeros(),
             newton_matrix: pattern.zeros(),
+            kv_written: 0..0,
             coupled_blocks: Vec::new(),
             work: Workspace::new(model.reference.len()),
             initial_reactions: Vec::new(),
@@ -196,9 +203,8 @@ impl Integrator {
     /// Refactor the Newton matrix where `origin` says (a checkpoint's), so
     /// that the next steps repeat the checkpointed run's iterations.
     pub fn restore_factorization(&mut self, origin: &FactorizationOrigin) -> Result<(), StepError> {
-        let velocity_jacobian = ForceSum::velocity_dependent(&self.model);
         let (mut kq, mut kv) = (std::mem::take(&mut self.kq), std::mem::take(&mut self.kv));
-        clear_velocity_jacobian(&mut kv, velocity_jacobian);
+        clear_velocity_jacobian(&mut kv, self.kv_written.clone());
         let mut scratch = StepInfo::default();
         let (s, a1, h) = (&origin.state, &origin.a1, origin.h);
         self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut scratch);
@@ -233,7 +239,7 @@ impl Integrator {
             &mut self.newton_matrix,
             [&self.mass, kq, kv],
             [1.0 - alpha_m, c_k, c_d],
-            velocity_jacobian,
+            velocity_jacobian.then(|| self.kv_written.clone()),
         );
         let c_v = if velocity_jacobian { c_d } else { 0.0 };
         (self.forces.coupling()).combined(&model, c_k, c_v, &mut self.coupled_blocks);
@@ -524,7 +530,17 @@ impl Integrator {
             pairs,
         };
         let timed = kq.is_none().then(std::time::Instant::now);
+        let velocity_jacobian = kv.is_some() && ForceSum::velocity_dependent(model);
         self.forces.evaluate(model, at, kq, kv);
+        if velocity_jacobian {
+            let contact_alone = model.damping().is_none() && !model.has_spring_damping();
+            let contact = self.forces.contact().and_then(|c| c.velocity_elements);
+            self.kv_written = match contact {
+                _ if !contact_alone => 0..self.mass.len(),
+                Some((first, last)) => self.forces.pattern().node_values(first..last + 2),
+                None => 0..0,
+            };
+        }
         if let Some(started) = timed {
             info.force_seconds += started.elapsed().as_secs_f64();
             info.force_evaluations += 1;
@@ -585,7 +601,6 @@ impl Integrator {
     ) -> Result<State, StepError> {
         let model = Arc::clone(&self.model);
         let model = &*model;
-        let velocity_jacobian = ForceSum::velocity_dependent(model);
         // Predictor (see `predict`); `base` is the last accepted iterate.
         let mut a1 = predict(model, s, h, self.settings.spectral_radius);
         let mut base_a1 = a1.clone();
@@ -604,7 +619,7 @@ impl Integrator {
             // force-and-Jacobian evaluation).
             let k_with_residual = need_k && self.settings.newton != NewtonKind::Full;
             if k_with_residual {
-                clear_velocity_jacobian(kv, velocity_jacobian);
+                clear_velocity_jacobian(kv, self.kv_written.clone());
             }
             let (r, scale) = self.residual(
                 s,
@@ -680,7 +695,7 @@ impl Integrator {
             if need_k {
                 if !k_with_residual {
                     // Full Newton: the Jacobian at this (accepted) iterate.
-                    clear_velocity_jacobian(kv, velocity_jacobian);
+                    clear_velocity_jacobian(kv, self.kv_written.clone());
                     let mut scratch = StepInfo::default();
                     self.residual(s, h, &a1, Some((&mut *kq, &mut *kv)), &mut scratch);
                 }

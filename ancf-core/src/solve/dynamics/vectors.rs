@@ -4,6 +4,7 @@
 
 use super::AlphaParameters;
 use crate::math::simd::{Arith, Plain, dot};
+use std::ops::Range;
 
 crate::simd_dispatch! {
     pub(super) fn midpoint(params: &AlphaParameters, h: f64, state: [&[f64]; 4], out: [&mut [f64]; 3]) = midpoint_with;
@@ -38,11 +39,12 @@ fn midpoint_with<F: Arith>(
 }
 
 crate::simd_dispatch! {
-    pub(super) fn newton_matrix(a: &mut [f64], parts: [&[f64]; 3], c: [f64; 3], velocity_jacobian: bool) = newton_matrix_with;
+    pub(super) fn newton_matrix(a: &mut [f64], parts: [&[f64]; 3], c: [f64; 3], velocity_slots: Option<Range<usize>>) = newton_matrix_with;
 }
 
-/// The Newton matrix's values A = c₀ M + c₁ Kq (+ c₂ Kv with a velocity
-/// Jacobian) over the pattern, in one pass. Plain multiplications and
+/// The Newton matrix's values A = c₀ M + c₁ Kq (+ c₂ Kv in
+/// `velocity_slots`, where a velocity Jacobian may be nonzero; it is zero
+/// elsewhere) over the pattern, in one pass. Plain multiplications and
 /// additions on every path, as in `midpoint_with`.
 #[allow(clippy::extra_unused_type_parameters)] // as in `midpoint_with`
 #[inline(always)]
@@ -50,25 +52,34 @@ fn newton_matrix_with<F: Arith>(
     a: &mut [f64],
     [m, kq, kv]: [&[f64]; 3],
     [c_m, c_k, c_d]: [f64; 3],
-    velocity_jacobian: bool,
+    velocity_slots: Option<Range<usize>>,
 ) {
-    let parts = a.iter_mut().zip(m).zip(kq);
-    if velocity_jacobian {
-        for (((a, m), k), d) in parts.zip(kv) {
-            *a = (c_m * m + c_k * k) + c_d * d;
-        }
-    } else {
-        for ((a, m), k) in parts {
+    let elastic = |a: &mut [f64], m: &[f64], k: &[f64]| {
+        for ((a, m), k) in a.iter_mut().zip(m).zip(k) {
             *a = c_m * m + c_k * k;
         }
+    };
+    let Some(r) = velocity_slots else {
+        elastic(a, m, kq);
+        return;
+    };
+    elastic(&mut a[..r.start], &m[..r.start], &kq[..r.start]);
+    let parts = a[r.clone()]
+        .iter_mut()
+        .zip(&m[r.clone()])
+        .zip(&kq[r.clone()]);
+    for (((a, m), k), d) in parts.zip(&kv[r.clone()]) {
+        *a = (c_m * m + c_k * k) + c_d * d;
     }
+    elastic(&mut a[r.end..], &m[r.end..], &kq[r.end..]);
 }
 
-/// Zero −∂Q/∂v when it is used (−∂Q/∂q is written over by `assemble`).
-pub(super) fn clear_velocity_jacobian(kv: &mut [f64], velocity_jacobian: bool) {
-    if velocity_jacobian {
-        kv.fill(0.0);
-    }
+/// Zero −∂Q/∂v where the last evaluation may have written it (`written`,
+/// value slots; −∂Q/∂q is written over by `assemble`): with friction or
+/// contact damping alone, the few elements in contact, not the 3.5 MB of a
+/// 1000-element wire at every refresh (memset in perf).
+pub(super) fn clear_velocity_jacobian(kv: &mut [f64], written: Range<usize>) {
+    kv[written].fill(0.0);
 }
 
 pub(super) fn norm(v: &[f64]) -> f64 {

@@ -175,6 +175,21 @@ impl ForceSum {
             || model.has_spring_damping()
     }
 
+    /// The value slots of ∂(Q + Q_d)/∂v the last evaluation with a `kv`
+    /// may have written: every slot with structural damping (Rayleigh,
+    /// Kelvin–Voigt) or support dashpots, else the columns of the wire
+    /// elements contact wrote (none when nothing touched), so that a
+    /// caller can clear and combine only those.
+    pub fn velocity_jacobian_slots(&self, model: &Model) -> std::ops::Range<usize> {
+        if model.damping().is_some() || model.has_spring_damping() {
+            return 0..self.pattern.nnz();
+        }
+        match self.contact.as_ref().and_then(|c| c.velocity_elements) {
+            Some((first, last)) => self.pattern.node_values(first..last + 2),
+            None => 0..0,
+        }
+    }
+
     /// Whether the Jacobian is symmetric: not with friction, contact
     /// damping or Kelvin–Voigt damping (Rayleigh's constant matrix is).
     pub fn symmetric(model: &Model) -> bool {

@@ -533,13 +533,7 @@ impl Integrator {
         let velocity_jacobian = kv.is_some() && ForceSum::velocity_dependent(model);
         self.forces.evaluate(model, at, kq, kv);
         if velocity_jacobian {
-            let contact_alone = model.damping().is_none() && !model.has_spring_damping();
-            let contact = self.forces.contact().and_then(|c| c.velocity_elements);
-            self.kv_written = match contact {
-                _ if !contact_alone => 0..self.mass.len(),
-                Some((first, last)) => self.forces.pattern().node_values(first..last + 2),
-                None => 0..0,
-            };
+            self.kv_written = self.forces.velocity_jacobian_slots(model);
         }
         if let Some(started) = timed {
             info.force_seconds += started.elapsed().as_secs_f64();

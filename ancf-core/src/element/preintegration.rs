@@ -173,6 +173,42 @@ const STRAIN_MOMENTS: [(usize, f64); 15] = [
 /// and α, γ (E_xx's y² and z² terms multiply the centre's stresses).
 const CENTRE: [usize; 8] = [0, 1, 2, 3, 4, 5, 12, 14];
 
+/// The array `[e(0), e(1), …]` with `i` bound to each listed index in turn:
+/// written out, so that every entry is computed in place (no zeroed array
+/// filled by a loop) and each `i` is a constant inside `e`.
+/// (`std::array::from_fn` in its place measured 15× slower in the kernels.)
+macro_rules! unrolled {
+    ($i:ident in [$($n:literal),*] => $e:expr) => {
+        [$({
+            let $i: usize = $n;
+            $e
+        }),*]
+    };
+}
+
+/// Row of `m_centre` that each strain moment in [`CENTRE`] has (the others: unused).
+const CENTRE_ROW: [usize; 15] = {
+    let mut row = [usize::MAX; 15];
+    let mut i = 0;
+    while i < CENTRE.len() {
+        row[CENTRE[i]] = i;
+        i += 1;
+    }
+    row
+};
+
+/// The row of [`STRAIN_MOMENTS`] that names each Gram entry (each appears once).
+const STRAIN_MOMENT_OF_GRAM: [usize; 15] = {
+    let mut row = [usize::MAX; 15];
+    let mut r = 0;
+    while r < STRAIN_MOMENTS.len() {
+        assert!(row[STRAIN_MOMENTS[r].0] == usize::MAX, "a Gram entry twice");
+        row[STRAIN_MOMENTS[r].0] = r;
+        r += 1;
+    }
+    row
+};
+
 /// Voigt rows that a y- or z-slope of the strain can have (xx, xz, xy).
 const SLOPE_ROWS: [usize; 3] = [0, 4, 5];
 
@@ -789,49 +825,56 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
 ) -> LaneStation<W> {
     let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = t_coefficients(xi, l);
     let zero = Lanes::<W>::splat(0.0);
+    // Every array below is built entry by entry (`unrolled!`), never zeroed
+    // first: a zeroed array filled by a loop compiles to a call to memset
+    // (four a station, about a tenth of the force kernel's time, perf).
     // u = T e by components: u[v][c] is component c of vector v.
-    let mut u = [[zero; 3]; 5];
-    for c in 0..3 {
+    let u: [[Lanes<W>; 3]; 5] = unrolled!(v in [0, 1, 2, 3, 4] => unrolled!(c in [0, 1, 2] => {
         let (r1, r1x, r1y, r1z) = (e[c], e[3 + c], e[6 + c], e[9 + c]);
         let (r2, r2x, r2y, r2z) = (e[12 + c], e[15 + c], e[18 + c], e[21 + c]);
-        u[0][c] = r2x.mul_add_s::<F>(h2, r1x.mul_add_s::<F>(h1, (r1 - r2) * d1));
-        u[1][c] = (r2y - r1y) * il;
-        u[2][c] = (r2z - r1z) * il;
-        u[3][c] = r2y.mul_add_s::<F>(xi1, r1y * xi0);
-        u[4][c] = r2z.mul_add_s::<F>(xi1, r1z * xi0);
-    }
-    let mut x = [zero; 15];
-    for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
-        let (a, b) = (&u[i], &u[j]);
-        x[g] = a[2].mul_add::<F>(b[2], a[1].mul_add::<F>(b[1], a[0] * b[0]));
-    }
-    let mut strain = [zero; 15];
-    for (r, &(col, coef)) in STRAIN_MOMENTS.iter().enumerate() {
-        strain[r] = x[col].mul_add_s::<F>(coef, Lanes::splat(pre.s0[r]));
-    }
-    let mut ms = [zero; 15];
-    for (r, row) in CENTRE.iter().zip(&pre.m_centre) {
-        let mut acc = strain[CENTRE[0]] * row[0];
-        for c in 1..8 {
-            acc = strain[CENTRE[c]].mul_add_s::<F>(row[c], acc);
+        match v {
+            0 => r2x.mul_add_s::<F>(h2, r1x.mul_add_s::<F>(h1, (r1 - r2) * d1)),
+            1 => (r2y - r1y) * il,
+            2 => (r2z - r1z) * il,
+            3 => r2y.mul_add_s::<F>(xi1, r1y * xi0),
+            _ => r2z.mul_add_s::<F>(xi1, r1z * xi0),
         }
-        ms[*r] = acc;
-    }
-    for r in 0..3 {
-        let (my, mz) = (&pre.m_slope_y[r], &pre.m_slope_z[r]);
-        ms[6 + r] =
-            strain[8].mul_add_s::<F>(my[2], strain[7].mul_add_s::<F>(my[1], strain[6] * my[0]));
-        ms[9 + r] =
-            strain[11].mul_add_s::<F>(mz[2], strain[10].mul_add_s::<F>(mz[1], strain[9] * mz[0]));
-    }
-    ms[13] = strain[13] * pre.m_beta;
+    }));
+    let x: [Lanes<W>; 15] = unrolled!(g in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+        let (a, b) = (&u[GRAM_PAIRS[g].0], &u[GRAM_PAIRS[g].1]);
+        a[2].mul_add::<F>(b[2], a[1].mul_add::<F>(b[1], a[0] * b[0]))
+    });
+    let strain: [Lanes<W>; 15] = unrolled!(r in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+        let (col, coef) = STRAIN_MOMENTS[r];
+        x[col].mul_add_s::<F>(coef, Lanes::splat(pre.s0[r]))
+    });
+    let ms: [Lanes<W>; 15] = unrolled!(r in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => match r {
+        6..=8 => {
+            let my = &pre.m_slope_y[r - 6];
+            strain[8].mul_add_s::<F>(my[2], strain[7].mul_add_s::<F>(my[1], strain[6] * my[0]))
+        }
+        9..=11 => {
+            let mz = &pre.m_slope_z[r - 9];
+            strain[11].mul_add_s::<F>(mz[2], strain[10].mul_add_s::<F>(mz[1], strain[9] * mz[0]))
+        }
+        13 => strain[13] * pre.m_beta,
+        _ => {
+            let row = &pre.m_centre[CENTRE_ROW[r]];
+            let mut acc = strain[CENTRE[0]] * row[0];
+            for c in 1..8 {
+                acc = strain[CENTRE[c]].mul_add_s::<F>(row[c], acc);
+            }
+            acc
+        }
+    });
     let mut energy = zero;
-    let mut sigma = [zero; 15];
     for r in 0..15 {
         energy = strain[r].mul_add::<F>(ms[r], energy);
-        let (col, coef) = STRAIN_MOMENTS[r];
-        sigma[col] = ms[r] * coef;
     }
+    let sigma: [Lanes<W>; 15] = unrolled!(g in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+        let r = STRAIN_MOMENT_OF_GRAM[g];
+        ms[r] * STRAIN_MOMENTS[r].1
+    });
     if !FORCE {
         return LaneStation {
             energy: energy * (wx * 0.5),
@@ -845,16 +888,13 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
             s[g] = sigma[g] * 2.0;
         }
     }
-    let mut gu = [[zero; 3]; 5];
-    for (i, gi) in gu.iter_mut().enumerate() {
-        for (c, gic) in gi.iter_mut().enumerate() {
-            let mut acc = zero;
-            for j in 0..5 {
-                acc = u[j][c].mul_add::<F>(s[gram(i, j)], acc);
-            }
-            *gic = acc;
+    let gu: [[Lanes<W>; 3]; 5] = unrolled!(i in [0, 1, 2, 3, 4] => unrolled!(c in [0, 1, 2] => {
+        let mut acc = zero;
+        for j in 0..5 {
+            acc = u[j][c].mul_add::<F>(s[gram(i, j)], acc);
         }
-    }
+        acc
+    }));
     // q += wx Tᵀ gu, as in `station`.
     let wil = wx * il;
     for c in 0..3 {

@@ -806,9 +806,13 @@ pub fn contact_candidates(
     let mut spheres = None;
     for el in model.wire().elements.clone() {
         let e = model.element_coordinates(q, el);
-        for (ri, rod) in contact.rods.iter().enumerate() {
-            if contact.may_touch_within(model.group(el), rod, &e, margin) {
-                out.push(el * partners + ri);
+        if rods > 0 {
+            let group = model.group(el);
+            let sphere = contact.centerline_sphere(group, &e);
+            for (ri, rod) in contact.rods.iter().enumerate() {
+                if contact.may_touch_around(group, rod, &e, sphere, margin) {
+                    out.push(el * partners + ri);
+                }
             }
         }
         let l = contact.geometry[model.group(el)].length;

@@ -150,13 +150,33 @@ impl ContactEvaluator {
         e: &ElementVector,
         margin: f64,
     ) -> bool {
+        let sphere = self.centerline_sphere(group, e);
+        self.may_touch_around(group, rod, e, sphere, margin)
+    }
+
+    /// A sphere (centre, radius; m) holding the centerline of element `e`
+    /// of element group `group`, for [`ContactEvaluator::may_touch_around`].
+    pub fn centerline_sphere(&self, group: usize, e: &ElementVector) -> ([f64; 3], f64) {
+        beam::centerline_sphere(e, self.geometry[group].length)
+    }
+
+    /// [`ContactEvaluator::may_touch_within`] with the element's
+    /// [`ContactEvaluator::centerline_sphere`] given, so that a broad
+    /// phase over several rods computes it once an element.
+    pub fn may_touch_around(
+        &self,
+        group: usize,
+        rod: &Rod,
+        e: &ElementVector,
+        (centre, radius): ([f64; 3], f64),
+        margin: f64,
+    ) -> bool {
         let geometry = &self.geometry[group];
         let l = geometry.length;
         let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0 + margin;
-        // First a sphere holding the centerline: if even that is out of
+        // First the sphere holding the centerline: if even that is out of
         // reach, so is every sample below (the same answer, for a fraction
         // of the work; the samples were 10 % of the impact run, perf).
-        let (centre, radius) = beam::centerline_sphere(e, l);
         // A point's coordinate along the rod's axis from its centre and its
         // distance from the axis (m).
         let axis_coordinates = |p: &[f64; 3]| {

@@ -75,11 +75,13 @@ fn point_strains(
     let e0 = 0.5 * (aa - 1.0);
     let (p, q) = (dot(a, b), dot(a, c));
     let quad = 0.5 * (dot(b, b) + dot(c, c));
+    // √(p² + q²) once a point, not once a layer (libm's hypot is slow).
+    let bending = p.hypot(q);
     for (k, out) in layers.iter_mut().enumerate() {
         let (linear, r2) = match &section.shape {
             SectionShape::Circular { radii } => {
                 let r = radii[k].1;
-                (r * p.hypot(q), r * r)
+                (r * bending, r * r)
             }
             SectionShape::Rectangular { width, height } => (
                 0.5 * (p.abs() * width + q.abs() * height),

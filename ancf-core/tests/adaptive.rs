@@ -81,7 +81,7 @@ fn oscillator() -> (Model, f64) {
     };
     let model = WireBuilder::new(length, 4)
         .layer(steel(2e14), radius)
-        .spring(0, spring.clone())
+        .spring(0, spring)
         .spring(4, spring)
         .gravity([0.0, 0.0, -G])
         .build()

@@ -806,8 +806,8 @@ pub fn contact_candidates(
     let mut spheres = None;
     for el in model.wire().elements.clone() {
         let e = model.element_coordinates(q, el);
+        let group = model.group(el);
         if rods > 0 {
-            let group = model.group(el);
             let sphere = contact.centerline_sphere(group, &e);
             for (ri, rod) in contact.rods.iter().enumerate() {
                 if contact.may_touch_around(group, rod, &e, sphere, margin) {
@@ -815,7 +815,7 @@ pub fn contact_candidates(
                 }
             }
         }
-        let l = contact.geometry[model.group(el)].length;
+        let l = contact.geometry[group].length;
         for mi in 0..contact.members.len() {
             let spheres = spheres.get_or_insert_with(|| MemberSpheres::new(model, contact, q));
             if spheres.within(contact, mi, &e, l, margin).next().is_some() {

@@ -77,8 +77,8 @@ pub struct Integrator {
     /// The value slots of `kv` the last Jacobian evaluation may have
     /// written (all of them with structural or support damping; with
     /// friction or contact damping alone, the columns of the elements in
-    /// contact): the part to clear before the next one, and the only part
-    /// the Newton matrix adds.
+    /// contact; none without a velocity Jacobian): the part to clear
+    /// before the next one, and the only part the Newton matrix adds.
     kv_written: std::ops::Range<usize>,
     /// The Newton matrix's blocks coupling two beams in contact (outside
     /// the pattern; empty without them).
@@ -239,7 +239,7 @@ impl Integrator {
             &mut self.newton_matrix,
             [&self.mass, kq, kv],
             [1.0 - alpha_m, c_k, c_d],
-            velocity_jacobian.then(|| self.kv_written.clone()),
+            self.kv_written.clone(),
         );
         let c_v = if velocity_jacobian { c_d } else { 0.0 };
         (self.forces.coupling()).combined(&model, c_k, c_v, &mut self.coupled_blocks);

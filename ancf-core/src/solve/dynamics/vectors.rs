@@ -39,12 +39,13 @@ fn midpoint_with<F: Arith>(
 }
 
 crate::simd_dispatch! {
-    pub(super) fn newton_matrix(a: &mut [f64], parts: [&[f64]; 3], c: [f64; 3], velocity_slots: Option<Range<usize>>) = newton_matrix_with;
+    pub(super) fn newton_matrix(a: &mut [f64], parts: [&[f64]; 3], c: [f64; 3], velocity_slots: Range<usize>) = newton_matrix_with;
 }
 
 /// The Newton matrix's values A = c₀ M + c₁ Kq (+ c₂ Kv in
 /// `velocity_slots`, where a velocity Jacobian may be nonzero; it is zero
-/// elsewhere) over the pattern, in one pass. Plain multiplications and
+/// elsewhere, and everywhere without one: an empty range) over the
+/// pattern, in one pass. Plain multiplications and
 /// additions on every path, as in `midpoint_with`.
 #[allow(clippy::extra_unused_type_parameters)] // as in `midpoint_with`
 #[inline(always)]
@@ -52,16 +53,12 @@ fn newton_matrix_with<F: Arith>(
     a: &mut [f64],
     [m, kq, kv]: [&[f64]; 3],
     [c_m, c_k, c_d]: [f64; 3],
-    velocity_slots: Option<Range<usize>>,
+    r: Range<usize>,
 ) {
     let elastic = |a: &mut [f64], m: &[f64], k: &[f64]| {
         for ((a, m), k) in a.iter_mut().zip(m).zip(k) {
             *a = c_m * m + c_k * k;
         }
-    };
-    let Some(r) = velocity_slots else {
-        elastic(a, m, kq);
-        return;
     };
     elastic(&mut a[..r.start], &m[..r.start], &kq[..r.start]);
     let parts = a[r.clone()]

@@ -19,6 +19,7 @@
 //! padding is the identity), so the kernels have fixed sizes.
 
 use crate::linalg::band_cholesky::pattern_entries;
+use crate::linalg::value_sum::{SlotValues, ValueSum};
 use crate::math::simd::{Arith, SimdPath, path};
 
 /// Block size: a node's coordinates.
@@ -34,13 +35,22 @@ pub(crate) const ZERO: Block = [[0.0; B]; B];
 pub struct BlockTridiagonalLu {
     /// Node k's unknowns are starts[k] … starts[k + 1] − 1.
     starts: Vec<usize>,
-    /// (pattern value index, index into `input` flattened): 8 bytes a value,
-    /// no branches (the scatter of 36 000 values was most of a
-    /// factorization with a (value, place, block, row, column) list).
-    slots: Vec<(u32, u32)>,
-    /// The matrix by blocks: Dₖ at k, Uₖ at m + k, Lₖ at 2m − 1 + k.
-    /// Only the slots and the padding's identity are ever written here;
-    /// every other entry stays the zero it was built with.
+    /// Node k's columns hold the value slots `node_values[k]` …
+    /// `node_values[k + 1] − 1` (compressed columns: one window).
+    node_values: Vec<usize>,
+    /// For every value slot, its place among the three blocks of its
+    /// column node k, [Uₖ₋₁, Dₖ, Lₖ] row-major one after the other (0 …
+    /// 431): the factorization reads the values front to back and
+    /// scatters them into three blocks on the stack. (Read in the blocks'
+    /// order instead, every value was a cache line of its own: the loads
+    /// missed.)
+    places: Vec<u16>,
+    /// Whether node k's columns fill its blocks (all but the nodes at a
+    /// support or beside a gap between two beams): they are then
+    /// overwritten whole, with no clearing.
+    full: Vec<bool>,
+    /// The matrix by blocks, for [`Self::load`] only (empty until then):
+    /// the factorization loads each node's blocks where it needs them.
     input: Vec<Block>,
     /// Sₖ⁻¹, Gₖ and Uₖ transposed after `factorize`, for the solves'
     /// column-oriented products. (Sₖ⁻¹ and Gₖ themselves are needed only
@@ -52,6 +62,9 @@ pub struct BlockTridiagonalLu {
     /// The right-hand side by blocks (padded), for the solves.
     work: Vec<[f64; B]>,
 }
+
+/// A column node's three blocks: Uₖ₋₁ = A₍ₖ₋₁,ₖ₎, Dₖ and Lₖ = A₍ₖ₊₁,ₖ₎.
+type Columns = [Block; 3];
 
 /// A diagonal block's Schur complement is singular (to round-off).
 #[derive(Clone, Copy, Debug)]
@@ -84,30 +97,32 @@ impl BlockTridiagonalLu {
         for k in 0..m {
             node_of[starts[k]..starts[k + 1]].fill(k);
         }
-        let mut slots = Vec::new();
+        let mut places = Vec::with_capacity(row_idx.len());
         for (v, r, c) in pattern_entries(col_ptr, row_idx) {
+            debug_assert_eq!(v, places.len(), "slots in pattern order");
             let (kr, kc) = (node_of[r], node_of[c]);
             let (lr, lc) = (r - starts[kr], c - starts[kc]);
-            let block = if kr == kc {
-                kr
-            } else if kc == kr + 1 {
-                m + kr
-            } else if kr == kc + 1 {
-                2 * m - 1 + kc
-            } else {
-                return None;
+            let block = match kr as isize - kc as isize {
+                -1 => 0,
+                0 => 1,
+                1 => 2,
+                _ => return None,
             };
-            let flat = block * B * B + lr * B + lc;
-            slots.push((u32::try_from(v).ok()?, u32::try_from(flat).ok()?));
+            places.push((block * B * B + lr * B + lc) as u16);
         }
-        // In the order of the blocks' entries: the stores then run through
-        // memory front to back, the loads jump (the pattern's order wrote
-        // a column of a row-major block, a cache line a value).
-        slots.sort_unstable_by_key(|&(_, flat)| flat);
+        let node_values: Vec<usize> = starts.iter().map(|&c| col_ptr[c]).collect();
+        let full = (0..m)
+            .map(|k| {
+                let blocks = 1 + usize::from(k > 0) + usize::from(k + 1 < m);
+                node_values[k + 1] - node_values[k] == blocks * B * B
+            })
+            .collect();
         Some(BlockTridiagonalLu {
             starts,
-            slots,
-            input: vec![ZERO; 3 * m - 2],
+            node_values,
+            places,
+            full,
+            input: Vec::new(),
             inverse_t: vec![ZERO; m],
             gain_t: vec![ZERO; m.saturating_sub(1)],
             upper_t: vec![ZERO; m.saturating_sub(1)],
@@ -117,7 +132,13 @@ impl BlockTridiagonalLu {
 
     /// Factor the matrix whose pattern values are `values`.
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), SingularBlock> {
-        factorize(path(), self, values)
+        factorize(path(), self, Source::Array(values))
+    }
+
+    /// Factor the matrix `sum`, read where each block is loaded (never
+    /// formed). A non-finite value is reported as a [`SingularBlock`].
+    pub fn factorize_sum(&mut self, sum: &ValueSum) -> Result<(), SingularBlock> {
+        factorize(path(), self, Source::Sum(sum))
     }
 
     /// Solve A x = b in place with the last factorization.
@@ -135,32 +156,56 @@ impl BlockTridiagonalLu {
     /// Dₖ, the upper Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎.
     pub(crate) fn load(&mut self, values: &[f64]) -> (&[Block], &[Block], &[Block]) {
         let m = self.inverse_t.len();
-        load_blocks(self, values);
+        self.input.resize(3 * m - 2, ZERO);
+        let mut columns = [ZERO; 3];
+        for k in 0..m {
+            load_node(self, k, values, &mut columns);
+            self.input[k] = columns[1];
+            if k > 0 {
+                self.input[m + k - 1] = columns[0];
+            }
+            if k + 1 < m {
+                self.input[2 * m - 1 + k] = columns[2];
+            }
+        }
         let (diag, rest) = self.input.split_at(m);
         let (upper, lower) = rest.split_at(m - 1);
         (diag, upper, lower)
     }
 }
 
-/// The padding's identity and the pattern values into the input blocks.
-fn load_blocks(lu: &mut BlockTridiagonalLu, values: &[f64]) {
-    let m = lu.inverse_t.len();
-    // No clearing: the slots overwrite every entry of the pattern, and the
-    // entries outside it are never written (zero since `new`).
-    for k in 0..m {
-        // The padding of a node with fewer than 12 unknowns: the identity.
+/// Where a factorization reads the matrix's values.
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    Array(&'a [f64]),
+    Sum(&'a ValueSum<'a>),
+}
+
+/// Node k's columns of the matrix with slot values `values` into its
+/// three blocks [Uₖ₋₁, Dₖ, Lₖ] (`out`, written over), padded: a node's
+/// missing unknowns have the identity on Dₖ; entries outside the pattern
+/// are zero (Uₖ₋₁ of the first node and Lₖ of the last are left as they
+/// were). False when a value is not finite.
+#[inline(always)]
+fn load_node<V: SlotValues + ?Sized>(
+    lu: &BlockTridiagonalLu,
+    k: usize,
+    values: &V,
+    out: &mut Columns,
+) -> bool {
+    let slots = lu.node_values[k]..lu.node_values[k + 1];
+    if !lu.full[k] {
+        *out = [ZERO; 3];
         for r in lu.starts[k + 1] - lu.starts[k]..B {
-            lu.input[k][r][r] = 1.0;
+            out[1][r][r] = 1.0;
         }
     }
-    let flat = lu.input.as_flattened_mut().as_flattened_mut();
-    for &(v, dest) in &lu.slots {
-        flat[dest as usize] = values[v as usize];
-    }
+    let places = &lu.places[slots.clone()];
+    values.scatter(slots, places, out.as_flattened_mut().as_flattened_mut())
 }
 
 crate::simd_dispatch! {
-    fn factorize(lu: &mut BlockTridiagonalLu, values: &[f64]) -> Result<(), SingularBlock> = factorize_with;
+    fn factorize(lu: &mut BlockTridiagonalLu, values: Source) -> Result<(), SingularBlock> = factorize_with;
 }
 
 crate::simd_dispatch! {
@@ -294,27 +339,41 @@ pub(crate) fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), Singula
 #[inline(always)]
 fn factorize_with<F: Arith>(
     lu: &mut BlockTridiagonalLu,
-    values: &[f64],
+    values: Source,
+) -> Result<(), SingularBlock> {
+    match values {
+        Source::Array(a) => factorize_from::<F, [f64]>(lu, a),
+        Source::Sum(s) => factorize_from::<F, ValueSum>(lu, s),
+    }
+}
+
+/// The elimination, node k's columns [Uₖ₋₁, Dₖ, Lₖ] loaded at step k
+/// (into the stack: the blocks are never stored whole).
+#[inline(always)]
+fn factorize_from<F: Arith, V: SlotValues + ?Sized>(
+    lu: &mut BlockTridiagonalLu,
+    values: &V,
 ) -> Result<(), SingularBlock> {
     let m = lu.inverse_t.len();
-    load_blocks(lu, values);
-    let (diag, rest) = lu.input.split_at(m);
-    let (upper, lower) = rest.split_at(m - 1);
+    let mut columns = [ZERO; 3];
     let (mut inverse, mut gain) = (ZERO, ZERO);
     for k in 0..m {
-        let mut s = diag[k];
+        if !load_node(lu, k, values, &mut columns) {
+            return Err(SingularBlock);
+        }
+        let [upper, s, lower] = &mut columns;
         if k > 0 {
-            // `gain` is Gₖ₋₁ here.
-            sub_product::<F>(&mut s, &gain, &upper[k - 1]);
+            // Sₖ = Dₖ − Gₖ₋₁ Uₖ₋₁ (`gain` is Gₖ₋₁ here).
+            sub_product::<F>(s, &gain, upper);
+            transpose(upper, &mut lu.upper_t[k - 1]);
         }
         // Results written in place: returned by value, each 1152-byte
         // block was a memcpy more.
-        invert::<F>(&s, &mut inverse)?;
+        invert::<F>(s, &mut inverse)?;
         transpose(&inverse, &mut lu.inverse_t[k]);
         if k + 1 < m {
-            product::<F>(&lower[k], &inverse, &mut gain);
+            product::<F>(lower, &inverse, &mut gain);
             transpose(&gain, &mut lu.gain_t[k]);
-            transpose(&upper[k], &mut lu.upper_t[k]);
         }
     }
     Ok(())
@@ -373,7 +432,7 @@ mod tests {
             assert_eq!(lu.starts.len() - 1, blocks, "{blocks} blocks of {size}");
             let x: Vec<f64> = (0..a.n).map(|i| (i as f64 * 0.37).cos()).collect();
             assert_paths_agree(&a, &x, |path, b| {
-                factorize(path, &mut lu, &a.values).expect("regular");
+                factorize(path, &mut lu, Source::Array(&a.values)).expect("regular");
                 solve(path, &mut lu, b);
             });
         }
@@ -464,6 +523,72 @@ mod tests {
         reused.solve_in_place(&mut x1);
         fresh.solve_in_place(&mut x2);
         assert_eq!(x1, x2);
+    }
+
+    /// A sum read where each block is loaded factors to the same bits as
+    /// the sum written out; a non-finite part is refused.
+    #[test]
+    fn a_sum_factors_as_its_written_values() {
+        let sizes = [9usize, 12, 12, 10, 12];
+        let n: usize = sizes.iter().sum();
+        let mut node = Vec::new();
+        for (k, s) in sizes.iter().enumerate() {
+            node.extend(std::iter::repeat_n(k, *s));
+        }
+        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
+        let matrix = |seed: usize, diagonal: f64| {
+            let mut dense = vec![0.0; n * n];
+            for r in 0..n {
+                for c in (0..n).filter(|&c| coupled(r, c)) {
+                    dense[r * n + c] = if r == c {
+                        diagonal
+                    } else {
+                        ((r * 13 + c * 7 + seed * 5) % 17) as f64 / 17.0 - 0.5
+                    };
+                }
+            }
+            crate::linalg::band_cholesky::tests::TestMatrix::new(n, dense, coupled)
+        };
+        let (mass, stiffness, damping) = (matrix(1, 30.0), matrix(2, 3.0), matrix(3, 1.0));
+        let parts = [&mass.values[..], &stiffness.values, &damping.values];
+        let bits = |lu: &BlockTridiagonalLu| {
+            let blocks = lu.inverse_t.iter().chain(&lu.gain_t).chain(&lu.upper_t);
+            blocks
+                .flatten()
+                .flatten()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        };
+        let nnz = mass.values.len();
+        for third_slots in [0..0, 40..300, 0..nnz] {
+            let sum = ValueSum {
+                parts,
+                weights: [0.6, 0.37, 0.11],
+                third_slots,
+            };
+            let mut written = vec![0.0; nnz];
+            sum.write(&mut written);
+            let mut from_sum = BlockTridiagonalLu::new(n, &mass.col_ptr, &mass.row_idx).unwrap();
+            let mut from_array = from_sum.clone();
+            from_sum.factorize_sum(&sum).unwrap();
+            from_array.factorize(&written).unwrap();
+            assert_eq!(bits(&from_sum), bits(&from_array));
+        }
+        let mut broken = damping.values.clone();
+        broken[nnz - 1] = f64::NAN;
+        let sum = ValueSum {
+            parts: [&mass.values, &stiffness.values, &broken],
+            weights: [0.6, 0.37, 0.11],
+            third_slots: 0..nnz,
+        };
+        let mut lu = BlockTridiagonalLu::new(n, &mass.col_ptr, &mass.row_idx).unwrap();
+        assert!(lu.factorize_sum(&sum).is_err());
+        // Outside the third part's slots its values are not read.
+        let sum = ValueSum {
+            third_slots: 0..nnz - 1,
+            ..sum
+        };
+        assert!(lu.factorize_sum(&sum).is_ok());
     }
 
     #[test]

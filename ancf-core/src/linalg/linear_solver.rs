@@ -22,6 +22,7 @@ use crate::linalg::block_tridiagonal::BlockTridiagonalLu;
 use crate::linalg::coupled::{CoupledBlock, CoupledLu};
 use crate::linalg::pattern::Pattern;
 use crate::linalg::separated_lu::SeparatedLu;
+use crate::linalg::value_sum::ValueSum;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::{
@@ -224,6 +225,24 @@ impl SparseSolver {
         })
     }
 
+    /// Whether a matrix goes to the block LU first: a non-symmetric one, or
+    /// a dynamic symmetric one below `BLOCK_LU_MAX_SYMMETRIC` unknowns.
+    fn takes_block_lu(&self, symmetric: bool) -> bool {
+        let n = self.pattern.symbolic.nrows();
+        !symmetric || (self.mass_dominated && n < BLOCK_LU_MAX_SYMMETRIC)
+    }
+
+    /// The block LU of the pattern, built at the first call (`None`: the
+    /// pattern is not block tridiagonal).
+    fn block_lu(&mut self) -> Option<&mut BlockTridiagonalLu> {
+        self.block_lu
+            .get_or_insert_with(|| {
+                let sym = self.pattern.symbolic.as_ref();
+                BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
+            })
+            .as_mut()
+    }
+
     /// Numeric factorization of the matrix with the pattern's structure and
     /// `values`. A `symmetric` matrix tries LLᵀ first (it reads only the
     /// lower triangle); a non-symmetric one (friction) goes straight to LU.
@@ -242,21 +261,17 @@ impl SparseSolver {
             ));
         }
         self.factorizations += 1;
-        let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
         // A wire's pattern (node blocks): the block LU, for symmetric
         // matrices too below BLOCK_LU_MAX_SYMMETRIC unknowns, where its
         // solves beat the band LLᵀ's (they dominate modified Newton).
-        let n = self.pattern.symbolic.nrows();
-        if (!symmetric || (self.mass_dominated && n < BLOCK_LU_MAX_SYMMETRIC))
-            && let Some(block) = self.block_lu.get_or_insert_with(|| {
-                let sym = self.pattern.symbolic.as_ref();
-                BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
-            })
+        if self.takes_block_lu(symmetric)
+            && let Some(block) = self.block_lu()
             && block.factorize(values).is_ok()
         {
             self.factor = Factor::BlockLu;
             return Ok(FactorKind::Lu);
         }
+        let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
         // A symmetric matrix that is not positive definite (buckling) fails
         // LLᵀ and falls through to LU.
         if symmetric {
@@ -338,6 +353,32 @@ impl SparseSolver {
         CoupledLu::factorize(&mut self.coupled, &self.pattern, values, blocks)?;
         self.factor = Factor::Coupled;
         Ok(FactorKind::Lu)
+    }
+
+    /// [`SparseSolver::factorize_coupled`] of the matrix `sum`: the block
+    /// LU reads the sum where it loads each block, with nothing formed
+    /// (one pass over the value arrays instead of three); the other
+    /// factorizations, and a block LU that fails, get the sum written
+    /// into `formed` (sized to one value per slot here) first.
+    pub fn factorize_sum(
+        &mut self,
+        sum: &ValueSum,
+        formed: &mut Vec<f64>,
+        blocks: &[CoupledBlock],
+        symmetric: bool,
+    ) -> Result<FactorKind, FactorError> {
+        if blocks.is_empty()
+            && self.takes_block_lu(symmetric)
+            && let Some(block) = self.block_lu()
+            && block.factorize_sum(sum).is_ok()
+        {
+            self.factorizations += 1;
+            self.factor = Factor::BlockLu;
+            return Ok(FactorKind::Lu);
+        }
+        formed.resize(self.pattern.nnz(), 0.0);
+        sum.write(formed);
+        self.factorize_coupled(formed, blocks, symmetric)
     }
 
     /// Symbolic analyses of coupled structures so far.

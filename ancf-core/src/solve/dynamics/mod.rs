@@ -27,13 +27,14 @@ pub use step_size::StepControl;
 use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values};
 use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::SparseSolver;
+use crate::linalg::value_sum::ValueSum;
 use crate::math::simd::path;
 use crate::model::Model;
 use crate::solve::reactions::support_forces;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
-use vectors::{clear_velocity_jacobian, midpoint, newton_matrix, norm, sum_of_squares};
+use vectors::{clear_velocity_jacobian, midpoint, norm, sum_of_squares};
 use workspace::{CANDIDATE_MARGIN, Workspace, same_bits};
 
 /// The integrator: owns the model's force sum (with the pattern), the
@@ -68,9 +69,10 @@ pub struct Integrator {
     /// weight times its length (or 1e-12 J without gravity).
     energy_floor: f64,
     /// Newton-matrix workspaces in pattern slots, allocated once: −∂Q/∂q,
-    /// −∂Q/∂v and the matrix (1 − α_m) M + c_k K + c_d D itself (at 4096
-    /// elements each is 14 MB; allocating and zeroing them every step was
-    /// ≈ 10 % of a step, perf).
+    /// −∂Q/∂v (at 4096 elements each is 14 MB; allocating and zeroing them
+    /// every step was ≈ 10 % of a step, perf), and the matrix
+    /// (1 − α_m) M + c_k K + c_d D itself, allocated only when a
+    /// factorization needs it written out (the block LU reads the sum).
     kq: Vec<f64>,
     kv: Vec<f64>,
     newton_matrix: Vec<f64>,
@@ -123,7 +125,7 @@ impl Integrator {
             },
             kq: pattern.zeros(),
             kv: pattern.zeros(),
-            newton_matrix: pattern.zeros(),
+            newton_matrix: Vec::new(),
             kv_written: 0..0,
             coupled_blocks: Vec::new(),
             work: Workspace::new(model.reference.len()),
@@ -234,17 +236,18 @@ impl Integrator {
         let velocity_jacobian = ForceSum::velocity_dependent(&model);
         let c_k = (1.0 - alpha_f) * beta * h * h;
         let c_d = (1.0 - alpha_f) * gamma * h;
-        newton_matrix(
-            path(),
-            &mut self.newton_matrix,
-            [&self.mass, kq, kv],
-            [1.0 - alpha_m, c_k, c_d],
-            self.kv_written.clone(),
-        );
+        // K_v is zero outside the slots the last evaluation wrote, and
+        // everywhere without a velocity Jacobian (an empty range).
+        let sum = ValueSum {
+            parts: [&self.mass, kq, kv],
+            weights: [1.0 - alpha_m, c_k, c_d],
+            third_slots: self.kv_written.clone(),
+        };
         let c_v = if velocity_jacobian { c_d } else { 0.0 };
         (self.forces.coupling()).combined(&model, c_k, c_v, &mut self.coupled_blocks);
+        let blocks = &self.coupled_blocks;
         self.solver
-            .factorize_coupled(&self.newton_matrix, &self.coupled_blocks, symmetric)
+            .factorize_sum(&sum, &mut self.newton_matrix, blocks, symmetric)
             .map_err(|error| StepError::Factorization {
                 matrix: Matrix::Newton,
                 error,

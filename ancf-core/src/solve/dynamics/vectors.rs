@@ -1,6 +1,5 @@
-//! The integrator's vector loops: the generalized-α midpoint and the
-//! Newton matrix's values (dispatched per SIMD path, plain arithmetic on
-//! every path), and norms.
+//! The integrator's vector loops: the generalized-α midpoint (dispatched
+//! per SIMD path, plain arithmetic on every path), and norms.
 
 use super::AlphaParameters;
 use crate::math::simd::{Arith, Plain, dot};
@@ -36,39 +35,6 @@ fn midpoint_with<F: Arith>(
         *vm = (1.0 - alpha_f) * v1 + alpha_f * v;
         *am = (1.0 - alpha_m) * a1 + alpha_m * a;
     }
-}
-
-crate::simd_dispatch! {
-    pub(super) fn newton_matrix(a: &mut [f64], parts: [&[f64]; 3], c: [f64; 3], velocity_slots: Range<usize>) = newton_matrix_with;
-}
-
-/// The Newton matrix's values A = c₀ M + c₁ Kq (+ c₂ Kv in
-/// `velocity_slots`, where a velocity Jacobian may be nonzero; it is zero
-/// elsewhere, and everywhere without one: an empty range) over the
-/// pattern, in one pass. Plain multiplications and
-/// additions on every path, as in `midpoint_with`.
-#[allow(clippy::extra_unused_type_parameters)] // as in `midpoint_with`
-#[inline(always)]
-fn newton_matrix_with<F: Arith>(
-    a: &mut [f64],
-    [m, kq, kv]: [&[f64]; 3],
-    [c_m, c_k, c_d]: [f64; 3],
-    r: Range<usize>,
-) {
-    let elastic = |a: &mut [f64], m: &[f64], k: &[f64]| {
-        for ((a, m), k) in a.iter_mut().zip(m).zip(k) {
-            *a = c_m * m + c_k * k;
-        }
-    };
-    elastic(&mut a[..r.start], &m[..r.start], &kq[..r.start]);
-    let parts = a[r.clone()]
-        .iter_mut()
-        .zip(&m[r.clone()])
-        .zip(&kq[r.clone()]);
-    for (((a, m), k), d) in parts.zip(&kv[r.clone()]) {
-        *a = (c_m * m + c_k * k) + c_d * d;
-    }
-    elastic(&mut a[r.end..], &m[r.end..], &kq[r.end..]);
 }
 
 /// Zero −∂Q/∂v where the last evaluation may have written it (`written`,

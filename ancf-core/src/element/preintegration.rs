@@ -768,12 +768,15 @@ fn jacobians_lanes<F: Arith, const W: usize>(
     let zero = Lanes::<W>::splat(0.0);
     *k = [[zero; 9]; 36];
     let mut energy = zero;
+    // The station's 25 Hessian blocks: every one is written at every
+    // station (a pair and its transpose), so the array is zeroed once a
+    // call, not once a station (a 7 KB memset each, perf).
+    let mut h = [[zero; 9]; 25];
     for (&xi, &w) in nodes.iter().zip(weights) {
         let wx = w * l;
         let st = station_lanes::<F, W, true>(pre, xi, l, wx, e, q);
         energy = energy + st.energy;
         let tc = t_coefficients(xi, l);
-        let mut h = [[zero; 9]; 25];
         for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
             let mut acc = [zero; 9];
             acc[0] = st.s[g];

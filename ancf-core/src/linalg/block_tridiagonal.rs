@@ -97,9 +97,8 @@ impl BlockTridiagonalLu {
         for k in 0..m {
             node_of[starts[k]..starts[k + 1]].fill(k);
         }
-        let mut places = Vec::with_capacity(row_idx.len());
+        let mut places = vec![0; row_idx.len()];
         for (v, r, c) in pattern_entries(col_ptr, row_idx) {
-            debug_assert_eq!(v, places.len(), "slots in pattern order");
             let (kr, kc) = (node_of[r], node_of[c]);
             let (lr, lc) = (r - starts[kr], c - starts[kc]);
             let block = match kr as isize - kc as isize {
@@ -108,7 +107,7 @@ impl BlockTridiagonalLu {
                 1 => 2,
                 _ => return None,
             };
-            places.push((block * B * B + lr * B + lc) as u16);
+            places[v] = (block * B * B + lr * B + lc) as u16;
         }
         let node_values: Vec<usize> = starts.iter().map(|&c| col_ptr[c]).collect();
         let full = (0..m)

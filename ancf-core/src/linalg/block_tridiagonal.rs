@@ -420,7 +420,37 @@ fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::band_cholesky::tests::TestMatrix;
     use crate::linalg::band_cholesky::tests::{assert_paths_agree, block_tridiagonal};
+
+    /// A block-tridiagonal matrix with node blocks of `sizes` (a pinned
+    /// node has 9 unknowns): `diagonal` on the diagonal, off-diagonal
+    /// entries in [−0.5, 0.5) varied by `seed`.
+    fn uneven_blocks(sizes: &[usize], diagonal: f64, seed: usize) -> TestMatrix {
+        let n: usize = sizes.iter().sum();
+        let mut node = Vec::new();
+        for (k, s) in sizes.iter().enumerate() {
+            node.extend(std::iter::repeat_n(k, *s));
+        }
+        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
+        let mut dense = vec![0.0; n * n];
+        for r in 0..n {
+            for c in (0..n).filter(|&c| coupled(r, c)) {
+                dense[r * n + c] = if r == c {
+                    diagonal
+                } else {
+                    ((r * 13 + c * 7 + seed * 5) % 17) as f64 / 17.0 - 0.5
+                };
+            }
+        }
+        TestMatrix::new(n, dense, coupled)
+    }
+
+    /// The factorization's blocks, bit for bit.
+    fn factor_bits(lu: &BlockTridiagonalLu) -> Vec<u64> {
+        let blocks = lu.inverse_t.iter().chain(&lu.gain_t).chain(&lu.upper_t);
+        blocks.flatten().flatten().map(|v| v.to_bits()).collect()
+    }
 
     #[test]
     fn finds_the_node_blocks_and_solves_to_round_off() {
@@ -441,24 +471,8 @@ mod tests {
     /// the band LU on the same matrix.
     #[test]
     fn uneven_blocks_agree_with_the_band_lu() {
-        let sizes = [9usize, 12, 12, 12, 12];
-        let n: usize = sizes.iter().sum();
-        let mut node = Vec::new();
-        for (k, s) in sizes.iter().enumerate() {
-            node.extend(std::iter::repeat_n(k, *s));
-        }
-        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
-        let mut dense = vec![0.0; n * n];
-        for r in 0..n {
-            for c in (0..n).filter(|&c| coupled(r, c)) {
-                dense[r * n + c] = if r == c {
-                    40.0
-                } else {
-                    ((r * 13 + c * 7) % 17) as f64 / 17.0 - 0.5
-                };
-            }
-        }
-        let a = crate::linalg::band_cholesky::tests::TestMatrix::new(n, dense, coupled);
+        let a = uneven_blocks(&[9, 12, 12, 12, 12], 40.0, 0);
+        let n = a.n;
         let mut lu = BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).expect("block tridiagonal");
         assert_eq!(lu.starts, vec![0, 9, 21, 33, 45, 57]);
         lu.factorize(&a.values).unwrap();
@@ -482,42 +496,16 @@ mod tests {
     /// equals a fresh one of B bit for bit, padded nodes included.
     #[test]
     fn refactorization_keeps_nothing_of_the_previous_matrix() {
-        let sizes = [9usize, 12, 12, 10, 12];
-        let n: usize = sizes.iter().sum();
-        let mut node = Vec::new();
-        for (k, s) in sizes.iter().enumerate() {
-            node.extend(std::iter::repeat_n(k, *s));
-        }
-        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
-        let matrix = |seed: usize| {
-            let mut dense = vec![0.0; n * n];
-            for r in 0..n {
-                for c in (0..n).filter(|&c| coupled(r, c)) {
-                    dense[r * n + c] = if r == c {
-                        30.0 + seed as f64
-                    } else {
-                        ((r * 13 + c * 7 + seed * 5) % 17) as f64 / 17.0 - 0.5
-                    };
-                }
-            }
-            crate::linalg::band_cholesky::tests::TestMatrix::new(n, dense, coupled)
-        };
+        let sizes = [9, 12, 12, 10, 12];
+        let matrix = |seed: usize| uneven_blocks(&sizes, 30.0 + seed as f64, seed);
         let (a, b) = (matrix(1), matrix(4));
-        let mut reused = BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).unwrap();
+        let mut reused = BlockTridiagonalLu::new(a.n, &a.col_ptr, &a.row_idx).unwrap();
         reused.factorize(&a.values).unwrap();
         reused.factorize(&b.values).unwrap();
-        let mut fresh = BlockTridiagonalLu::new(n, &b.col_ptr, &b.row_idx).unwrap();
+        let mut fresh = BlockTridiagonalLu::new(b.n, &b.col_ptr, &b.row_idx).unwrap();
         fresh.factorize(&b.values).unwrap();
-        let bits = |lu: &BlockTridiagonalLu| {
-            let blocks = lu.inverse_t.iter().chain(&lu.gain_t).chain(&lu.upper_t);
-            blocks
-                .flatten()
-                .flatten()
-                .map(|v| v.to_bits())
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(bits(&reused), bits(&fresh));
-        let rhs: Vec<f64> = (0..n).map(|i| (i as f64).cos()).collect();
+        assert_eq!(factor_bits(&reused), factor_bits(&fresh));
+        let rhs: Vec<f64> = (0..b.n).map(|i| (i as f64).cos()).collect();
         let (mut x1, mut x2) = (rhs.clone(), rhs);
         reused.solve_in_place(&mut x1);
         fresh.solve_in_place(&mut x2);
@@ -528,36 +516,11 @@ mod tests {
     /// the sum written out; a non-finite part is refused.
     #[test]
     fn a_sum_factors_as_its_written_values() {
-        let sizes = [9usize, 12, 12, 10, 12];
-        let n: usize = sizes.iter().sum();
-        let mut node = Vec::new();
-        for (k, s) in sizes.iter().enumerate() {
-            node.extend(std::iter::repeat_n(k, *s));
-        }
-        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
-        let matrix = |seed: usize, diagonal: f64| {
-            let mut dense = vec![0.0; n * n];
-            for r in 0..n {
-                for c in (0..n).filter(|&c| coupled(r, c)) {
-                    dense[r * n + c] = if r == c {
-                        diagonal
-                    } else {
-                        ((r * 13 + c * 7 + seed * 5) % 17) as f64 / 17.0 - 0.5
-                    };
-                }
-            }
-            crate::linalg::band_cholesky::tests::TestMatrix::new(n, dense, coupled)
-        };
+        let sizes = [9, 12, 12, 10, 12];
+        let matrix = |seed: usize, diagonal: f64| uneven_blocks(&sizes, diagonal, seed);
         let (mass, stiffness, damping) = (matrix(1, 30.0), matrix(2, 3.0), matrix(3, 1.0));
         let parts = [&mass.values[..], &stiffness.values, &damping.values];
-        let bits = |lu: &BlockTridiagonalLu| {
-            let blocks = lu.inverse_t.iter().chain(&lu.gain_t).chain(&lu.upper_t);
-            blocks
-                .flatten()
-                .flatten()
-                .map(|v| v.to_bits())
-                .collect::<Vec<_>>()
-        };
+        let n = mass.n;
         let nnz = mass.values.len();
         for third_slots in [0..0, 40..300, 0..nnz] {
             let sum = ValueSum {
@@ -571,7 +534,7 @@ mod tests {
             let mut from_array = from_sum.clone();
             from_sum.factorize_sum(&sum).unwrap();
             from_array.factorize(&written).unwrap();
-            assert_eq!(bits(&from_sum), bits(&from_array));
+            assert_eq!(factor_bits(&from_sum), factor_bits(&from_array));
         }
         let mut broken = damping.values.clone();
         broken[nnz - 1] = f64::NAN;

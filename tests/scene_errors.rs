@@ -236,6 +236,18 @@ const CASES: &[(&str, &str, &str, &str)] = &[
         "spectral_radius = 1.2",
         "analysis.spectral_radius",
     ),
+    (
+        "Broyden updates with full Newton",
+        "spectral_radius = 1.0",
+        "spectral_radius = 1.0\nnewton = \"full\"\nbroyden = true",
+        "analysis.broyden",
+    ),
+    (
+        "Broyden updates in a static analysis",
+        "kind = \"dynamic\"\nend_time = 0.01\ntime_step = 1e-3\nspectral_radius = 1.0",
+        "kind = \"static\"\nbroyden = true",
+        "analysis.broyden",
+    ),
     ("malformed TOML", "[wire]", "[wire", "line"),
     (
         "SVK key on Mooney-Rivlin",

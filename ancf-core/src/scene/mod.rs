@@ -678,6 +678,7 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
                 ("max_time_step", a.max_time_step.is_some()),
                 ("spectral_radius", a.spectral_radius.is_some()),
                 ("newton", a.newton.is_some()),
+                ("broyden", a.broyden.is_some()),
                 ("initial", a.initial.is_some()),
             ] {
                 if given {
@@ -765,6 +766,7 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
                     Some(NewtonSpec::Modified) => NewtonKind::Modified,
                     None => d.newton,
                 },
+                broyden: a.broyden.unwrap_or(d.broyden),
                 tolerance: a.tolerance.unwrap_or(d.tolerance),
                 max_iterations: a.max_iterations.unwrap_or(d.max_iterations),
                 ..d

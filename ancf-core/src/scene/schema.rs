@@ -150,6 +150,8 @@ pub struct AnalysisSpec {
     pub load_steps: Option<usize>,
     /// Dynamic: full or modified Newton.
     pub newton: Option<NewtonSpec>,
+    /// Dynamic, modified Newton: Broyden's updates of the kept matrix.
+    pub broyden: Option<bool>,
     /// Newton's relative residual tolerance.
     pub tolerance: Option<f64>,
     /// Newton iterations allowed per step or increment.

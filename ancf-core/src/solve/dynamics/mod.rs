@@ -1,10 +1,11 @@
 //! Implicit generalized-α time integration (Chung–Hulbert, SPEC §6), Newton
 //! on the accelerations, with full or modified Newton and step cutting.
 //! The integrator (the Newton step) is here; its settings, state,
-//! predictor, energies, errors, step statistics and vector loops each have
+//! predictor, Broyden updates, energies, errors, step statistics and vector loops each have
 //! a file of their own.
 
 mod alpha;
+mod broyden;
 mod energies;
 mod error;
 mod predictor;
@@ -31,6 +32,7 @@ use crate::linalg::value_sum::ValueSum;
 use crate::math::simd::path;
 use crate::model::Model;
 use crate::solve::reactions::support_forces;
+use broyden::Broyden;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
@@ -86,6 +88,8 @@ pub struct Integrator {
     /// the pattern; empty without them).
     coupled_blocks: Vec<crate::linalg::coupled::CoupledBlock>,
     work: Workspace,
+    /// The current step's Newton directions, for Broyden's updates.
+    broyden: Broyden,
     /// Each support's force on the body in the last
     /// [`Integrator::initial_state`] (N).
     initial_reactions: Vec<[f64; 3]>,
@@ -129,6 +133,7 @@ impl Integrator {
             kv_written: 0..0,
             coupled_blocks: Vec::new(),
             work: Workspace::new(model.reference.len()),
+            broyden: Broyden::default(),
             initial_reactions: Vec::new(),
             forces,
         })
@@ -609,6 +614,7 @@ impl Integrator {
         let mut evaluations = 0;
         let max_evaluations = 4 * self.settings.max_iterations;
         let mut iterations = 0;
+        self.broyden.restart();
         loop {
             let need_k = self.settings.newton == NewtonKind::Full || self.factored_for != Some(h);
             // Full Newton: the residual alone first, so that the converged
@@ -714,6 +720,14 @@ impl Integrator {
             self.solver.solve_in_place(&mut da);
             info.solve_seconds += started.elapsed().as_secs_f64();
             info.solves += 1;
+            if self.settings.broyden {
+                // The update assumes the matrix and the full steps since it
+                // was formed: a refactorization or a shortened step restarts it.
+                if need_k || alpha != 1.0 {
+                    self.broyden.restart();
+                }
+                self.broyden.direct(&mut da);
+            }
             alpha = 1.0;
             model.scatter_add(&da, -1.0, &mut a1);
             iterations += 1;

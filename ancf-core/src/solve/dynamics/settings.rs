@@ -28,6 +28,11 @@ pub struct DynamicSettings {
     pub spectral_radius: f64,
     /// Full or modified Newton.
     pub newton: NewtonKind,
+    /// Modified Newton: correct the kept factorization's directions within
+    /// a step by Broyden's rank-one updates ([`super::broyden`]), so that a
+    /// stale matrix contracts faster and is refactored less often. Default
+    /// false. Results agree with plain modified Newton to the tolerance.
+    pub broyden: bool,
     /// Newton iterations allowed per step before the step is cut. Default 25.
     pub max_iterations: usize,
     /// Relative residual tolerance. Default 1e-10.
@@ -50,7 +55,8 @@ pub const MAX_STEPS: f64 = 1e8;
 impl DynamicSettings {
     /// Whether the integrator can run with these settings: h and the end
     /// time > 0, h ≤ end time, at most [`MAX_STEPS`] steps, ρ∞ ∈ [0, 1], a
-    /// relative tolerance in (0, 1), at least one Newton iteration.
+    /// relative tolerance in (0, 1), at least one Newton iteration, Broyden
+    /// updates only with modified Newton.
     pub fn check(&self) -> Result<(), ParameterError> {
         let end_time = positive("end_time", self.end_time)?;
         let h = positive("time_step", self.time_step)?;
@@ -76,6 +82,12 @@ impl DynamicSettings {
         }
         crate::check::relative_tolerance("tolerance", self.tolerance)?;
         count_in("max_iterations", self.max_iterations, 1..=10_000)?;
+        if self.broyden && self.newton == NewtonKind::Full {
+            return refuse(
+                "broyden",
+                "updates a kept Newton matrix: it needs newton = \"modified\" (full Newton refactors every iteration)",
+            );
+        }
         if let Some(control) = &self.step_control {
             check_against_run(control, end_time)?;
         }
@@ -90,6 +102,7 @@ impl Default for DynamicSettings {
             end_time: 1.0,
             spectral_radius: DEFAULT_SPECTRAL_RADIUS,
             newton: NewtonKind::Modified,
+            broyden: false,
             max_iterations: 25,
             tolerance: 1e-10,
             max_cuts: 10,

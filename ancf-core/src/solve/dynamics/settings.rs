@@ -29,7 +29,7 @@ pub struct DynamicSettings {
     /// Full or modified Newton.
     pub newton: NewtonKind,
     /// Modified Newton: correct the kept factorization's directions within
-    /// a step by Broyden's rank-one updates ([`super::broyden`]), so that a
+    /// a step by Broyden's rank-one updates (Kelley 1995, §7.3), so that a
     /// stale matrix contracts faster and is refactored less often. Default
     /// false. Results agree with plain modified Newton to the tolerance.
     pub broyden: bool,

@@ -27,11 +27,17 @@ fn pendulum(n: usize) -> Model {
 
 /// An integrator (ρ∞ = 1, time step h) and the state at rest in the reference.
 fn start(model: &Model, h: f64, newton: NewtonKind) -> (Integrator, State) {
+    start_with(model, h, newton, false)
+}
+
+/// `start`, with or without Broyden's updates of the kept matrix.
+fn start_with(model: &Model, h: f64, newton: NewtonKind, broyden: bool) -> (Integrator, State) {
     let settings = DynamicSettings {
         time_step: h,
         end_time: 1.0,
         spectral_radius: 1.0,
         newton,
+        broyden,
         ..Default::default()
     };
     let mut integ = Integrator::new(std::sync::Arc::new(model.clone()), settings).unwrap();
@@ -270,18 +276,7 @@ fn broyden_updates_keep_the_answer_and_save_refactorizations() {
     let model = pendulum(8);
     let h = 4e-3;
     let swing = |broyden: bool| {
-        let settings = DynamicSettings {
-            time_step: h,
-            end_time: 1.0,
-            spectral_radius: 1.0,
-            newton: NewtonKind::Modified,
-            broyden,
-            ..Default::default()
-        };
-        let mut integ = Integrator::new(std::sync::Arc::new(model.clone()), settings).unwrap();
-        let mut s = integ
-            .initial_state(model.reference.clone(), vec![0.0; model.reference.len()])
-            .unwrap();
+        let (mut integ, mut s) = start_with(&model, h, NewtonKind::Modified, broyden);
         let (mut iterations, mut factorizations) = (0, 0);
         for _ in 0..100 {
             let (next, info) = integ.step(&s, h).expect("step converges");

@@ -16,14 +16,16 @@
 //! is refactored or a step is shortened by backtracking (the recursion
 //! assumes full steps).
 
-use super::vectors::inner;
+use crate::math::simd::{Plain, dot};
 
 /// The Newton directions taken since the sequence restarted, in the
 /// increment's sign convention (aₖ₊₁ = aₖ − dₖ), with their buffers kept
-/// across steps (no allocation once the longest sequence has been seen).
+/// across steps (no allocation once the longest sequence has been seen),
+/// and their squared norms ‖dₖ‖², computed once.
 #[derive(Default)]
 pub(super) struct Broyden {
     steps: Vec<Vec<f64>>,
+    squares: Vec<f64>,
     len: usize,
 }
 
@@ -44,29 +46,31 @@ impl Broyden {
     pub(super) fn direct(&mut self, d: &mut [f64]) {
         if self.len == self.steps.len() {
             self.steps.push(vec![0.0; d.len()]);
+            self.squares.push(0.0);
         }
         let (done, next) = self.steps.split_at_mut(self.len);
         let plain = &mut next[0];
         plain.clear();
         plain.extend_from_slice(d);
+        let squares = &self.squares[..self.len];
         if let Some(last) = done.last() {
-            for pair in done.windows(2) {
-                let c = inner(&pair[0], d) / inner(&pair[0], &pair[0]);
+            for (pair, square) in done.windows(2).zip(squares) {
+                let c = dot::<Plain>(&pair[0], d) / square;
                 d.iter_mut().zip(&pair[1]).for_each(|(z, s)| *z += c * s);
             }
-            let den = 1.0 - inner(last, d) / inner(last, last);
+            let den = 1.0 - dot::<Plain>(last, d) / squares[self.len - 1];
             if den.abs() >= BREAKDOWN && den.is_finite() {
                 d.iter_mut().for_each(|z| *z /= den);
                 plain.copy_from_slice(d);
+                self.squares[self.len] = dot::<Plain>(d, d);
                 self.len += 1;
                 return;
             }
             // Breakdown: the plain solve starts a new sequence.
             d.copy_from_slice(plain);
             self.steps.swap(0, self.len);
-            self.len = 1;
-            return;
         }
+        self.squares[0] = dot::<Plain>(d, d);
         self.len = 1;
     }
 }

@@ -55,8 +55,3 @@ pub(super) fn norm(v: &[f64]) -> f64 {
 pub(super) fn sum_of_squares(v: &[f64]) -> f64 {
     dot::<Plain>(v, v)
 }
-
-/// a · b with `simd::dot`'s partial sums.
-pub(super) fn inner(a: &[f64], b: &[f64]) -> f64 {
-    dot::<Plain>(a, b)
-}

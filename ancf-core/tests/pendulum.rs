@@ -3,6 +3,7 @@
 
 mod common;
 use ancf_core::element::ElementIntegration;
+use ancf_core::linalg::block_tridiagonal::Precision;
 use ancf_core::model::{Model, Support, SupportKind};
 use ancf_core::solve::dynamics::{DynamicSettings, Integrator, NewtonKind, State};
 use common::*;
@@ -301,4 +302,36 @@ fn broyden_updates_keep_the_answer_and_save_refactorizations() {
         facs_b < facs,
         "Broyden {facs_b} factorizations against {facs}"
     );
+}
+
+/// The Newton matrix modified Newton keeps is stored in single precision
+/// (`Precision::Single`); full Newton's in double. On the pendulum, whose
+/// matrix is well conditioned, every kept matrix stays single and the
+/// answer is full Newton's to the tolerance.
+#[test]
+fn modified_newton_keeps_its_matrix_in_single_precision() {
+    let model = pendulum(8);
+    let h = 4e-3;
+    let swing = |newton: NewtonKind| {
+        let (mut integ, mut s) = start(&model, h, newton);
+        let mut kept = Vec::new();
+        for _ in 0..100 {
+            s = integ.step(&s, h).expect("step converges").0;
+            kept.push(integ.factorization_origin().map(|o| o.precision));
+        }
+        (model.node_position(&s.q, model.n_elements), kept)
+    };
+    let (tip, kept) = swing(NewtonKind::Modified);
+    let (tip_full, kept_full) = swing(NewtonKind::Full);
+    // `None`: the step dropped its matrix (after many iterations).
+    assert!(
+        kept.iter().all(|p| *p != Some(Precision::Double)),
+        "{kept:?}"
+    );
+    assert!(kept.iter().filter(|p| p.is_some()).count() > 50);
+    assert!(kept_full.iter().all(|p| *p == Some(Precision::Double)));
+    let d = (0..3)
+        .map(|i| (tip[i] - tip_full[i]).abs())
+        .fold(0.0, f64::max);
+    assert!(d < 1e-7, "the tips differ by {d:e} m");
 }

@@ -17,6 +17,16 @@
 //! independent, where the band solve was a chain of single unknowns.
 //! Blocks are stored padded to 12 × 12 (a pinned node has 9 unknowns; its
 //! padding is the identity), so the kernels have fixed sizes.
+//!
+//! The blocks the solves read (Sₖ⁻¹, Gₖ, Uₖ: 3.4 KB a node) are kept in
+//! the [`Precision`] the caller asks for. In single precision a solve
+//! streams half the bytes. The factorization and the solves' arithmetic
+//! stay in double precision, and each entry is rounded once, where it is
+//! stored. That perturbs every entry of the factored matrix by at most
+//! 6e-8 of itself: the Newton direction of a modified-Newton iteration,
+//! whose matrix is already an approximation, changes by that times the
+//! matrix's condition under row and column scaling. The residual that
+//! decides convergence stays in double precision.
 
 use crate::linalg::band_cholesky::pattern_entries;
 use crate::linalg::value_sum::{SlotValues, ValueSum};
@@ -28,6 +38,77 @@ pub(crate) const B: usize = 12;
 pub(crate) type Block = [[f64; B]; B];
 
 pub(crate) const ZERO: Block = [[0.0; B]; B];
+
+/// How a factorization keeps the blocks its solves read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Precision {
+    /// f64: solves to round-off (mass matrices, full Newton, statics).
+    #[default]
+    Double,
+    /// f32 storage, f64 arithmetic: half the memory traffic of a solve,
+    /// for a matrix that only gives directions (modified Newton's kept
+    /// matrix, whose staleness already costs more than the rounding on a
+    /// well-conditioned matrix; BENCHMARKS.md has the measurements).
+    Single,
+}
+
+/// A stored block entry: f64, or f32 rounded once from the f64 result.
+pub(crate) trait Stored: Copy + Default + std::fmt::Debug {
+    fn store(x: f64) -> Self;
+    fn load(self) -> f64;
+}
+
+impl Stored for f64 {
+    #[inline(always)]
+    fn store(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn load(self) -> f64 {
+        self
+    }
+}
+
+impl Stored for f32 {
+    #[inline(always)]
+    fn store(x: f64) -> Self {
+        x as f32
+    }
+    #[inline(always)]
+    fn load(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+/// Sₖ⁻¹, Gₖ and Uₖ transposed, for the solves' column-oriented products.
+/// (Sₖ⁻¹ and Gₖ themselves are needed only for the next block: the
+/// factorization keeps them on the stack, 2 · 1152 bytes a node less to
+/// write.)
+#[derive(Clone, Debug)]
+struct Kept<T> {
+    inverse_t: Vec<[[T; B]; B]>,
+    gain_t: Vec<[[T; B]; B]>,
+    upper_t: Vec<[[T; B]; B]>,
+}
+
+impl<T: Stored> Kept<T> {
+    /// Zero blocks for `m` nodes.
+    fn new(m: usize) -> Self {
+        let zero = [[T::default(); B]; B];
+        Kept {
+            inverse_t: vec![zero; m],
+            gain_t: vec![zero; m.saturating_sub(1)],
+            upper_t: vec![zero; m.saturating_sub(1)],
+        }
+    }
+}
+
+/// The kept blocks in the precision of the last factorization.
+#[derive(Clone, Debug)]
+enum KeptBlocks {
+    Double(Kept<f64>),
+    Single(Kept<f32>),
+}
 
 /// The factorization, with the map from the sparse pattern's value slots to
 /// the blocks, computed once per pattern.
@@ -52,13 +133,9 @@ pub struct BlockTridiagonalLu {
     /// The matrix by blocks, for [`Self::load`] only (empty until then):
     /// the factorization loads each node's blocks where it needs them.
     input: Vec<Block>,
-    /// Sₖ⁻¹, Gₖ and Uₖ transposed after `factorize`, for the solves'
-    /// column-oriented products. (Sₖ⁻¹ and Gₖ themselves are needed only
-    /// for the next block: the factorization keeps them on the stack,
-    /// 2 · 1152 bytes a node less to write.)
-    inverse_t: Vec<Block>,
-    gain_t: Vec<Block>,
-    upper_t: Vec<Block>,
+    /// What the solves read, in the last factorization's precision
+    /// (reallocated only when the precision changes).
+    kept: KeptBlocks,
     /// The right-hand side by blocks (padded), for the solves.
     work: Vec<[f64; B]>,
 }
@@ -122,22 +199,52 @@ impl BlockTridiagonalLu {
             places,
             full,
             input: Vec::new(),
-            inverse_t: vec![ZERO; m],
-            gain_t: vec![ZERO; m.saturating_sub(1)],
-            upper_t: vec![ZERO; m.saturating_sub(1)],
+            kept: KeptBlocks::Double(Kept::new(m)),
             work: vec![[0.0; B]; m],
         })
     }
 
-    /// Factor the matrix whose pattern values are `values`.
+    /// Factor the matrix whose pattern values are `values` (kept in
+    /// double precision).
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), SingularBlock> {
+        self.keep_in(Precision::Double);
         factorize(path(), self, Source::Array(values))
     }
 
     /// Factor the matrix `sum`, read where each block is loaded (never
-    /// formed). A non-finite value is reported as a [`SingularBlock`].
-    pub fn factorize_sum(&mut self, sum: &ValueSum) -> Result<(), SingularBlock> {
+    /// formed), and keep it in `precision`. A non-finite value is reported
+    /// as a [`SingularBlock`].
+    pub fn factorize_sum(
+        &mut self,
+        sum: &ValueSum,
+        precision: Precision,
+    ) -> Result<(), SingularBlock> {
+        self.keep_in(precision);
         factorize(path(), self, Source::Sum(sum))
+    }
+
+    /// The precision the last factorization was kept in.
+    pub fn precision(&self) -> Precision {
+        match self.kept {
+            KeptBlocks::Double(_) => Precision::Double,
+            KeptBlocks::Single(_) => Precision::Single,
+        }
+    }
+
+    /// Make the kept blocks `precision`'s (a new allocation only on a change).
+    fn keep_in(&mut self, precision: Precision) {
+        if self.precision() != precision {
+            let m = self.nodes();
+            self.kept = match precision {
+                Precision::Double => KeptBlocks::Double(Kept::new(m)),
+                Precision::Single => KeptBlocks::Single(Kept::new(m)),
+            };
+        }
+    }
+
+    /// The number of node blocks.
+    fn nodes(&self) -> usize {
+        self.starts.len() - 1
     }
 
     /// Solve A x = b in place with the last factorization.
@@ -154,7 +261,7 @@ impl BlockTridiagonalLu {
     /// node's missing unknowns have the identity): the diagonal blocks
     /// Dₖ, the upper Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎.
     pub(crate) fn load(&mut self, values: &[f64]) -> (&[Block], &[Block], &[Block]) {
-        let m = self.inverse_t.len();
+        let m = self.nodes();
         self.input.resize(3 * m - 2, ZERO);
         let mut columns = [ZERO; 3];
         for k in 0..m {
@@ -257,13 +364,13 @@ pub(crate) fn product<F: Arith>(a: &Block, b: &Block, c: &mut Block) {
 /// a x from aᵀ (`at`), column by column: twelve lanes of multiply-adds in
 /// two independent halves (a row-by-row dot product waits on each sum).
 #[inline(always)]
-fn matvec_t<F: Arith>(at: &Block, x: &[f64; B]) -> [f64; B] {
+fn matvec_t<F: Arith, T: Stored>(at: &[[T; B]; B], x: &[f64; B]) -> [f64; B] {
     let (mut lo, mut hi) = ([0.0; B], [0.0; B]);
     for k in 0..B / 2 {
         let (xa, xb) = (x[k], x[k + B / 2]);
         for i in 0..B {
-            lo[i] = F::mul_add(at[k][i], xa, lo[i]);
-            hi[i] = F::mul_add(at[k + B / 2][i], xb, hi[i]);
+            lo[i] = F::mul_add(at[k][i].load(), xa, lo[i]);
+            hi[i] = F::mul_add(at[k + B / 2][i].load(), xb, hi[i]);
         }
     }
     for i in 0..B {
@@ -272,12 +379,12 @@ fn matvec_t<F: Arith>(at: &Block, x: &[f64; B]) -> [f64; B] {
     lo
 }
 
-/// t = aᵀ, written over t.
+/// t = aᵀ, written over t (each entry rounded to t's precision).
 #[inline(always)]
-fn transpose(a: &Block, t: &mut Block) {
+fn transpose<T: Stored>(a: &Block, t: &mut [[T; B]; B]) {
     for i in 0..B {
         for j in 0..B {
-            t[j][i] = a[i][j];
+            t[j][i] = T::store(a[i][j]);
         }
     }
 }
@@ -340,20 +447,26 @@ fn factorize_with<F: Arith>(
     lu: &mut BlockTridiagonalLu,
     values: Source,
 ) -> Result<(), SingularBlock> {
-    match values {
-        Source::Array(a) => factorize_from::<F, [f64]>(lu, a),
-        Source::Sum(s) => factorize_from::<F, ValueSum>(lu, s),
-    }
+    let mut kept = std::mem::replace(&mut lu.kept, KeptBlocks::Double(Kept::new(0)));
+    let done = match (&mut kept, values) {
+        (KeptBlocks::Double(k), Source::Array(a)) => factorize_from::<F, [f64], f64>(lu, k, a),
+        (KeptBlocks::Double(k), Source::Sum(s)) => factorize_from::<F, ValueSum, f64>(lu, k, s),
+        (KeptBlocks::Single(k), Source::Array(a)) => factorize_from::<F, [f64], f32>(lu, k, a),
+        (KeptBlocks::Single(k), Source::Sum(s)) => factorize_from::<F, ValueSum, f32>(lu, k, s),
+    };
+    lu.kept = kept;
+    done
 }
 
 /// The elimination, node k's columns [Uₖ₋₁, Dₖ, Lₖ] loaded at step k
 /// (into the stack: the blocks are never stored whole).
 #[inline(always)]
-fn factorize_from<F: Arith, V: SlotValues + ?Sized>(
-    lu: &mut BlockTridiagonalLu,
+fn factorize_from<F: Arith, V: SlotValues + ?Sized, T: Stored>(
+    lu: &BlockTridiagonalLu,
+    kept: &mut Kept<T>,
     values: &V,
 ) -> Result<(), SingularBlock> {
-    let m = lu.inverse_t.len();
+    let m = lu.nodes();
     let mut columns = [ZERO; 3];
     let (mut inverse, mut gain) = (ZERO, ZERO);
     for k in 0..m {
@@ -364,15 +477,15 @@ fn factorize_from<F: Arith, V: SlotValues + ?Sized>(
         if k > 0 {
             // Sₖ = Dₖ − Gₖ₋₁ Uₖ₋₁ (`gain` is Gₖ₋₁ here).
             sub_product::<F>(s, &gain, upper);
-            transpose(upper, &mut lu.upper_t[k - 1]);
+            transpose(upper, &mut kept.upper_t[k - 1]);
         }
         // Results written in place: returned by value, each 1152-byte
         // block was a memcpy more.
         invert::<F>(s, &mut inverse)?;
-        transpose(&inverse, &mut lu.inverse_t[k]);
+        transpose(&inverse, &mut kept.inverse_t[k]);
         if k + 1 < m {
             product::<F>(lower, &inverse, &mut gain);
-            transpose(&gain, &mut lu.gain_t[k]);
+            transpose(&gain, &mut kept.gain_t[k]);
         }
     }
     Ok(())
@@ -380,9 +493,23 @@ fn factorize_from<F: Arith, V: SlotValues + ?Sized>(
 
 #[inline(always)]
 fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
+    let (starts, y) = (&lu.starts, &mut lu.work);
+    match &lu.kept {
+        KeptBlocks::Double(kept) => solve_kept::<F, f64>(starts, kept, y, b),
+        KeptBlocks::Single(kept) => solve_kept::<F, f32>(starts, kept, y, b),
+    }
+}
+
+/// The forward and backward chains with the kept blocks; `y` is the
+/// right-hand side by blocks.
+#[inline(always)]
+fn solve_kept<F: Arith, T: Stored>(
+    starts: &[usize],
+    lu: &Kept<T>,
+    y: &mut [[f64; B]],
+    b: &mut [f64],
+) {
     let m = lu.inverse_t.len();
-    let starts = &lu.starts;
-    let y = &mut lu.work;
     // Full blocks copied as fixed-size arrays (a copy of a run-time length
     // was a call to memmove per block: 1.4 % of the span-break scene).
     for k in 0..m {
@@ -394,19 +521,19 @@ fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
         });
     }
     for k in 1..m {
-        let g = matvec_t::<F>(&lu.gain_t[k - 1], &y[k - 1]);
+        let g = matvec_t::<F, T>(&lu.gain_t[k - 1], &y[k - 1]);
         for i in 0..B {
             y[k][i] -= g[i];
         }
     }
-    y[m - 1] = matvec_t::<F>(&lu.inverse_t[m - 1], &y[m - 1]);
+    y[m - 1] = matvec_t::<F, T>(&lu.inverse_t[m - 1], &y[m - 1]);
     for k in (0..m - 1).rev() {
         let mut rest = y[k];
-        let u = matvec_t::<F>(&lu.upper_t[k], &y[k + 1]);
+        let u = matvec_t::<F, T>(&lu.upper_t[k], &y[k + 1]);
         for i in 0..B {
             rest[i] -= u[i];
         }
-        y[k] = matvec_t::<F>(&lu.inverse_t[k], &rest);
+        y[k] = matvec_t::<F, T>(&lu.inverse_t[k], &rest);
     }
     for k in 0..m {
         let part = &mut b[starts[k]..starts[k + 1]];
@@ -448,8 +575,14 @@ mod tests {
 
     /// The factorization's blocks, bit for bit.
     fn factor_bits(lu: &BlockTridiagonalLu) -> Vec<u64> {
-        let blocks = lu.inverse_t.iter().chain(&lu.gain_t).chain(&lu.upper_t);
-        blocks.flatten().flatten().map(|v| v.to_bits()).collect()
+        fn bits<T: Stored>(k: &Kept<T>, bits: impl Fn(T) -> u64) -> Vec<u64> {
+            let blocks = k.inverse_t.iter().chain(&k.gain_t).chain(&k.upper_t);
+            blocks.flatten().flatten().map(|&v| bits(v)).collect()
+        }
+        match &lu.kept {
+            KeptBlocks::Double(k) => bits(k, f64::to_bits),
+            KeptBlocks::Single(k) => bits(k, |v| u64::from(v.to_bits())),
+        }
     }
 
     #[test]
@@ -532,7 +665,7 @@ mod tests {
             sum.write(&mut written);
             let mut from_sum = BlockTridiagonalLu::new(n, &mass.col_ptr, &mass.row_idx).unwrap();
             let mut from_array = from_sum.clone();
-            from_sum.factorize_sum(&sum).unwrap();
+            from_sum.factorize_sum(&sum, Precision::Double).unwrap();
             from_array.factorize(&written).unwrap();
             assert_eq!(factor_bits(&from_sum), factor_bits(&from_array));
         }
@@ -544,13 +677,66 @@ mod tests {
             third_slots: 0..nnz,
         };
         let mut lu = BlockTridiagonalLu::new(n, &mass.col_ptr, &mass.row_idx).unwrap();
-        assert!(lu.factorize_sum(&sum).is_err());
+        assert!(lu.factorize_sum(&sum, Precision::Double).is_err());
         // Outside the third part's slots its values are not read.
         let sum = ValueSum {
             third_slots: 0..nnz - 1,
             ..sum
         };
-        assert!(lu.factorize_sum(&sum).is_ok());
+        assert!(lu.factorize_sum(&sum, Precision::Double).is_ok());
+    }
+
+    /// Single precision keeps each entry of the double factorization
+    /// rounded once (the elimination itself is the same), solves to f32's
+    /// accuracy times the matrix's condition, and a double factorization
+    /// after it has the bits of a fresh one.
+    #[test]
+    fn single_precision_keeps_the_double_factor_rounded_once() {
+        let sizes = [9, 12, 12, 10, 12, 12];
+        let (mass, stiffness) = (
+            uneven_blocks(&sizes, 30.0, 1),
+            uneven_blocks(&sizes, 3.0, 2),
+        );
+        let sum = ValueSum {
+            parts: [&mass.values, &stiffness.values, &stiffness.values],
+            weights: [0.6, 0.37, 0.0],
+            third_slots: 0..0,
+        };
+        let n = mass.n;
+        let mut double = BlockTridiagonalLu::new(n, &mass.col_ptr, &mass.row_idx).unwrap();
+        let mut single = double.clone();
+        double.factorize_sum(&sum, Precision::Double).unwrap();
+        single.factorize_sum(&sum, Precision::Single).unwrap();
+        assert_eq!(single.precision(), Precision::Single);
+        let rounded: Vec<u64> = (factor_bits(&double).into_iter())
+            .map(|b| u64::from((f64::from_bits(b) as f32).to_bits()))
+            .collect();
+        assert_eq!(factor_bits(&single), rounded);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin() + 0.2).collect();
+        let (mut x1, mut x2) = (b.clone(), b);
+        double.solve_in_place(&mut x1);
+        single.solve_in_place(&mut x2);
+        let size = x1.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let diff = x1
+            .iter()
+            .zip(&x2)
+            .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+        // Rounded entries: a difference of f32's order, not of f64's.
+        assert!(
+            diff > 1e-12 * size && diff < 1e-6 * size,
+            "{diff:e} of {size:e}"
+        );
+        let mut fresh = double.clone();
+        single.factorize_sum(&sum, Precision::Double).unwrap();
+        fresh.factorize_sum(&sum, Precision::Double).unwrap();
+        assert_eq!(factor_bits(&single), factor_bits(&fresh));
+        // `factorize` of an array keeps double precision.
+        single.factorize_sum(&sum, Precision::Single).unwrap();
+        let mut written = vec![0.0; mass.values.len()];
+        sum.write(&mut written);
+        single.factorize(&written).unwrap();
+        assert_eq!(single.precision(), Precision::Double);
+        assert_eq!(factor_bits(&single), factor_bits(&fresh));
     }
 
     #[test]

@@ -18,7 +18,7 @@
 use crate::linalg::band_cholesky::BandCholesky;
 use crate::linalg::band_lu::BandLu;
 use crate::linalg::band_split::{SPLIT_MIN_UNKNOWNS, SplitBandCholesky};
-use crate::linalg::block_tridiagonal::BlockTridiagonalLu;
+use crate::linalg::block_tridiagonal::{BlockTridiagonalLu, Precision};
 use crate::linalg::coupled::{CoupledBlock, CoupledLu};
 use crate::linalg::pattern::Pattern;
 use crate::linalg::separated_lu::SeparatedLu;
@@ -357,20 +357,22 @@ impl SparseSolver {
 
     /// [`SparseSolver::factorize_coupled`] of the matrix `sum`: the block
     /// LU reads the sum where it loads each block, with nothing formed
-    /// (one pass over the value arrays instead of three); the other
-    /// factorizations, and a block LU that fails, get the sum written
-    /// into `formed` (sized to one value per slot here) first.
+    /// (one pass over the value arrays instead of three), and keeps its
+    /// blocks in `precision`; the other factorizations, and a block LU
+    /// that fails, get the sum written into `formed` (sized to one value
+    /// per slot here) first, and keep double precision.
     pub fn factorize_sum(
         &mut self,
         sum: &ValueSum,
         formed: &mut Vec<f64>,
         blocks: &[CoupledBlock],
         symmetric: bool,
+        precision: Precision,
     ) -> Result<FactorKind, FactorError> {
         if blocks.is_empty()
             && self.takes_block_lu(symmetric)
             && let Some(block) = self.block_lu()
-            && block.factorize_sum(sum).is_ok()
+            && block.factorize_sum(sum, precision).is_ok()
         {
             self.factorizations += 1;
             self.factor = Factor::BlockLu;
@@ -384,6 +386,16 @@ impl SparseSolver {
     /// Symbolic analyses of coupled structures so far.
     pub fn coupled_analyses(&self) -> usize {
         self.coupled.as_ref().map_or(0, |c| c.analyses)
+    }
+
+    /// The precision the last factorization keeps its solves' blocks in:
+    /// single only for a block LU asked for it (see
+    /// [`SparseSolver::factorize_sum`]), double for every other.
+    pub fn precision(&self) -> Precision {
+        match (&self.factor, &self.block_lu) {
+            (Factor::BlockLu, Some(Some(block))) => block.precision(),
+            _ => Precision::Double,
+        }
     }
 
     /// Solve A x = b in place with the last factorization.

@@ -150,13 +150,13 @@ mod tests {
         let plain = vec![0.5, -1.0, 0.25];
         // After a direction, the next solve is corrected…
         let mut seq = Broyden::default();
-        seq.direct(&mut vec![1.0, 2.0, 3.0]);
+        seq.direct(&mut [1.0, 2.0, 3.0]);
         let mut e = plain.clone();
         seq.direct(&mut e);
         assert_ne!(e, plain);
         // …after a restart it is not.
         seq.restart();
-        seq.direct(&mut vec![1.0, 2.0, 3.0]);
+        seq.direct(&mut [1.0, 2.0, 3.0]);
         seq.restart();
         let mut e = plain.clone();
         seq.direct(&mut e);

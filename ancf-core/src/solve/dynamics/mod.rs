@@ -27,6 +27,7 @@ pub use step_size::StepControl;
 
 use crate::forces::assembly::{centerline_shift, contact_candidates, mass_values};
 use crate::forces::sum::{At, ForceSum};
+use crate::linalg::block_tridiagonal::Precision;
 use crate::linalg::linear_solver::SparseSolver;
 use crate::linalg::value_sum::ValueSum;
 use crate::math::simd::path;
@@ -251,8 +252,9 @@ impl Integrator {
         let c_v = if velocity_jacobian { c_d } else { 0.0 };
         (self.forces.coupling()).combined(&model, c_k, c_v, &mut self.coupled_blocks);
         let blocks = &self.coupled_blocks;
+        let precision = origin.precision;
         self.solver
-            .factorize_sum(&sum, &mut self.newton_matrix, blocks, symmetric)
+            .factorize_sum(&sum, &mut self.newton_matrix, blocks, symmetric, precision)
             .map_err(|error| StepError::Factorization {
                 matrix: Matrix::Newton,
                 error,
@@ -614,6 +616,17 @@ impl Integrator {
         let mut evaluations = 0;
         let max_evaluations = 4 * self.settings.max_iterations;
         let mut iterations = 0;
+        // Modified Newton's matrix only gives directions (it is kept over
+        // iterations and steps at which it is already stale), so its blocks
+        // are kept in single precision, which halves what each solve reads.
+        // A fresh one that then fails to contract 4× may be spoiled by the
+        // rounding (an ill-conditioned matrix: large steps, stiff sections):
+        // it is formed again in double precision for the rest of the step.
+        // Full Newton keeps its quadratic convergence in double precision.
+        let mut precision = match self.settings.newton {
+            NewtonKind::Modified => Precision::Single,
+            NewtonKind::Full => Precision::Double,
+        };
         self.broyden.restart();
         loop {
             let need_k = self.settings.newton == NewtonKind::Full || self.factored_for != Some(h);
@@ -668,9 +681,16 @@ impl Integrator {
                 break;
             }
             let decreased = rn.is_finite() && rn <= (1.0 - 1e-4 * alpha) * base_rn;
+            // The last direction came from a fresh, rounded matrix.
+            let rounded = fresh && self.solver.precision() == Precision::Single;
+            let contracted = rn <= 0.25 * base_rn;
+            if rounded && !contracted {
+                precision = Precision::Double;
+            }
             if !decreased && iterations > 0 {
-                if !fresh {
-                    // Stale modified-Newton matrix: refresh it at the last accepted iterate.
+                if !fresh || rounded {
+                    // Stale modified-Newton matrix (or a rounded one):
+                    // refresh it at the last accepted iterate.
                     self.factored_for = None;
                     a1.copy_from_slice(&base_a1);
                     alpha = 1.0;
@@ -706,6 +726,7 @@ impl Integrator {
                     state: s.clone(),
                     a1: a1.clone(),
                     h,
+                    precision,
                 };
                 self.factor_newton_matrix(kq, kv, origin)?;
                 info.factorizations += 1;

@@ -11,7 +11,10 @@ pub enum NewtonKind {
     /// Keep the factorization across iterations and steps while Newton
     /// converges well (contraction ≤ 0.25 per iteration, ≤ 6 iterations);
     /// refactor otherwise. The default: on the pendulum it needs the same
-    /// steps at a fraction of the factorizations.
+    /// steps at a fraction of the factorizations. A wire's kept matrix is
+    /// stored in single precision (its arithmetic and the residual stay in
+    /// double; a fresh one that does not contract 4× is formed again in
+    /// double; see `linalg::block_tridiagonal::Precision`).
     Modified,
 }
 

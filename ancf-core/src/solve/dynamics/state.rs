@@ -63,7 +63,8 @@ pub struct PreviousStep {
 }
 
 /// Where the kept factorization of the Newton matrix was formed: the step's
-/// start state, the iterate a₁ of the Jacobian and the step h. A checkpoint
+/// start state, the iterate a₁ of the Jacobian, the step h and the
+/// precision it was kept in. A checkpoint
 /// carries it, so a resumed run refactors the same matrix and repeats the
 /// uninterrupted run's iterations bit for bit.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -74,4 +75,8 @@ pub struct FactorizationOrigin {
     pub a1: Vec<f64>,
     /// The step, s.
     pub h: f64,
+    /// The precision the factorization keeps its blocks in (absent in
+    /// checkpoints written before it existed, which kept double).
+    #[serde(default)]
+    pub precision: crate::linalg::block_tridiagonal::Precision,
 }

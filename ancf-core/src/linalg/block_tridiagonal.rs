@@ -26,7 +26,10 @@
 //! 6e-8 of itself: the Newton direction of a modified-Newton iteration,
 //! whose matrix is already an approximation, changes by that times the
 //! matrix's condition under row and column scaling. The residual that
-//! decides convergence stays in double precision.
+//! decides convergence stays in double precision. Where that condition
+//! reaches 1e7 (stiff sections at large steps) the rounded directions stop
+//! contracting, and the integrator forms the matrix again in double
+//! (`solve::dynamics`).
 
 use crate::linalg::band_cholesky::pattern_entries;
 use crate::linalg::value_sum::{SlotValues, ValueSum};

@@ -9,7 +9,7 @@ pub enum NewtonKind {
     /// Fresh Jacobian and factorization every iteration.
     Full,
     /// Keep the factorization across iterations and steps while Newton
-    /// converges well (contraction ≤ 0.25 per iteration, ≤ 6 iterations);
+    /// converges well (contraction ≤ 0.5 per iteration, ≤ 6 iterations);
     /// refactor otherwise. The default: on the pendulum it needs the same
     /// steps at a fraction of the factorizations. A wire's kept matrix is
     /// stored in single precision (its arithmetic and the residual stay in

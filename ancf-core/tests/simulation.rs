@@ -317,21 +317,18 @@ fn an_ill_conditioned_kept_matrix_is_formed_again_in_double_and_resumes() {
     let Analysis::Dynamic { settings, .. } = &scene.analysis else {
         panic!("dynamic")
     };
-    let settings = ancf_core::solve::dynamics::DynamicSettings {
-        end_time: 3.0,
-        ..settings.clone()
-    };
     let mut sim = Simulation::new(&scene.model, settings.clone(), Initial::Reference).unwrap();
     let (mut kept, mut snapshot) = ([0, 0], None);
     while !sim.is_finished() {
         sim.step().unwrap();
         let (k, _) = sim.steps();
-        match sim.snapshot().factorization.map(|f| f.precision) {
+        let now = sim.snapshot();
+        match now.factorization.as_ref().map(|f| f.precision) {
             Some(Precision::Single) => kept[0] += 1,
             Some(Precision::Double) => {
                 kept[1] += 1;
                 if k <= 40 {
-                    snapshot = Some(sim.snapshot());
+                    snapshot = Some(now);
                 }
             }
             None => {}
@@ -342,9 +339,10 @@ fn an_ill_conditioned_kept_matrix_is_formed_again_in_double_and_resumes() {
             assert!(iterations < 500, "{iterations} iterations in 40 steps");
         }
     }
+    assert_eq!(sim.steps().0, 60, "3 s of 50 ms steps");
     assert!(kept[0] > 0 && kept[1] > 0, "kept single, double: {kept:?}");
     let snapshot = snapshot.expect("a double matrix kept within 40 steps");
-    let mut resumed = Simulation::resume(&scene.model, settings, snapshot).unwrap();
+    let mut resumed = Simulation::resume(&scene.model, settings.clone(), snapshot).unwrap();
     while !resumed.is_finished() {
         resumed.step().unwrap();
     }

@@ -87,7 +87,7 @@ impl Stored for f32 {
 /// (Sₖ⁻¹ and Gₖ themselves are needed only for the next block: the
 /// factorization keeps them on the stack, 2 · 1152 bytes a node less to
 /// write.)
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 struct Kept<T> {
     inverse_t: Vec<[[T; B]; B]>,
     gain_t: Vec<[[T; B]; B]>,
@@ -104,13 +104,6 @@ impl<T: Stored> Kept<T> {
             upper_t: vec![zero; m.saturating_sub(1)],
         }
     }
-}
-
-/// The kept blocks in the precision of the last factorization.
-#[derive(Clone, Debug)]
-enum KeptBlocks {
-    Double(Kept<f64>),
-    Single(Kept<f32>),
 }
 
 /// The factorization, with the map from the sparse pattern's value slots to
@@ -136,9 +129,12 @@ pub struct BlockTridiagonalLu {
     /// The matrix by blocks, for [`Self::load`] only (empty until then):
     /// the factorization loads each node's blocks where it needs them.
     input: Vec<Block>,
-    /// What the solves read, in the last factorization's precision
-    /// (reallocated only when the precision changes).
-    kept: KeptBlocks,
+    /// What the solves read, in each precision (single allocated at its
+    /// first use; both kept, so that switching allocates nothing), and
+    /// the precision of the last factorization.
+    double: Kept<f64>,
+    single: Kept<f32>,
+    precision: Precision,
     /// The right-hand side by blocks (padded), for the solves.
     work: Vec<[f64; B]>,
 }
@@ -202,7 +198,9 @@ impl BlockTridiagonalLu {
             places,
             full,
             input: Vec::new(),
-            kept: KeptBlocks::Double(Kept::new(m)),
+            double: Kept::new(m),
+            single: Kept::default(),
+            precision: Precision::Double,
             work: vec![[0.0; B]; m],
         })
     }
@@ -228,21 +226,17 @@ impl BlockTridiagonalLu {
 
     /// The precision the last factorization was kept in.
     pub fn precision(&self) -> Precision {
-        match self.kept {
-            KeptBlocks::Double(_) => Precision::Double,
-            KeptBlocks::Single(_) => Precision::Single,
-        }
+        self.precision
     }
 
-    /// Make the kept blocks `precision`'s (a new allocation only on a change).
+    /// Keep the next factorization in `precision` (the single-precision
+    /// blocks are allocated at their first use).
     fn keep_in(&mut self, precision: Precision) {
-        if self.precision() != precision {
-            let m = self.nodes();
-            self.kept = match precision {
-                Precision::Double => KeptBlocks::Double(Kept::new(m)),
-                Precision::Single => KeptBlocks::Single(Kept::new(m)),
-            };
+        let m = self.nodes();
+        if precision == Precision::Single && self.single.inverse_t.len() != m {
+            self.single = Kept::new(m);
         }
+        self.precision = precision;
     }
 
     /// The number of node blocks.
@@ -450,14 +444,26 @@ fn factorize_with<F: Arith>(
     lu: &mut BlockTridiagonalLu,
     values: Source,
 ) -> Result<(), SingularBlock> {
-    let mut kept = std::mem::replace(&mut lu.kept, KeptBlocks::Double(Kept::new(0)));
-    let done = match (&mut kept, values) {
-        (KeptBlocks::Double(k), Source::Array(a)) => factorize_from::<F, [f64], f64>(lu, k, a),
-        (KeptBlocks::Double(k), Source::Sum(s)) => factorize_from::<F, ValueSum, f64>(lu, k, s),
-        (KeptBlocks::Single(k), Source::Array(a)) => factorize_from::<F, [f64], f32>(lu, k, a),
-        (KeptBlocks::Single(k), Source::Sum(s)) => factorize_from::<F, ValueSum, f32>(lu, k, s),
+    match lu.precision {
+        Precision::Double => factorize_kept::<F, f64>(lu, values, |lu| &mut lu.double),
+        Precision::Single => factorize_kept::<F, f32>(lu, values, |lu| &mut lu.single),
+    }
+}
+
+/// The elimination into the blocks `kept` picks out of `lu` (taken out
+/// for its duration: the elimination reads `lu`'s maps).
+#[inline(always)]
+fn factorize_kept<F: Arith, T: Stored>(
+    lu: &mut BlockTridiagonalLu,
+    values: Source,
+    kept: fn(&mut BlockTridiagonalLu) -> &mut Kept<T>,
+) -> Result<(), SingularBlock> {
+    let mut blocks = std::mem::take(kept(lu));
+    let done = match values {
+        Source::Array(a) => factorize_from::<F, [f64], T>(lu, &mut blocks, a),
+        Source::Sum(s) => factorize_from::<F, ValueSum, T>(lu, &mut blocks, s),
     };
-    lu.kept = kept;
+    *kept(lu) = blocks;
     done
 }
 
@@ -497,9 +503,9 @@ fn factorize_from<F: Arith, V: SlotValues + ?Sized, T: Stored>(
 #[inline(always)]
 fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
     let (starts, y) = (&lu.starts, &mut lu.work);
-    match &lu.kept {
-        KeptBlocks::Double(kept) => solve_kept::<F, f64>(starts, kept, y, b),
-        KeptBlocks::Single(kept) => solve_kept::<F, f32>(starts, kept, y, b),
+    match lu.precision {
+        Precision::Double => solve_kept::<F, f64>(starts, &lu.double, y, b),
+        Precision::Single => solve_kept::<F, f32>(starts, &lu.single, y, b),
     }
 }
 
@@ -508,11 +514,11 @@ fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
 #[inline(always)]
 fn solve_kept<F: Arith, T: Stored>(
     starts: &[usize],
-    lu: &Kept<T>,
+    kept: &Kept<T>,
     y: &mut [[f64; B]],
     b: &mut [f64],
 ) {
-    let m = lu.inverse_t.len();
+    let m = starts.len() - 1;
     // Full blocks copied as fixed-size arrays (a copy of a run-time length
     // was a call to memmove per block: 1.4 % of the span-break scene).
     for k in 0..m {
@@ -524,19 +530,19 @@ fn solve_kept<F: Arith, T: Stored>(
         });
     }
     for k in 1..m {
-        let g = matvec_t::<F, T>(&lu.gain_t[k - 1], &y[k - 1]);
+        let g = matvec_t::<F, T>(&kept.gain_t[k - 1], &y[k - 1]);
         for i in 0..B {
             y[k][i] -= g[i];
         }
     }
-    y[m - 1] = matvec_t::<F, T>(&lu.inverse_t[m - 1], &y[m - 1]);
+    y[m - 1] = matvec_t::<F, T>(&kept.inverse_t[m - 1], &y[m - 1]);
     for k in (0..m - 1).rev() {
         let mut rest = y[k];
-        let u = matvec_t::<F, T>(&lu.upper_t[k], &y[k + 1]);
+        let u = matvec_t::<F, T>(&kept.upper_t[k], &y[k + 1]);
         for i in 0..B {
             rest[i] -= u[i];
         }
-        y[k] = matvec_t::<F, T>(&lu.inverse_t[k], &rest);
+        y[k] = matvec_t::<F, T>(&kept.inverse_t[k], &rest);
     }
     for k in 0..m {
         let part = &mut b[starts[k]..starts[k + 1]];
@@ -582,9 +588,9 @@ mod tests {
             let blocks = k.inverse_t.iter().chain(&k.gain_t).chain(&k.upper_t);
             blocks.flatten().flatten().map(|&v| bits(v)).collect()
         }
-        match &lu.kept {
-            KeptBlocks::Double(k) => bits(k, f64::to_bits),
-            KeptBlocks::Single(k) => bits(k, |v| u64::from(v.to_bits())),
+        match lu.precision {
+            Precision::Double => bits(&lu.double, f64::to_bits),
+            Precision::Single => bits(&lu.single, |v| u64::from(v.to_bits())),
         }
     }
 

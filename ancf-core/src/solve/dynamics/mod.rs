@@ -48,6 +48,12 @@ use workspace::{CANDIDATE_MARGIN, Workspace, same_bits};
 /// and the pendulum, a little slower on the small impact (BENCHMARKS.md).
 const SLOW_CONTRACTION: f64 = 0.5;
 
+/// A fresh single-precision matrix whose first iteration reduced the
+/// residual by less than this factor is formed again in double: a fresh
+/// matrix of a well-conditioned step contracts far more (33 → 3e-4 times
+/// the tolerance in one iteration on the span break).
+const FRESH_CONTRACTION: f64 = 0.25;
+
 /// The integrator: owns the model's force sum (with the pattern), the
 /// symbolic factorization and the constant mass values, computed once per
 /// model.
@@ -691,7 +697,7 @@ impl Integrator {
             let decreased = rn.is_finite() && rn <= (1.0 - 1e-4 * alpha) * base_rn;
             // The last direction came from a fresh, rounded matrix.
             let rounded = fresh && self.solver.precision() == Precision::Single;
-            let contracted = rn <= 0.25 * base_rn;
+            let contracted = rn <= FRESH_CONTRACTION * base_rn;
             if rounded && !contracted {
                 precision = Precision::Double;
             }

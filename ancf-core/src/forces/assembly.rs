@@ -196,33 +196,42 @@ pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
 }
 
 /// Whether [`assemble`] splits the elements into parallel chunks (with more
-/// than one rayon thread): for a Jacobian, when the estimated element work
-/// reaches [`PARALLEL_MIN_WORK_US`]. A force alone (every modified-Newton
-/// iteration) stays serial: at 0.1–0.15 µs per element its section is too
-/// short for the hand-off, and the idle thread's spinning afterwards took
-/// the cores the serial rest of the iteration needs (the 1000-element
-/// span-break scene ran slower on 2 threads than on 1 with it, as fast
-/// without). Results do not depend
-/// on it (the chunks equal the serial loop bit for bit); only the speed does.
+/// than one rayon thread): when the estimated element work — a force and
+/// Jacobian, or a force alone (every modified-Newton iteration) — reaches
+/// [`PARALLEL_MIN_WORK_US`]. Results do not depend on it (the chunks equal
+/// the serial loop bit for bit); only the speed does.
 pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
     let element = model.element(0);
     let points = (element.axial.nodes.len() * element.plan.points()) as f64;
     // µs of force + Jacobian per element: pre-integrated
     // SVK 0.75 four at a time, plus ≈ 0.3 per section point.
     let per_element = 0.75 + 0.3 * points;
-    with_jacobian
-        && model.n_elements >= 2 * CHUNK_ELEMENTS
-        && model.n_elements as f64 * per_element >= PARALLEL_MIN_WORK_US
+    let work = if with_jacobian {
+        per_element
+    } else {
+        FORCE_PER_ELEMENT_US
+    };
+    model.n_elements >= 2 * CHUNK_ELEMENTS && model.n_elements as f64 * work >= PARALLEL_MIN_WORK_US
 }
 
-/// Element work (µs) below which the serial loop is used. Inside a Newton
-/// step the other thread has fallen asleep during the serial factorization
-/// and starts ≈ 40 µs late, the Jacobian columns it wrote must travel back
-/// to the core that forms the Newton matrix, and afterwards the idle pool
-/// threads spin for a while on cores the main thread wants. Below about
-/// 100 elements' worth the section gains nothing and the aftermath costs:
-/// the 64-element impact scene (77 µs of Jacobian work) runs 1.2× slower
-/// with it, while 128 elements and more still gain.
+/// µs of a force alone per element (the eight-wide kernel, pre-integrated
+/// SVK): the 1000-element span break's forces (≈ 150 µs) gain on two
+/// threads, the 64-element impact's (≈ 10 µs) would not.
+const FORCE_PER_ELEMENT_US: f64 = 0.15;
+
+/// A force alone goes in this many chunks (two per thread on two cores),
+/// of at least [`FORCE_CHUNK_MIN`] elements: each chunk evaluates its two
+/// boundary elements one by one, outside the eight-wide batches, so a force
+/// is split into few large chunks; a Jacobian (five times the work per
+/// element) into many of [`CHUNK_ELEMENTS`].
+const FORCE_CHUNKS: usize = 4;
+const FORCE_CHUNK_MIN: usize = 64;
+
+/// Element work (µs) below which the serial loop is used: a section costs
+/// its hand-off to the helper thread, and the force rows and Jacobian
+/// columns the helper wrote must travel back to the core that goes on with
+/// them. The 64-element impact scene (77 µs of Jacobian work) ran 1.2×
+/// slower with a parallel Jacobian; 128 elements and more gain.
 pub const PARALLEL_MIN_WORK_US: f64 = 100.0;
 
 /// Nodes per chunk: about 8 chunks at 256 elements, so that rayon can
@@ -257,8 +266,7 @@ struct Chunk {
     nodes: Range<usize>,
 }
 
-fn chunks(n: usize) -> Vec<Chunk> {
-    let s = CHUNK_ELEMENTS;
+fn chunks(n: usize, s: usize) -> Vec<Chunk> {
     let count = n.div_ceil(s);
     (0..count)
         .map(|c| {
@@ -304,7 +312,12 @@ fn assemble_chunks(
     energy: &mut [f64],
     values: Option<&mut [f64]>,
 ) {
-    let chunks = chunks(model.n_elements);
+    let size = if values.is_some() {
+        CHUNK_ELEMENTS
+    } else {
+        FORCE_CHUNK_MIN.max(model.n_elements.div_ceil(FORCE_CHUNKS))
+    };
+    let chunks = chunks(model.n_elements, size);
     let force_w = windows_mut(
         force,
         chunks
@@ -932,6 +945,11 @@ mod tests {
             assert!(same(&k_chunked, &k_serial), "n = {n}: Jacobian differs");
             assert_eq!(u_chunked.to_bits(), u_serial.iter().sum::<f64>().to_bits());
             assert!(k_serial.iter().all(|v| v.is_finite()) && u_chunked > 0.0);
+            // The force alone, in its own (larger) chunks.
+            let mut f_alone = vec![0.0; q.len()];
+            assemble_chunks(&model, &pattern, &q, &mut f_alone, &mut u, None);
+            assert!(same(&f_alone, &f_serial), "n = {n}: force alone differs");
+            assert_eq!(u.iter().sum::<f64>().to_bits(), u_chunked.to_bits());
             // The energy alone (the energy balance's) has the force-only
             // assembly's bits, batched or not (the Mooney–Rivlin cover is not).
             let (_, u_forces) = assemble(&model, &pattern, &q, None);

@@ -18,6 +18,15 @@
 //! Blocks are stored padded to 12 × 12 (a pinned node has 9 unknowns; its
 //! padding is the identity), so the kernels have fixed sizes.
 //!
+//! From [`TWIST_MIN_NODES`] nodes on, the elimination runs from both ends
+//! towards the middle node t (a "twisted" factorization): the top chain as
+//! above over nodes 0 … t − 1, the bottom chain the same recurrences on
+//! the reversed matrix over m − 1 … t + 1 (Tₖ = Dₖ − Hₖ₊₁ Lₖ, Hₖ = Uₖ₋₁
+//! Tₖ⁻¹), and node t last, Sₜ = Dₜ − Gₜ₋₁ Uₜ₋₁ − Hₜ₊₁ Lₜ. The two chains
+//! are independent, and so are their halves of each solve's forward and
+//! backward passes: they run on two threads. Below that size the meeting
+//! node is the last one, which is the single chain above.
+//!
 //! The blocks the solves read (Sₖ⁻¹, Gₖ, Uₖ: 3.4 KB a node) are kept in
 //! the [`Precision`] the caller asks for. In single precision a solve
 //! streams half the bytes. The factorization and the solves' arithmetic
@@ -32,6 +41,7 @@
 //! (`solve::dynamics`).
 
 use crate::linalg::band_cholesky::pattern_entries;
+use crate::linalg::parallel::run_tasks;
 use crate::linalg::value_sum::{SlotValues, ValueSum};
 use crate::math::simd::{Arith, SimdPath, path};
 
@@ -83,10 +93,13 @@ impl Stored for f32 {
     }
 }
 
-/// Sₖ⁻¹, Gₖ and Uₖ transposed, for the solves' column-oriented products.
-/// (Sₖ⁻¹ and Gₖ themselves are needed only for the next block: the
-/// factorization keeps them on the stack, 2 · 1152 bytes a node less to
-/// write.)
+/// Per node k, transposed for the solves' column-oriented products: its
+/// Schur complement's inverse, its gain towards the meeting node (Gₖ or
+/// Hₖ; none at the meeting node), and its coupling to the node eliminated
+/// after it (Uₖ in the top chain, Lₖ₋₁ in the bottom one; none at the
+/// meeting node). (The untransposed Sₖ⁻¹ and Gₖ are needed only for the
+/// next block: the factorization keeps them on the stack, 2 · 1152 bytes a
+/// node less to write.)
 #[derive(Clone, Debug, Default)]
 struct Kept<T> {
     inverse_t: Vec<[[T; B]; B]>,
@@ -100,8 +113,8 @@ impl<T: Stored> Kept<T> {
         let zero = [[T::default(); B]; B];
         Kept {
             inverse_t: vec![zero; m],
-            gain_t: vec![zero; m.saturating_sub(1)],
-            upper_t: vec![zero; m.saturating_sub(1)],
+            gain_t: vec![zero; m],
+            upper_t: vec![zero; m],
         }
     }
 }
@@ -135,6 +148,9 @@ pub struct BlockTridiagonalLu {
     double: Kept<f64>,
     single: Kept<f32>,
     precision: Precision,
+    /// The node where the two chains of the elimination meet
+    /// ([`meeting_node`]).
+    meet: usize,
     /// The right-hand side by blocks (padded), for the solves.
     work: Vec<[f64; B]>,
 }
@@ -201,6 +217,7 @@ impl BlockTridiagonalLu {
             double: Kept::new(m),
             single: Kept::default(),
             precision: Precision::Double,
+            meet: meeting_node(m),
             work: vec![[0.0; B]; m],
         })
     }
@@ -305,27 +322,6 @@ fn load_node<V: SlotValues + ?Sized>(
     }
     let places = &lu.places[slots.clone()];
     values.scatter(slots, places, out.as_flattened_mut().as_flattened_mut())
-}
-
-crate::simd_dispatch! {
-    fn factorize(lu: &mut BlockTridiagonalLu, values: Source) -> Result<(), SingularBlock> = factorize_with;
-}
-
-crate::simd_dispatch! {
-    fn solve_on(lu: &mut BlockTridiagonalLu, b: &mut [f64]) = solve_with;
-}
-
-/// The solves on `path`, except that the AVX-512 path runs the AVX2 code:
-/// their 12-lane matrix–vector products, chained block after block, run
-/// faster as three 256-bit vectors than as a 512-bit and a 256-bit one.
-/// Both are the fused path's operations: the same bits.
-fn solve(path: SimdPath, lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
-    let path = if path == SimdPath::Avx512 {
-        SimdPath::Avx2
-    } else {
-        path
-    };
-    solve_on(path, lu, b)
 }
 
 /// c −= a b (12 × 12 blocks).
@@ -439,117 +435,540 @@ pub(crate) fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), Singula
     Ok(())
 }
 
-#[inline(always)]
-fn factorize_with<F: Arith>(
-    lu: &mut BlockTridiagonalLu,
-    values: Source,
-) -> Result<(), SingularBlock> {
-    match lu.precision {
-        Precision::Double => factorize_kept::<F, f64>(lu, values, |lu| &mut lu.double),
-        Precision::Single => factorize_kept::<F, f32>(lu, values, |lu| &mut lu.single),
+/// From this many nodes on, the factorization eliminates from both ends
+/// towards the middle node, and the two chains — the factorization's and
+/// each solve's forward and backward passes — run on two threads. Decided
+/// by the size alone, so that results never depend on the thread count.
+/// (≈ 250 elements of a wire: a solve of the 1000-element span break takes
+/// ≈ 160 µs, so a half there is long against a hand-off to the helper
+/// thread; shorter models keep the one chain.)
+pub const TWIST_MIN_NODES: usize = 256;
+
+/// The node where the two chains meet: the middle from
+/// [`TWIST_MIN_NODES`] on, else the last node (one chain, from the first).
+fn meeting_node(m: usize) -> usize {
+    if m >= TWIST_MIN_NODES { m / 2 } else { m - 1 }
+}
+
+/// One chain's windows of the kept blocks, indexed by node − `first`:
+/// the top chain's nodes 0 … t − 1, eliminated in increasing order, or the
+/// bottom chain's t + 1 … m − 1, eliminated in decreasing order.
+struct Chain<'a, T> {
+    first: usize,
+    reversed: bool,
+    inverse_t: &'a mut [[[T; B]; B]],
+    gain_t: &'a mut [[[T; B]; B]],
+    upper_t: &'a mut [[[T; B]; B]],
+}
+
+impl<T> Chain<'_, T> {
+    fn len(&self) -> usize {
+        self.inverse_t.len()
+    }
+    /// The chain's nodes in the order of elimination.
+    fn nodes(&self) -> impl Iterator<Item = usize> + use<T> {
+        let (first, n, reversed) = (self.first, self.len(), self.reversed);
+        (0..n).map(move |i| {
+            if reversed {
+                first + n - 1 - i
+            } else {
+                first + i
+            }
+        })
     }
 }
 
-/// The elimination into the blocks `kept` picks out of `lu` (taken out
-/// for its duration: the elimination reads `lu`'s maps).
-#[inline(always)]
-fn factorize_kept<F: Arith, T: Stored>(
-    lu: &mut BlockTridiagonalLu,
-    values: Source,
-    kept: fn(&mut BlockTridiagonalLu) -> &mut Kept<T>,
-) -> Result<(), SingularBlock> {
-    let mut blocks = std::mem::take(kept(lu));
-    let done = match values {
-        Source::Array(a) => factorize_from::<F, [f64], T>(lu, &mut blocks, a),
-        Source::Sum(s) => factorize_from::<F, ValueSum, T>(lu, &mut blocks, s),
+/// The two chains of `kept` around the meeting node `t`, and the meeting
+/// node's inverse.
+#[allow(clippy::type_complexity)]
+fn chains<T>(kept: &mut Kept<T>, t: usize) -> (Chain<'_, T>, Chain<'_, T>, &mut [[T; B]; B]) {
+    let (inverse_top, inverse_rest) = kept.inverse_t.split_at_mut(t);
+    let (inverse_meet, inverse_bottom) = inverse_rest.split_first_mut().expect("meeting node");
+    let (gain_top, gain_rest) = kept.gain_t.split_at_mut(t);
+    let (upper_top, upper_rest) = kept.upper_t.split_at_mut(t);
+    let top = Chain {
+        first: 0,
+        reversed: false,
+        inverse_t: inverse_top,
+        gain_t: gain_top,
+        upper_t: upper_top,
     };
-    *kept(lu) = blocks;
-    done
+    let bottom = Chain {
+        first: t + 1,
+        reversed: true,
+        inverse_t: inverse_bottom,
+        gain_t: &mut gain_rest[1..],
+        upper_t: &mut upper_rest[1..],
+    };
+    (top, bottom, inverse_meet)
 }
 
-/// The elimination, node k's columns [Uₖ₋₁, Dₖ, Lₖ] loaded at step k
-/// (into the stack: the blocks are never stored whole).
+/// A chain's windows in either precision, for the dispatched kernels.
+enum AnyChain<'a> {
+    Double(Chain<'a, f64>),
+    Single(Chain<'a, f32>),
+}
+
+crate::simd_dispatch! {
+    fn eliminate(lu: &BlockTridiagonalLu, values: Source, chain: AnyChain) -> Result<Block, SingularBlock> = eliminate_with;
+}
+
 #[inline(always)]
-fn factorize_from<F: Arith, V: SlotValues + ?Sized, T: Stored>(
+fn eliminate_with<F: Arith>(
     lu: &BlockTridiagonalLu,
-    kept: &mut Kept<T>,
+    values: Source,
+    chain: AnyChain,
+) -> Result<Block, SingularBlock> {
+    match (values, chain) {
+        (Source::Array(a), AnyChain::Double(c)) => eliminate_chain::<F, [f64], f64>(lu, a, c),
+        (Source::Array(a), AnyChain::Single(c)) => eliminate_chain::<F, [f64], f32>(lu, a, c),
+        (Source::Sum(s), AnyChain::Double(c)) => eliminate_chain::<F, ValueSum, f64>(lu, s, c),
+        (Source::Sum(s), AnyChain::Single(c)) => eliminate_chain::<F, ValueSum, f32>(lu, s, c),
+    }
+}
+
+/// One chain's elimination, node k's columns [Uₖ₋₁, Dₖ, Lₖ] loaded at its
+/// step (into the stack: the blocks are never stored whole). The top chain
+/// is the recurrence of the module doc; the bottom chain the same on the
+/// reversed matrix, where Lₖ couples a node to the one eliminated before it
+/// and Uₖ₋₁ to the one after:
+///
+///   Tₖ = Dₖ − Hₖ₊₁ Lₖ,  Hₖ = Uₖ₋₁ Tₖ⁻¹.
+///
+/// Each node keeps its inverse and its gain towards the meeting node, and
+/// the node eliminated before it its coupling to this one (for the
+/// backward pass). Returns the last gain (Gₜ₋₁ or Hₜ₊₁) unrounded, for the
+/// meeting node.
+#[inline(always)]
+fn eliminate_chain<F: Arith, V: SlotValues + ?Sized, T: Stored>(
+    lu: &BlockTridiagonalLu,
     values: &V,
-) -> Result<(), SingularBlock> {
-    let m = lu.nodes();
+    chain: Chain<T>,
+) -> Result<Block, SingularBlock> {
     let mut columns = [ZERO; 3];
     let (mut inverse, mut gain) = (ZERO, ZERO);
-    for k in 0..m {
+    let mut previous = None;
+    for k in chain.nodes() {
         if !load_node(lu, k, values, &mut columns) {
             return Err(SingularBlock);
         }
         let [upper, s, lower] = &mut columns;
-        if k > 0 {
-            // Sₖ = Dₖ − Gₖ₋₁ Uₖ₋₁ (`gain` is Gₖ₋₁ here).
-            sub_product::<F>(s, &gain, upper);
-            transpose(upper, &mut kept.upper_t[k - 1]);
+        let (incoming, outgoing) = if chain.reversed {
+            (&*lower, &*upper)
+        } else {
+            (&*upper, &*lower)
+        };
+        if let Some(p) = previous {
+            // Sₖ = Dₖ − Gₖ₋₁ Uₖ₋₁ (`gain` is the previous node's here).
+            sub_product::<F>(s, &gain, incoming);
+            transpose(incoming, &mut chain.upper_t[p - chain.first]);
         }
         // Results written in place: returned by value, each 1152-byte
         // block was a memcpy more.
         invert::<F>(s, &mut inverse)?;
-        transpose(&inverse, &mut kept.inverse_t[k]);
-        if k + 1 < m {
-            product::<F>(lower, &inverse, &mut gain);
-            transpose(&gain, &mut kept.gain_t[k]);
-        }
+        transpose(&inverse, &mut chain.inverse_t[k - chain.first]);
+        product::<F>(outgoing, &inverse, &mut gain);
+        transpose(&gain, &mut chain.gain_t[k - chain.first]);
+        previous = Some(k);
+    }
+    Ok(gain)
+}
+
+crate::simd_dispatch! {
+    fn meet(lu: &BlockTridiagonalLu, values: Source, gains: [Option<&Block>; 2], out: MeetOut) -> Result<(), SingularBlock> = meet_with;
+}
+
+/// Where the meeting node's elimination writes: its inverse, and the
+/// couplings to it that the two chains' backward passes read.
+enum MeetOut<'a> {
+    Double([Option<&'a mut [[f64; B]; B]>; 3]),
+    Single([Option<&'a mut [[f32; B]; B]>; 3]),
+}
+
+/// The meeting node t: Sₜ = Dₜ − Gₜ₋₁ Uₜ₋₁ − Hₜ₊₁ Lₜ, inverted, with
+/// the gains of the two chains' last nodes (`gains`, None for an empty
+/// chain). `out` is [Sₜ⁻¹ᵀ, slot of Uₜ₋₁ᵀ, slot of Lₜᵀ].
+#[inline(always)]
+fn meet_with<F: Arith>(
+    lu: &BlockTridiagonalLu,
+    values: Source,
+    gains: [Option<&Block>; 2],
+    out: MeetOut,
+) -> Result<(), SingularBlock> {
+    let mut columns = [ZERO; 3];
+    let loaded = match values {
+        Source::Array(a) => load_node(lu, lu.meet, a, &mut columns),
+        Source::Sum(s) => load_node(lu, lu.meet, s, &mut columns),
+    };
+    if !loaded {
+        return Err(SingularBlock);
+    }
+    let [upper, s, lower] = &mut columns;
+    if let Some(g) = gains[0] {
+        sub_product::<F>(s, g, upper);
+    }
+    if let Some(h) = gains[1] {
+        sub_product::<F>(s, h, lower);
+    }
+    let mut inverse = ZERO;
+    invert::<F>(s, &mut inverse)?;
+    match out {
+        MeetOut::Double([inv, u, l]) => store_meet(&inverse, upper, lower, [inv, u, l]),
+        MeetOut::Single([inv, u, l]) => store_meet(&inverse, upper, lower, [inv, u, l]),
     }
     Ok(())
 }
 
 #[inline(always)]
-fn solve_with<F: Arith>(lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
-    let (starts, y) = (&lu.starts, &mut lu.work);
-    match lu.precision {
-        Precision::Double => solve_kept::<F, f64>(starts, &lu.double, y, b),
-        Precision::Single => solve_kept::<F, f32>(starts, &lu.single, y, b),
+fn store_meet<T: Stored>(
+    inverse: &Block,
+    upper: &Block,
+    lower: &Block,
+    [inv, u, l]: [Option<&mut [[T; B]; B]>; 3],
+) {
+    if let Some(inv) = inv {
+        transpose(inverse, inv);
+    }
+    if let Some(u) = u {
+        transpose(upper, u);
+    }
+    if let Some(l) = l {
+        transpose(lower, l);
     }
 }
 
-/// The forward and backward chains with the kept blocks; `y` is the
-/// right-hand side by blocks.
+/// The kept blocks' precisions, for the dispatched kernels.
+trait Keep: Stored + Send + Sync {
+    fn kept(lu: &mut BlockTridiagonalLu) -> &mut Kept<Self>;
+    fn chain(c: Chain<'_, Self>) -> AnyChain<'_>;
+    fn meet_out<'a>(out: [Option<&'a mut [[Self; B]; B]>; 3]) -> MeetOut<'a>;
+}
+
+impl Keep for f64 {
+    fn kept(lu: &mut BlockTridiagonalLu) -> &mut Kept<Self> {
+        &mut lu.double
+    }
+    fn chain(c: Chain<'_, Self>) -> AnyChain<'_> {
+        AnyChain::Double(c)
+    }
+    fn meet_out<'a>(out: [Option<&'a mut [[Self; B]; B]>; 3]) -> MeetOut<'a> {
+        MeetOut::Double(out)
+    }
+}
+
+impl Keep for f32 {
+    fn kept(lu: &mut BlockTridiagonalLu) -> &mut Kept<Self> {
+        &mut lu.single
+    }
+    fn chain(c: Chain<'_, Self>) -> AnyChain<'_> {
+        AnyChain::Single(c)
+    }
+    fn meet_out<'a>(out: [Option<&'a mut [[Self; B]; B]>; 3]) -> MeetOut<'a> {
+        MeetOut::Single(out)
+    }
+}
+
+/// The factorization: the two chains (in parallel when both are there),
+/// then the meeting node.
+fn factorize(
+    path: SimdPath,
+    lu: &mut BlockTridiagonalLu,
+    values: Source,
+) -> Result<(), SingularBlock> {
+    match lu.precision {
+        Precision::Double => factorize_kept::<f64>(path, lu, values),
+        Precision::Single => factorize_kept::<f32>(path, lu, values),
+    }
+}
+
+/// The elimination into the blocks of precision `T` (taken out of `lu` for
+/// its duration: the elimination reads `lu`'s maps).
+fn factorize_kept<T: Keep>(
+    path: SimdPath,
+    lu: &mut BlockTridiagonalLu,
+    values: Source,
+) -> Result<(), SingularBlock> {
+    let mut blocks = std::mem::take(T::kept(lu));
+    let done = factorize_into(path, lu, values, &mut blocks);
+    *T::kept(lu) = blocks;
+    done
+}
+
+fn factorize_into<T: Keep>(
+    path: SimdPath,
+    lu: &BlockTridiagonalLu,
+    values: Source,
+    blocks: &mut Kept<T>,
+) -> Result<(), SingularBlock> {
+    let (t, m) = (lu.meet, lu.nodes());
+    let (top, bottom, _) = chains(blocks, t);
+    let gains = if bottom.len() == 0 {
+        vec![eliminate(path, lu, values, T::chain(top))]
+    } else {
+        let chains = vec![T::chain(top), T::chain(bottom)];
+        run_tasks(chains, |c| eliminate(path, lu, values, c))
+    };
+    let mut gains = gains
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter();
+    let top_gain = if t > 0 { gains.next() } else { None };
+    let bottom_gain = if t + 1 < m { gains.next() } else { None };
+    let (top, bottom, inverse) = chains(blocks, t);
+    let out = [
+        Some(inverse),
+        top.upper_t.last_mut(),
+        bottom.upper_t.first_mut(),
+    ];
+    let gains = [top_gain.as_ref(), bottom_gain.as_ref()];
+    meet(path, lu, values, gains, T::meet_out(out))
+}
+
+/// One chain's part of a solve: its kept blocks (see [`Chain`]) and its
+/// nodes' blocks of the right-hand side, `y` by node and `b` as given.
+struct ChainSolve<'a, T> {
+    reversed: bool,
+    inverse_t: &'a [[[T; B]; B]],
+    gain_t: &'a [[[T; B]; B]],
+    upper_t: &'a [[[T; B]; B]],
+    /// The chain's node starts (one more than its nodes); its window of
+    /// `b` begins at the first.
+    starts: &'a [usize],
+    y: &'a mut [[f64; B]],
+    b: &'a mut [f64],
+}
+
+impl<T> ChainSolve<'_, T> {
+    /// Local node indices in the order of elimination.
+    fn order(&self) -> impl DoubleEndedIterator<Item = usize> + use<T> {
+        let (n, reversed) = (self.y.len(), self.reversed);
+        (0..n).map(move |i| if reversed { n - 1 - i } else { i })
+    }
+}
+
+/// A chain's part of a solve in either precision, for the dispatched kernels.
+enum AnyChainSolve<'a> {
+    Double(ChainSolve<'a, f64>),
+    Single(ChainSolve<'a, f32>),
+}
+
+/// The meeting node's part of a solve.
+struct MeetSolve<'a> {
+    inverse: MeetInverse<'a>,
+    y: &'a mut [f64; B],
+    b: &'a mut [f64],
+}
+
+enum MeetInverse<'a> {
+    Double(&'a [[f64; B]; B]),
+    Single(&'a [[f32; B]; B]),
+}
+
+/// The solve's windows: the two chains and the meeting node.
+fn chain_solves<'a>(
+    lu: &'a mut BlockTridiagonalLu,
+    b: &'a mut [f64],
+) -> (AnyChainSolve<'a>, AnyChainSolve<'a>, MeetSolve<'a>) {
+    let (t, starts) = (lu.meet, &lu.starts);
+    let (b_top, b_rest) = b.split_at_mut(starts[t]);
+    let (b_meet, b_bottom) = b_rest.split_at_mut(starts[t + 1] - starts[t]);
+    let (y_top, y_rest) = lu.work.split_at_mut(t);
+    let (y_meet, y_bottom) = y_rest.split_first_mut().expect("meeting node");
+    let (starts_top, starts_bottom) = (&starts[..=t], &starts[t + 1..]);
+    fn split<'a, T>(
+        kept: &'a Kept<T>,
+        t: usize,
+        [starts_top, starts_bottom]: [&'a [usize]; 2],
+        [y_top, y_bottom]: [&'a mut [[f64; B]]; 2],
+        [b_top, b_bottom]: [&'a mut [f64]; 2],
+    ) -> [ChainSolve<'a, T>; 2] {
+        [
+            ChainSolve {
+                reversed: false,
+                inverse_t: &kept.inverse_t[..t],
+                gain_t: &kept.gain_t[..t],
+                upper_t: &kept.upper_t[..t],
+                starts: starts_top,
+                y: y_top,
+                b: b_top,
+            },
+            ChainSolve {
+                reversed: true,
+                inverse_t: &kept.inverse_t[t + 1..],
+                gain_t: &kept.gain_t[t + 1..],
+                upper_t: &kept.upper_t[t + 1..],
+                starts: starts_bottom,
+                y: y_bottom,
+                b: b_bottom,
+            },
+        ]
+    }
+    let parts = (
+        [starts_top, starts_bottom],
+        [y_top, y_bottom],
+        [b_top, b_bottom],
+    );
+    let (top, bottom, inverse) = match lu.precision {
+        Precision::Double => {
+            let [top, bottom] = split(&lu.double, t, parts.0, parts.1, parts.2);
+            let inverse = MeetInverse::Double(&lu.double.inverse_t[t]);
+            (
+                AnyChainSolve::Double(top),
+                AnyChainSolve::Double(bottom),
+                inverse,
+            )
+        }
+        Precision::Single => {
+            let [top, bottom] = split(&lu.single, t, parts.0, parts.1, parts.2);
+            let inverse = MeetInverse::Single(&lu.single.inverse_t[t]);
+            (
+                AnyChainSolve::Single(top),
+                AnyChainSolve::Single(bottom),
+                inverse,
+            )
+        }
+    };
+    let meet = MeetSolve {
+        inverse,
+        y: y_meet,
+        b: b_meet,
+    };
+    (top, bottom, meet)
+}
+
+crate::simd_dispatch! {
+    fn forward(chain: AnyChainSolve) -> Option<[f64; B]> = forward_with;
+}
+
+crate::simd_dispatch! {
+    fn backward(chain: AnyChainSolve, x: &[f64; B]) = backward_with;
+}
+
+crate::simd_dispatch! {
+    fn meet_solve(meet: MeetSolve, parts: [Option<[f64; B]>; 2]) -> [f64; B] = meet_solve_with;
+}
+
 #[inline(always)]
-fn solve_kept<F: Arith, T: Stored>(
-    starts: &[usize],
-    kept: &Kept<T>,
-    y: &mut [[f64; B]],
-    b: &mut [f64],
-) {
-    let m = starts.len() - 1;
+fn forward_with<F: Arith>(chain: AnyChainSolve) -> Option<[f64; B]> {
+    match chain {
+        AnyChainSolve::Double(c) => forward_chain::<F, f64>(c),
+        AnyChainSolve::Single(c) => forward_chain::<F, f32>(c),
+    }
+}
+
+#[inline(always)]
+fn backward_with<F: Arith>(chain: AnyChainSolve, x: &[f64; B]) {
+    match chain {
+        AnyChainSolve::Double(c) => backward_chain::<F, f64>(c, x),
+        AnyChainSolve::Single(c) => backward_chain::<F, f32>(c, x),
+    }
+}
+
+/// The right-hand side's blocks into `y` (padded), and the forward pass
+/// along the chain: yₖ −= Gₚ yₚ (p the node eliminated before k). Returns
+/// what the chain's last node leaves on the meeting node, G y of that node
+/// (None for an empty chain).
+#[inline(always)]
+fn forward_chain<F: Arith, T: Stored>(c: ChainSolve<T>) -> Option<[f64; B]> {
     // Full blocks copied as fixed-size arrays (a copy of a run-time length
     // was a call to memmove per block: 1.4 % of the span-break scene).
-    for k in 0..m {
-        let part = &b[starts[k]..starts[k + 1]];
-        y[k] = <[f64; B]>::try_from(part).unwrap_or_else(|_| {
+    let s0 = c.starts[0];
+    for (k, w) in c.starts.windows(2).enumerate() {
+        let part = &c.b[w[0] - s0..w[1] - s0];
+        c.y[k] = <[f64; B]>::try_from(part).unwrap_or_else(|_| {
             let mut padded = [0.0; B];
             padded[..part.len()].copy_from_slice(part);
             padded
         });
     }
-    for k in 1..m {
-        let g = matvec_t::<F, T>(&kept.gain_t[k - 1], &y[k - 1]);
-        for i in 0..B {
-            y[k][i] -= g[i];
+    let mut previous: Option<usize> = None;
+    for k in c.order() {
+        if let Some(p) = previous {
+            let g = matvec_t::<F, T>(&c.gain_t[p], &c.y[p]);
+            for i in 0..B {
+                c.y[k][i] -= g[i];
+            }
         }
+        previous = Some(k);
     }
-    y[m - 1] = matvec_t::<F, T>(&kept.inverse_t[m - 1], &y[m - 1]);
-    for k in (0..m - 1).rev() {
-        let mut rest = y[k];
-        let u = matvec_t::<F, T>(&kept.upper_t[k], &y[k + 1]);
+    previous.map(|p| matvec_t::<F, T>(&c.gain_t[p], &c.y[p]))
+}
+
+/// The backward pass from the meeting node's solution `x`, in the reverse
+/// order of elimination: xₖ = Sₖ⁻¹ (yₖ − Cₖ xₙ) (n the node eliminated
+/// after k, Cₖ the coupling stored at k), and the result into `b`.
+#[inline(always)]
+fn backward_chain<F: Arith, T: Stored>(c: ChainSolve<T>, x: &[f64; B]) {
+    let mut next = *x;
+    for k in c.order().rev() {
+        let mut rest = c.y[k];
+        let u = matvec_t::<F, T>(&c.upper_t[k], &next);
         for i in 0..B {
             rest[i] -= u[i];
         }
-        y[k] = matvec_t::<F, T>(&kept.inverse_t[k], &rest);
+        c.y[k] = matvec_t::<F, T>(&c.inverse_t[k], &rest);
+        next = c.y[k];
     }
-    for k in 0..m {
-        let part = &mut b[starts[k]..starts[k + 1]];
+    let s0 = c.starts[0];
+    for (k, w) in c.starts.windows(2).enumerate() {
+        let part = &mut c.b[w[0] - s0..w[1] - s0];
         match <&mut [f64; B]>::try_from(&mut *part) {
-            Ok(full) => *full = y[k],
-            Err(_) => part.copy_from_slice(&y[k][..part.len()]),
+            Ok(full) => *full = c.y[k],
+            Err(_) => part.copy_from_slice(&c.y[k][..part.len()]),
         }
+    }
+}
+
+/// The meeting node: yₜ −= what the two chains left on it, xₜ = Sₜ⁻¹ yₜ,
+/// into `b` and returned.
+#[inline(always)]
+fn meet_solve_with<F: Arith>(meet: MeetSolve, parts: [Option<[f64; B]>; 2]) -> [f64; B] {
+    let mut y = <[f64; B]>::try_from(&*meet.b).unwrap_or_else(|_| {
+        let mut padded = [0.0; B];
+        padded[..meet.b.len()].copy_from_slice(meet.b);
+        padded
+    });
+    for g in parts.into_iter().flatten() {
+        for i in 0..B {
+            y[i] -= g[i];
+        }
+    }
+    let x = match meet.inverse {
+        MeetInverse::Double(inv) => matvec_t::<F, f64>(inv, &y),
+        MeetInverse::Single(inv) => matvec_t::<F, f32>(inv, &y),
+    };
+    *meet.y = x;
+    let n = meet.b.len();
+    meet.b.copy_from_slice(&x[..n]);
+    x
+}
+
+/// The solves on `path`, except that the AVX-512 path runs the AVX2 code:
+/// their 12-lane matrix–vector products, chained block after block, run
+/// faster as three 256-bit vectors than as a 512-bit and a 256-bit one.
+/// Both are the fused path's operations: the same bits. The two chains'
+/// forward passes run in parallel, then the meeting node, then their
+/// backward passes in parallel.
+fn solve(path: SimdPath, lu: &mut BlockTridiagonalLu, b: &mut [f64]) {
+    let path = if path == SimdPath::Avx512 {
+        SimdPath::Avx2
+    } else {
+        path
+    };
+    let twisted = lu.meet + 1 < lu.nodes();
+    let (top, bottom, meet) = chain_solves(lu, b);
+    let parts = if twisted {
+        let parts = run_tasks(vec![top, bottom], |c| forward(path, c));
+        [parts[0], parts[1]]
+    } else {
+        [forward(path, top), None]
+    };
+    let x = meet_solve(path, meet, parts);
+    let (top, bottom, _) = chain_solves(lu, b);
+    if twisted {
+        run_tasks(vec![top, bottom], |c| backward(path, c, &x));
+    } else {
+        backward(path, top, &x);
     }
 }
 
@@ -762,5 +1181,84 @@ mod tests {
         // A zero 2 × 2 block.
         let mut lu = BlockTridiagonalLu::new(2, &[0, 2, 4], &[0, 1, 0, 1]).unwrap();
         assert!(lu.factorize(&[0.0; 4]).is_err());
+    }
+
+    /// Node sizes of a model long enough for two chains: a pinned first
+    /// node, uneven interior nodes (the padding inside both chains and at
+    /// the meeting node), a pinned last node.
+    fn long_sizes(m: usize) -> Vec<usize> {
+        (0..m)
+            .map(|k| match k {
+                0 => 3,
+                _ if k + 1 == m => 2,
+                _ => 2 + (k * 7) % 4,
+            })
+            .collect()
+    }
+
+    /// From `TWIST_MIN_NODES` on the elimination runs from both ends to the
+    /// middle node; it solves to round-off on every path, as the band LU
+    /// does, for an odd and an even number of nodes.
+    #[test]
+    fn two_chains_solve_to_round_off_on_every_path() {
+        for m in [TWIST_MIN_NODES, TWIST_MIN_NODES + 1] {
+            let a = uneven_blocks(&long_sizes(m), 12.0, 3);
+            let mut lu = BlockTridiagonalLu::new(a.n, &a.col_ptr, &a.row_idx).unwrap();
+            assert_eq!((lu.nodes(), lu.meet), (m, m / 2));
+            let x: Vec<f64> = (0..a.n).map(|i| (i as f64 * 0.37).cos()).collect();
+            assert_paths_agree(&a, &x, |path, b| {
+                factorize(path, &mut lu, Source::Array(&a.values)).expect("regular");
+                solve(path, &mut lu, b);
+            });
+            let mut band =
+                crate::linalg::band_lu::BandLu::new(a.n, a.bandwidth(), &a.col_ptr, &a.row_idx);
+            band.factorize(&a.values).unwrap();
+            let b: Vec<f64> = (0..a.n).map(|i| (i as f64).sin()).collect();
+            let (mut x1, mut x2) = (b.clone(), b);
+            lu.factorize(&a.values).unwrap();
+            lu.solve_in_place(&mut x1);
+            band.solve_in_place(&mut x2);
+            let diff = x1
+                .iter()
+                .zip(&x2)
+                .fold(0.0f64, |d, (p, q)| d.max((p - q).abs()));
+            assert!(diff < 1e-12, "{m} nodes: {diff:e}");
+        }
+    }
+
+    /// The two chains on two threads give the bits of one thread, in both
+    /// precisions, factorization and solve.
+    #[test]
+    fn two_threads_give_the_bits_of_one() {
+        let m = TWIST_MIN_NODES + 9;
+        let sizes = long_sizes(m);
+        let (mass, stiffness) = (
+            uneven_blocks(&sizes, 30.0, 1),
+            uneven_blocks(&sizes, 3.0, 2),
+        );
+        let sum = ValueSum {
+            parts: [&mass.values, &stiffness.values, &stiffness.values],
+            weights: [0.6, 0.37, 0.0],
+            third_slots: 0..0,
+        };
+        let b: Vec<f64> = (0..mass.n).map(|i| (i as f64 * 0.7).sin() + 0.2).collect();
+        for precision in [Precision::Double, Precision::Single] {
+            let run = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    let mut lu =
+                        BlockTridiagonalLu::new(mass.n, &mass.col_ptr, &mass.row_idx).unwrap();
+                    lu.factorize_sum(&sum, precision).unwrap();
+                    let mut x = b.clone();
+                    lu.solve_in_place(&mut x);
+                    let x: Vec<u64> = x.iter().map(|v| v.to_bits()).collect();
+                    (factor_bits(&lu), x)
+                })
+            };
+            assert!(run(1) == run(2), "{precision:?}");
+        }
     }
 }

@@ -170,29 +170,58 @@ fn add_lanes<const W: usize>(
 /// The strain energy (J) at `q` without the forces (what the energy
 /// balance needs): the elements eight and four at a time where
 /// [`assemble_into`] takes them so, at half the work, summed in the same order — its bits.
+/// A group whose energies are worth it ([`runs_in_parallel`] for a force
+/// alone) is split into two windows on two threads, the second starting
+/// eight elements at a time from the group's first, so that every element
+/// is batched as in one loop: the same bits.
 pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
     let mut energy = vec![0.0; model.n_elements];
+    let parallel = rayon::current_num_threads() > 1 && runs_in_parallel(model, false);
     for group in &model.groups {
-        let (mut first, end) = (group.elements.start, group.elements.end);
-        while first + 8 <= end {
-            let Some(u) = group.integration.energies_x8(&lanes(model, q, first)) else {
-                break;
-            };
-            energy[first..first + 8].copy_from_slice(&u);
-            first += 8;
-        }
-        while first + 4 <= end {
-            let Some(u) = group.integration.energies_x4(&lanes(model, q, first)) else {
-                break;
-            };
-            energy[first..first + 4].copy_from_slice(&u);
-            first += 4;
-        }
-        for el in first..group.elements.end {
-            energy[el] = group.integration.energy(&model.element_coordinates(q, el));
+        let elements = group.elements.clone();
+        let window = &mut energy[elements.clone()];
+        let split = elements.start + 8 * (elements.len() / 16);
+        if parallel && split > elements.start {
+            let (low, high) = window.split_at_mut(split - elements.start);
+            let halves = vec![(elements.start..split, low), (split..elements.end, high)];
+            crate::linalg::parallel::run_tasks(halves, |(els, out)| {
+                group_energies(model, group, q, els, out)
+            });
+        } else {
+            group_energies(model, group, q, elements, window);
         }
     }
     energy.iter().sum()
+}
+
+/// The energies of `group`'s elements `els` into `out` (one per element),
+/// eight and four at a time where the kernel allows.
+fn group_energies(
+    model: &Model,
+    group: &crate::model::ElementGroup,
+    q: &[f64],
+    els: Range<usize>,
+    out: &mut [f64],
+) {
+    let (mut first, end) = (els.start, els.end);
+    let at = |el: usize| el - els.start;
+    while first + 8 <= end {
+        let Some(u) = group.integration.energies_x8(&lanes(model, q, first)) else {
+            break;
+        };
+        out[at(first)..at(first) + 8].copy_from_slice(&u);
+        first += 8;
+    }
+    while first + 4 <= end {
+        let Some(u) = group.integration.energies_x4(&lanes(model, q, first)) else {
+            break;
+        };
+        out[at(first)..at(first) + 4].copy_from_slice(&u);
+        first += 4;
+    }
+    for el in first..end {
+        out[at(el)] = group.integration.energy(&model.element_coordinates(q, el));
+    }
 }
 
 /// Whether [`assemble`] splits the elements into parallel chunks (with more
@@ -959,5 +988,56 @@ mod tests {
                 "n = {n}: the energy alone differs"
             );
         }
+    }
+
+    /// A wire long enough for parallel forces: its strain energy on two
+    /// threads (two windows) has the bits of one thread, and the force
+    /// alone in four chunks equals the serial loop, with a Mooney–Rivlin
+    /// cover (whose batched energies differ from one-by-one ones).
+    #[test]
+    fn long_wire_energy_and_force_on_two_threads_have_one_threads_bits() {
+        let steel = Material {
+            density: 7800.0,
+            model: MaterialModel::StVenantKirchhoff {
+                youngs_modulus: 2e11,
+                poisson_ratio: 0.3,
+                bending_factor: 1.0,
+            },
+            locking: Default::default(),
+        };
+        let rubber = Material {
+            density: 1100.0,
+            model: MaterialModel::MooneyRivlin {
+                mu10: 5e5,
+                mu01: 1e5,
+                penalty: 1e3,
+            },
+            locking: crate::material::Locking::None,
+        };
+        let n = 701;
+        let section = Section::circular(&[(0.0, 0.01, steel), (0.01, 0.02, rubber)], 3);
+        let model = clamped_wire(section, n, 1.0 / n as f64);
+        assert!(runs_in_parallel(&model, false));
+        let pattern = pattern(&model);
+        let q: Vec<f64> = model
+            .reference
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x * 1.01 + 1e-3 * ((i * 7919 % 31) as f64 / 31.0 - 0.5))
+            .collect();
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let (force, u) = assemble(&model, &pattern, &q, None);
+                let bits: Vec<u64> = force.iter().map(|f| f.to_bits()).collect();
+                (bits, u.to_bits(), strain_energy(&model, &q).to_bits())
+            })
+        };
+        let (one, two) = (run(1), run(2));
+        assert!(one == two);
+        assert!(f64::from_bits(one.2) > 0.0);
     }
 }

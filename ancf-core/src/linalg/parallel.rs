@@ -12,6 +12,15 @@
 //! awake. The calling thread takes tasks too, and then spins until the
 //! tasks the helpers took are done — at most one task's time.
 //!
+//! That holds while the run has the cores to itself. Where the machine has
+//! more busy threads than cores (another program, two runs at once), a
+//! helper loses its core for a time slice, inside a task the caller then
+//! waits for, or while spinning for the next. So a waiting helper whose
+//! yield lasted long sleeps at once, and the caller runs its sections
+//! serially for a while when its waits exceed half its own work
+//! ([`Backoff`]): two 2-thread runs at once then take the time of two
+//! serial ones instead of 1.5× it.
+//!
 //! The helpers are `rayon::current_num_threads() − 1` threads of their
 //! own, started at the first parallel section; one caller uses them at a
 //! time (another runs its tasks itself). Which thread runs which task
@@ -29,6 +38,10 @@ use std::time::{Duration, Instant};
 /// or the end of a run.
 const SPIN: Duration = Duration::from_millis(5);
 
+/// Rounds of pure spinning (a few µs) before a waiting thread yields its
+/// core at every round.
+const PURE_SPINS: u32 = 2000;
+
 /// Run `run` on every task, on the calling thread and the helpers (as many
 /// threads as the current rayon pool has), and return the results in task
 /// order. With one thread, one task, or the helpers busy with another
@@ -37,7 +50,7 @@ pub fn run_tasks<T: Send, R: Send>(tasks: Vec<T>, run: impl Fn(T) -> R + Sync) -
     let n = tasks.len();
     let wanted = rayon::current_num_threads().min(n).saturating_sub(1);
     let pool = (wanted > 0).then(|| helpers(wanted)).flatten();
-    let Some(mut pool) = pool else {
+    let Some(mut pool) = pool.filter(|p| !p.backoff.serial(Instant::now())) else {
         return tasks.into_iter().map(run).collect();
     };
     let slots: Vec<Mutex<Option<T>>> = tasks.into_iter().map(|t| Mutex::new(Some(t))).collect();
@@ -56,7 +69,8 @@ pub fn run_tasks<T: Send, R: Send>(tasks: Vec<T>, run: impl Fn(T) -> R + Sync) -
             *results[i].lock().expect("result slot") = Some(r);
         }
     };
-    pool.run(wanted, &take_tasks);
+    let (own, waited) = pool.run(wanted, &take_tasks);
+    pool.backoff.record(own, waited, Instant::now());
     results
         .into_iter()
         .map(|r| {
@@ -103,6 +117,64 @@ struct Shared {
 struct Helpers {
     shared: &'static Shared,
     started: usize,
+    backoff: Backoff,
+}
+
+/// Sections run serially for a while after the helpers kept the caller
+/// waiting. A helper is late when the machine has more busy threads than
+/// cores (another program, another run): descheduled, it holds its task
+/// for a time slice (ms) while the caller waits, and two 2-thread runs at
+/// once took 1.5× the time of two serial ones. Over every [`Self::WINDOW`]
+/// sections the caller's waits are compared with its own work: where they
+/// exceed half of it the next sections run serially for a period, which
+/// doubles (up to a second) while the waits stay long. Results do not
+/// depend on it.
+#[derive(Debug)]
+struct Backoff {
+    own: Duration,
+    waited: Duration,
+    sections: u32,
+    serial_until: Option<Instant>,
+    period: Duration,
+}
+
+impl Backoff {
+    const WINDOW: u32 = 32;
+    const FIRST_PERIOD: Duration = Duration::from_millis(50);
+    const LONGEST_PERIOD: Duration = Duration::from_secs(1);
+
+    fn new() -> Self {
+        Backoff {
+            own: Duration::ZERO,
+            waited: Duration::ZERO,
+            sections: 0,
+            serial_until: None,
+            period: Self::FIRST_PERIOD,
+        }
+    }
+
+    /// Whether sections run serially at `now`.
+    fn serial(&self, now: Instant) -> bool {
+        self.serial_until.is_some_and(|until| now < until)
+    }
+
+    /// A section in which the caller worked `own` and then waited `waited`
+    /// for the helpers.
+    fn record(&mut self, own: Duration, waited: Duration, now: Instant) {
+        self.own += own;
+        self.waited += waited;
+        self.sections += 1;
+        if self.sections < Self::WINDOW {
+            return;
+        }
+        if 2 * self.waited > self.own {
+            self.serial_until = Some(now + self.period);
+            self.period = (2 * self.period).min(Self::LONGEST_PERIOD);
+        } else {
+            self.period = Self::FIRST_PERIOD;
+        }
+        (self.own, self.waited, self.sections) = (Duration::ZERO, Duration::ZERO, 0);
+    }
 }
 
 /// Locks `m`, also after a panic elsewhere (the data stays consistent:
@@ -128,7 +200,11 @@ fn helpers(wanted: usize) -> Option<std::sync::MutexGuard<'static, Helpers>> {
             sleeping: Mutex::new(0),
             wake: Condvar::new(),
         }));
-        Mutex::new(Helpers { shared, started: 0 })
+        Mutex::new(Helpers {
+            shared,
+            started: 0,
+            backoff: Backoff::new(),
+        })
     });
     // (Poisoned by a task's panic passed on to its caller: the helpers are
     // fine, every one of them finished that section.)
@@ -151,9 +227,10 @@ fn helpers(wanted: usize) -> Option<std::sync::MutexGuard<'static, Helpers>> {
 
 impl Helpers {
     /// Run `work` on the calling thread and on helpers 0 … `wanted` − 1,
-    /// and return when all have finished it; a panic in any of them is
-    /// passed on.
-    fn run(&mut self, wanted: usize, work: &(dyn Fn() + Sync)) {
+    /// and return when all have finished it, with the time the caller
+    /// worked and the time it then waited; a panic in any of them is passed
+    /// on.
+    fn run(&mut self, wanted: usize, work: &(dyn Fn() + Sync)) -> (Duration, Duration) {
         let shared = self.shared;
         // SAFETY: only the lifetime is erased. The helpers read `work`
         // only between the epoch's bump below and their decrement of
@@ -174,9 +251,19 @@ impl Helpers {
         if *lock(&shared.sleeping) > 0 {
             shared.wake.notify_all();
         }
+        let started = Instant::now();
         let mine = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work));
+        let worked = Instant::now();
+        let mut spins = 0u32;
         while shared.active.load(Ordering::Acquire) > 0 {
-            std::hint::spin_loop();
+            spins = spins.saturating_add(1);
+            if spins > PURE_SPINS {
+                // A helper that is not running (more busy threads than
+                // cores) is waited for without taking its core.
+                std::thread::yield_now();
+            } else {
+                std::hint::spin_loop();
+            }
         }
         lock(&shared.section).job = None;
         if let Err(payload) = mine {
@@ -185,6 +272,7 @@ impl Helpers {
         if let Some(payload) = lock(&shared.panic).take() {
             std::panic::resume_unwind(payload);
         }
+        (worked - started, worked.elapsed())
     }
 }
 
@@ -211,13 +299,23 @@ fn help(shared: &'static Shared, index: usize, mut seen: usize) {
 }
 
 /// Spin until the epoch moves past `seen`, for at most [`SPIN`]; then sleep
-/// until it does.
+/// until it does. After the first [`PURE_SPINS`] rounds each round yields
+/// the core, and a yield that lasted [`CONTENDED`] — another thread ran on
+/// this core meanwhile: more busy threads than cores — sends the helper to
+/// sleep at once, so that a run sharing the machine with other work does
+/// not take a core from it by spinning.
 fn wait_for_section(shared: &Shared, seen: usize) {
     let started = Instant::now();
     let mut spins = 0u32;
     while shared.epoch.load(Ordering::Acquire) == seen {
         spins = spins.wrapping_add(1);
-        if spins.is_multiple_of(256) && started.elapsed() > SPIN {
+        let mut contended = false;
+        if spins > PURE_SPINS {
+            let yielded = Instant::now();
+            std::thread::yield_now();
+            contended = yielded.elapsed() > CONTENDED;
+        }
+        if contended || (spins.is_multiple_of(256) && started.elapsed() > SPIN) {
             let mut sleeping = lock(&shared.sleeping);
             *sleeping += 1;
             while shared.epoch.load(Ordering::SeqCst) == seen {
@@ -232,6 +330,9 @@ fn wait_for_section(shared: &Shared, seen: usize) {
         std::hint::spin_loop();
     }
 }
+
+/// A yield that took this long gave the core to another thread.
+const CONTENDED: Duration = Duration::from_micros(50);
 
 #[cfg(test)]
 mod tests {
@@ -300,9 +401,10 @@ mod tests {
                 })
             })
         };
-        // (Other tests may hold the helpers for a while: a section then
-        // runs on its caller alone; a few tries.)
-        let woke = (0..20).any(|_| {
+        // (Other tests may hold the helpers for a while, or have made them
+        // late into a serial period of up to a second: a section then runs
+        // on its caller alone; tries for up to three seconds.)
+        let woke = (0..200).any(|_| {
             let _ = section();
             std::thread::sleep(3 * SPIN);
             let threads: std::collections::HashSet<_> = section().into_iter().collect();
@@ -334,5 +436,31 @@ mod tests {
                 });
             }
         });
+    }
+
+    /// Waits above half the caller's own work over a window start a serial
+    /// period, which doubles while the waits stay long and falls back to
+    /// its first length after a window without them.
+    #[test]
+    fn late_helpers_make_sections_serial_for_a_while() {
+        let t0 = Instant::now();
+        let ms = Duration::from_millis;
+        let us = Duration::from_micros;
+        let mut b = Backoff::new();
+        let window = |b: &mut Backoff, waited: Duration, now: Instant| {
+            for _ in 0..Backoff::WINDOW {
+                b.record(us(100), waited, now);
+            }
+        };
+        window(&mut b, us(40), t0);
+        assert!(!b.serial(t0), "waits below half the work");
+        window(&mut b, us(60), t0);
+        assert!(b.serial(t0 + ms(49)) && !b.serial(t0 + ms(51)));
+        let t1 = t0 + ms(60);
+        window(&mut b, ms(3), t1);
+        assert!(b.serial(t1 + ms(99)) && !b.serial(t1 + ms(101)));
+        window(&mut b, us(5), t1 + ms(200));
+        assert_eq!(b.period, Backoff::FIRST_PERIOD);
+        assert!(!b.serial(t1 + ms(200)));
     }
 }

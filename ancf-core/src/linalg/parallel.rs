@@ -1,5 +1,6 @@
-//! Work sharing for the short parallel sections of a time step (assembly
-//! chunks, the halves of the split band factorization).
+//! Work sharing for the short parallel sections of a time step: the
+//! assembly's chunks, the block LU's two chains, the halves of the split
+//! band factorization, of M x and of the generalized-α midpoint.
 //!
 //! Each section lasts 0.05–10 ms and sits between serial stretches of
 //! similar length, many times a Newton step. A thread that waits for work

@@ -170,18 +170,18 @@ fn add_lanes<const W: usize>(
 /// The strain energy (J) at `q` without the forces (what the energy
 /// balance needs): the elements eight and four at a time where
 /// [`assemble_into`] takes them so, at half the work, summed in the same order — its bits.
-/// A group whose energies are worth it ([`runs_in_parallel`] for a force
-/// alone) is split into two windows on two threads, the second starting
+/// A group whose energies are worth it (as a force alone is, see
+/// [`runs_in_parallel`]) is split into two windows on two threads, the second starting
 /// eight elements at a time from the group's first, so that every element
 /// is batched as in one loop: the same bits.
 pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
     let mut energy = vec![0.0; model.n_elements];
-    let parallel = rayon::current_num_threads() > 1 && runs_in_parallel(model, false);
+    let threads = rayon::current_num_threads();
     for group in &model.groups {
         let elements = group.elements.clone();
         let window = &mut energy[elements.clone()];
         let split = elements.start + 8 * (elements.len() / 16);
-        if parallel && split > elements.start {
+        if threads > 1 && worth_splitting(elements.len(), FORCE_PER_ELEMENT_US) {
             let (low, high) = window.split_at_mut(split - elements.start);
             let halves = vec![(elements.start..split, low), (split..elements.end, high)];
             crate::linalg::parallel::run_tasks(halves, |(els, out)| {
@@ -240,7 +240,14 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
     } else {
         FORCE_PER_ELEMENT_US
     };
-    model.n_elements >= 2 * CHUNK_ELEMENTS && model.n_elements as f64 * work >= PARALLEL_MIN_WORK_US
+    worth_splitting(model.n_elements, work)
+}
+
+/// Whether `elements` elements of `per_element_us` µs of work each are
+/// worth a parallel section (at least two chunks, and
+/// [`PARALLEL_MIN_WORK_US`]).
+fn worth_splitting(elements: usize, per_element_us: f64) -> bool {
+    elements >= 2 * CHUNK_ELEMENTS && elements as f64 * per_element_us >= PARALLEL_MIN_WORK_US
 }
 
 /// µs of a force alone per element (the eight-wide kernel, pre-integrated
@@ -904,19 +911,9 @@ mod tests {
 
     /// A straight wire of `n` elements of `length` (m) along x, clamped at
     /// node 0 (eliminated rows and columns at the first element).
-    fn clamped_wire(section: Section, n: usize, length: f64) -> Model {
-        let element = ElementIntegration::new(length, 3, section);
-        let clamp = vec![Support::new(0, SupportKind::Clamp)];
-        Model::new(element, n, [0.0; 3], [1.0, 0.0, 0.0], clamp, None, vec![]).unwrap()
-    }
-
-    /// The chunked assembly writes the same force, energy and Jacobian bits
-    /// as one serial loop over all elements, for element counts that do and
-    /// do not fill the last chunk, with a clamped end (eliminated columns)
-    /// and a Mooney–Rivlin cover (point work) on a bent, stretched wire;
-    /// and `strain_energy` equals the force-only assembly's energy.
-    #[test]
-    fn chunked_assembly_equals_the_serial_loop() {
+    /// A steel core's and a rubber cover's materials (the cover's
+    /// Mooney–Rivlin law works per point, not pre-integrated).
+    fn steel_and_rubber() -> (Material, Material) {
         let steel = Material {
             density: 7800.0,
             model: MaterialModel::StVenantKirchhoff {
@@ -935,6 +932,30 @@ mod tests {
             },
             locking: crate::material::Locking::None,
         };
+        (steel, rubber)
+    }
+
+    /// The reference coordinates stretched by 1 % and perturbed (bent).
+    fn bent_stretched(model: &Model) -> Vec<f64> {
+        (model.reference.iter().enumerate())
+            .map(|(i, x)| x * 1.01 + 1e-3 * ((i * 7919 % 31) as f64 / 31.0 - 0.5))
+            .collect()
+    }
+
+    fn clamped_wire(section: Section, n: usize, length: f64) -> Model {
+        let element = ElementIntegration::new(length, 3, section);
+        let clamp = vec![Support::new(0, SupportKind::Clamp)];
+        Model::new(element, n, [0.0; 3], [1.0, 0.0, 0.0], clamp, None, vec![]).unwrap()
+    }
+
+    /// The chunked assembly writes the same force, energy and Jacobian bits
+    /// as one serial loop over all elements, for element counts that do and
+    /// do not fill the last chunk, with a clamped end (eliminated columns)
+    /// and a Mooney–Rivlin cover (point work) on a bent, stretched wire;
+    /// and `strain_energy` equals the force-only assembly's energy.
+    #[test]
+    fn chunked_assembly_equals_the_serial_loop() {
+        let (steel, rubber) = steel_and_rubber();
         for (n, cover) in [
             (64, steel.clone()),
             (71, rubber),
@@ -944,12 +965,7 @@ mod tests {
             let section = Section::circular(&[(0.0, 0.01, steel.clone()), (0.01, 0.02, cover)], 3);
             let model = clamped_wire(section, n, 1.0 / n as f64);
             let pattern = pattern(&model);
-            let q: Vec<f64> = model
-                .reference
-                .iter()
-                .enumerate()
-                .map(|(i, x)| x * 1.01 + 1e-3 * ((i * 7919 % 31) as f64 / 31.0 - 0.5))
-                .collect();
+            let q = bent_stretched(&model);
             // The chunks, called directly (assemble() takes the serial loop
             // on a one-thread pool); the Jacobian is written over, not added to.
             let mut k_chunked = vec![1.0; pattern.nnz()];
@@ -996,41 +1012,15 @@ mod tests {
     /// cover (whose batched energies differ from one-by-one ones).
     #[test]
     fn long_wire_energy_and_force_on_two_threads_have_one_threads_bits() {
-        let steel = Material {
-            density: 7800.0,
-            model: MaterialModel::StVenantKirchhoff {
-                youngs_modulus: 2e11,
-                poisson_ratio: 0.3,
-                bending_factor: 1.0,
-            },
-            locking: Default::default(),
-        };
-        let rubber = Material {
-            density: 1100.0,
-            model: MaterialModel::MooneyRivlin {
-                mu10: 5e5,
-                mu01: 1e5,
-                penalty: 1e3,
-            },
-            locking: crate::material::Locking::None,
-        };
+        let (steel, rubber) = steel_and_rubber();
         let n = 701;
         let section = Section::circular(&[(0.0, 0.01, steel), (0.01, 0.02, rubber)], 3);
         let model = clamped_wire(section, n, 1.0 / n as f64);
         assert!(runs_in_parallel(&model, false));
         let pattern = pattern(&model);
-        let q: Vec<f64> = model
-            .reference
-            .iter()
-            .enumerate()
-            .map(|(i, x)| x * 1.01 + 1e-3 * ((i * 7919 % 31) as f64 / 31.0 - 0.5))
-            .collect();
+        let q = bent_stretched(&model);
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            crate::linalg::parallel::with_threads(threads, || {
                 let (force, u) = assemble(&model, &pattern, &q, None);
                 let bits: Vec<u64> = force.iter().map(|f| f.to_bits()).collect();
                 (bits, u.to_bits(), strain_energy(&model, &q).to_bits())

@@ -755,7 +755,6 @@ enum AnyChainSolve<'a> {
 /// The meeting node's part of a solve.
 struct MeetSolve<'a> {
     inverse: MeetInverse<'a>,
-    y: &'a mut [f64; B],
     b: &'a mut [f64],
 }
 
@@ -773,7 +772,7 @@ fn chain_solves<'a>(
     let (b_top, b_rest) = b.split_at_mut(starts[t]);
     let (b_meet, b_bottom) = b_rest.split_at_mut(starts[t + 1] - starts[t]);
     let (y_top, y_rest) = lu.work.split_at_mut(t);
-    let (y_meet, y_bottom) = y_rest.split_first_mut().expect("meeting node");
+    let y_bottom = &mut y_rest[1..];
     let (starts_top, starts_bottom) = (&starts[..=t], &starts[t + 1..]);
     fn split<'a, T>(
         kept: &'a Kept<T>,
@@ -828,11 +827,7 @@ fn chain_solves<'a>(
             )
         }
     };
-    let meet = MeetSolve {
-        inverse,
-        y: y_meet,
-        b: b_meet,
-    };
+    let meet = MeetSolve { inverse, b: b_meet };
     (top, bottom, meet)
 }
 
@@ -870,16 +865,9 @@ fn backward_with<F: Arith>(chain: AnyChainSolve, x: &[f64; B]) {
 /// (None for an empty chain).
 #[inline(always)]
 fn forward_chain<F: Arith, T: Stored>(c: ChainSolve<T>) -> Option<[f64; B]> {
-    // Full blocks copied as fixed-size arrays (a copy of a run-time length
-    // was a call to memmove per block: 1.4 % of the span-break scene).
     let s0 = c.starts[0];
     for (k, w) in c.starts.windows(2).enumerate() {
-        let part = &c.b[w[0] - s0..w[1] - s0];
-        c.y[k] = <[f64; B]>::try_from(part).unwrap_or_else(|_| {
-            let mut padded = [0.0; B];
-            padded[..part.len()].copy_from_slice(part);
-            padded
-        });
+        c.y[k] = load_block(&c.b[w[0] - s0..w[1] - s0]);
     }
     let mut previous: Option<usize> = None;
     for k in c.order() {
@@ -911,11 +899,28 @@ fn backward_chain<F: Arith, T: Stored>(c: ChainSolve<T>, x: &[f64; B]) {
     }
     let s0 = c.starts[0];
     for (k, w) in c.starts.windows(2).enumerate() {
-        let part = &mut c.b[w[0] - s0..w[1] - s0];
-        match <&mut [f64; B]>::try_from(&mut *part) {
-            Ok(full) => *full = c.y[k],
-            Err(_) => part.copy_from_slice(&c.y[k][..part.len()]),
-        }
+        store_block(&mut c.b[w[0] - s0..w[1] - s0], &c.y[k]);
+    }
+}
+
+/// A node's part of a right-hand side as a padded block. Full blocks are
+/// copied as fixed-size arrays (a copy of a run-time length was a call to
+/// memmove per block: 1.4 % of the span-break scene).
+#[inline(always)]
+fn load_block(part: &[f64]) -> [f64; B] {
+    <[f64; B]>::try_from(part).unwrap_or_else(|_| {
+        let mut padded = [0.0; B];
+        padded[..part.len()].copy_from_slice(part);
+        padded
+    })
+}
+
+/// A padded block back into a node's part of a vector (see [`load_block`]).
+#[inline(always)]
+fn store_block(part: &mut [f64], y: &[f64; B]) {
+    match <&mut [f64; B]>::try_from(&mut *part) {
+        Ok(full) => *full = *y,
+        Err(_) => part.copy_from_slice(&y[..part.len()]),
     }
 }
 
@@ -923,11 +928,7 @@ fn backward_chain<F: Arith, T: Stored>(c: ChainSolve<T>, x: &[f64; B]) {
 /// into `b` and returned.
 #[inline(always)]
 fn meet_solve_with<F: Arith>(meet: MeetSolve, parts: [Option<[f64; B]>; 2]) -> [f64; B] {
-    let mut y = <[f64; B]>::try_from(&*meet.b).unwrap_or_else(|_| {
-        let mut padded = [0.0; B];
-        padded[..meet.b.len()].copy_from_slice(meet.b);
-        padded
-    });
+    let mut y = load_block(meet.b);
     for g in parts.into_iter().flatten() {
         for i in 0..B {
             y[i] -= g[i];
@@ -937,9 +938,7 @@ fn meet_solve_with<F: Arith>(meet: MeetSolve, parts: [Option<[f64; B]>; 2]) -> [
         MeetInverse::Double(inv) => matvec_t::<F, f64>(inv, &y),
         MeetInverse::Single(inv) => matvec_t::<F, f32>(inv, &y),
     };
-    *meet.y = x;
-    let n = meet.b.len();
-    meet.b.copy_from_slice(&x[..n]);
+    store_block(meet.b, &x);
     x
 }
 
@@ -1244,11 +1243,7 @@ mod tests {
         let b: Vec<f64> = (0..mass.n).map(|i| (i as f64 * 0.7).sin() + 0.2).collect();
         for precision in [Precision::Double, Precision::Single] {
             let run = |threads: usize| {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                pool.install(|| {
+                crate::linalg::parallel::with_threads(threads, || {
                     let mut lu =
                         BlockTridiagonalLu::new(mass.n, &mass.col_ptr, &mass.row_idx).unwrap();
                     lu.factorize_sum(&sum, precision).unwrap();

@@ -82,6 +82,14 @@ pub fn run_tasks<T: Send, R: Send>(tasks: Vec<T>, run: impl Fn(T) -> R + Sync) -
         .collect()
 }
 
+/// `f` inside a rayon pool of `threads` threads: the thread count its
+/// parallel sections see (tests that compare thread counts).
+#[cfg(test)]
+pub(crate) fn with_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+    pool.expect("a thread pool").install(f)
+}
+
 /// The section the helpers work on, written by the caller that holds
 /// [`Helpers`].
 struct Section {

@@ -253,11 +253,7 @@ mod tests {
             .build()
             .unwrap();
         let observe = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            crate::linalg::parallel::with_threads(threads, || {
                 let mut r = StrainRecord::default();
                 for step in 0..4 {
                     // A wave whose crest moves along the wire, and a flat

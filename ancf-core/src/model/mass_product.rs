@@ -328,12 +328,10 @@ mod tests {
                 &mut serial,
                 0,
             );
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(2)
-                .build()
-                .unwrap();
             let mut halves = vec![0.0; x.len()];
-            pool.install(|| paired_in_halves(mass, g.elements.clone(), &x, &mut halves));
+            crate::linalg::parallel::with_threads(2, || {
+                paired_in_halves(mass, g.elements.clone(), &x, &mut halves)
+            });
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&serial), bits(&halves), "{n} elements");
             assert!(serial.iter().all(|v| *v != 0.0));

@@ -357,7 +357,7 @@ pub(crate) fn product<F: Arith>(a: &Block, b: &Block, c: &mut Block) {
 /// a x from aᵀ (`at`), column by column: twelve lanes of multiply-adds in
 /// two independent halves (a row-by-row dot product waits on each sum).
 #[inline(always)]
-fn matvec_t<F: Arith, T: Stored>(at: &[[T; B]; B], x: &[f64; B]) -> [f64; B] {
+pub(crate) fn matvec_t<F: Arith, T: Stored>(at: &[[T; B]; B], x: &[f64; B]) -> [f64; B] {
     let (mut lo, mut hi) = ([0.0; B], [0.0; B]);
     for k in 0..B / 2 {
         let (xa, xb) = (x[k], x[k + B / 2]);
@@ -374,7 +374,7 @@ fn matvec_t<F: Arith, T: Stored>(at: &[[T; B]; B], x: &[f64; B]) -> [f64; B] {
 
 /// t = aᵀ, written over t (each entry rounded to t's precision).
 #[inline(always)]
-fn transpose<T: Stored>(a: &Block, t: &mut [[T; B]; B]) {
+pub(crate) fn transpose<T: Stored>(a: &Block, t: &mut [[T; B]; B]) {
     for i in 0..B {
         for j in 0..B {
             t[j][i] = T::store(a[i][j]);
@@ -907,7 +907,7 @@ fn backward_chain<F: Arith, T: Stored>(c: ChainSolve<T>, x: &[f64; B]) {
 /// copied as fixed-size arrays (a copy of a run-time length was a call to
 /// memmove per block: 1.4 % of the span-break scene).
 #[inline(always)]
-fn load_block(part: &[f64]) -> [f64; B] {
+pub(crate) fn load_block(part: &[f64]) -> [f64; B] {
     <[f64; B]>::try_from(part).unwrap_or_else(|_| {
         let mut padded = [0.0; B];
         padded[..part.len()].copy_from_slice(part);
@@ -917,7 +917,7 @@ fn load_block(part: &[f64]) -> [f64; B] {
 
 /// A padded block back into a node's part of a vector (see [`load_block`]).
 #[inline(always)]
-fn store_block(part: &mut [f64], y: &[f64; B]) {
+pub(crate) fn store_block(part: &mut [f64], y: &[f64; B]) {
     match <&mut [f64; B]>::try_from(&mut *part) {
         Ok(full) => *full = *y,
         Err(_) => part.copy_from_slice(&y[..part.len()]),

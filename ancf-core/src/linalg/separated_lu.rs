@@ -6,32 +6,47 @@
 //! The coupled nodes are a *separator*: without them the beams fall apart
 //! into runs of consecutive nodes ("segments"), each block tridiagonal and
 //! coupled to the rest only through the separator nodes at its two ends.
-//! Each segment T is eliminated by the block LU's recurrences (see
-//! `block_tridiagonal`); what it leaves on its end nodes a, b is
+//! Each segment is eliminated by the block LU's recurrences (see
+//! `block_tridiagonal`) *towards* a separator node next to it, the "near"
+//! one: its right neighbour, or its left one when it has no right one.
+//! What the elimination leaves on the near node s from the segment's last
+//! eliminated node e is one block, S_ss −= A_se Sₑ⁻¹ A_es. A segment
+//! between two separators also couples its first node to the "far" one f
+//! on its left; eliminating the segment carries that coupling along as
+//! fill (a spike):
 //!
-//!   S_aa −= U_a (T⁻¹)_uu L_a,   S_ab −= U_a (T⁻¹)_uv U_v,
-//!   S_ba −= L_v (T⁻¹)_vu L_a,   S_bb −= L_v (T⁻¹)_vv U_v
+//!   Fₖ = A₍ₖ,f₎ − Gₚ Fₚ,  Rₖ = A₍f,ₖ₎ − Kₚ A₍ₚ,ₖ₎,  Kₖ = Rₖ Sₖ⁻¹,
+//!   S_ff −= Σ Kₖ Fₖ,  S_sf −= A_se Sₑ⁻¹ Fₑ,  S_fs −= Kₑ A_es
 //!
-//! (u, v the segment's first and last node, a = u − 1, b = v + 1), with
-//! T⁻¹'s corner blocks from one forward and one backward sweep of block
-//! columns. The separator's matrix S — its own blocks of A, the coupling
-//! blocks and those contributions — is small and dense, factored with
-//! partial pivoting. A solve eliminates each segment's right-hand side onto
-//! S, solves S, and back-substitutes into the segments: two segment solves.
-//! All of it is a block LU's work, a few times over, in place of a general
-//! sparse LU of the whole (whose fill-reducing ordering does not see the
-//! beams: several times slower on the frame scene).
+//! (p the node eliminated before k). The separator's matrix S — its own
+//! blocks of A, the coupling blocks and those contributions — is small and
+//! dense, factored with partial pivoting. A solve is one forward pass along
+//! each segment (which leaves A_se Sₑ⁻¹ yₑ and Σ Kₖ yₖ on the separator's
+//! right-hand side), the dense solve, and one backward pass
+//! xₖ = Sₖ⁻¹ (yₖ − A₍ₖ,ₙ₎ xₙ − Fₖ x_f) (n the node eliminated after k, or
+//! s): three 12 × 12 matrix–vector products a node as in the block LU,
+//! five between two separators. All of it is a block LU's work in place of
+//! a general sparse LU of the whole (whose fill-reducing ordering does not
+//! see the beams: several times slower on the frame scene).
+//!
+//! Segments are independent. From [`TWIST_MIN_NODES`] nodes on, one node
+//! splits them into two groups of about equal work (a separator node of
+//! its own where it falls inside a segment), and the two groups'
+//! eliminations and passes run on two threads. The cut is chosen from the
+//! sizes alone, so results do not depend on the thread count.
 
 use crate::linalg::block_tridiagonal::{
-    B, Block, BlockTridiagonalLu, SingularBlock, ZERO, invert, product, sub_product,
+    B, Block, BlockTridiagonalLu, SingularBlock, TWIST_MIN_NODES, ZERO, invert, load_block,
+    matvec_t, product, store_block, sub_product, transpose,
 };
 use crate::linalg::coupled::CoupledBlock;
-use crate::math::simd::Plain;
+use crate::linalg::parallel::run_tasks;
+use crate::math::simd::{Arith, SimdPath, path};
 use faer::Mat;
 use faer::linalg::solvers::{PartialPivLu, SolveCore};
 
 /// A run of consecutive nodes outside the separator.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Segment {
     /// First and last node.
     first: usize,
@@ -41,19 +56,387 @@ struct Segment {
     right: Option<usize>,
 }
 
+impl Segment {
+    fn len(&self) -> usize {
+        self.last + 1 - self.first
+    }
+
+    /// Eliminated from `last` down to `first`: towards a separator on the
+    /// left when there is none on the right.
+    fn reversed(&self) -> bool {
+        self.right.is_none() && self.left.is_some()
+    }
+
+    /// The separator next to the node eliminated last.
+    fn near(&self) -> Option<usize> {
+        self.right.or(self.left)
+    }
+
+    /// The separator next to the node eliminated first, for a segment
+    /// between two separators.
+    fn far(&self) -> Option<usize> {
+        self.right.and(self.left)
+    }
+
+    /// The node eliminated `i`-th.
+    fn node(&self, i: usize) -> usize {
+        if self.reversed() {
+            self.last - i
+        } else {
+            self.first + i
+        }
+    }
+
+    /// A solve's work on it, in 12 × 12 matrix–vector products.
+    fn cost(&self) -> usize {
+        self.len() * if self.far().is_some() { 5 } else { 3 }
+    }
+}
+
+/// The segments of `m` nodes around the (increasing) `separator`.
+fn segments(m: usize, separator: &[usize]) -> Vec<Segment> {
+    let index_of = |k: usize| separator.binary_search(&k).ok();
+    let mut segments = Vec::new();
+    let mut k = 0;
+    while k < m {
+        if index_of(k).is_some() {
+            k += 1;
+            continue;
+        }
+        let first = k;
+        while k < m && index_of(k).is_none() {
+            k += 1;
+        }
+        let last = k - 1;
+        segments.push(Segment {
+            first,
+            last,
+            left: first.checked_sub(1).and_then(index_of),
+            right: (last + 1 < m).then(|| index_of(last + 1)).flatten(),
+        });
+    }
+    segments
+}
+
+/// What a new separator node costs against the segments' work: its
+/// share of the dense solve and of the forward and backward hand-over,
+/// in the units of [`Segment::cost`].
+const NEW_SEPARATOR_COST: usize = 24;
+
+/// The node that splits the segments of `m` nodes around `separator` into
+/// two groups of the least larger work (a separator node, or a node to
+/// become one), or `None` when no cut takes a fifth off the serial work.
+fn balanced_cut(m: usize, separator: &[usize]) -> Option<usize> {
+    let segments = segments(m, separator);
+    let total: usize = segments.iter().map(Segment::cost).sum();
+    let mut best: Option<(usize, usize)> = None;
+    let mut consider = |c: usize, span: usize| {
+        if best.is_none_or(|(_, b)| span < b) {
+            best = Some((c, span));
+        }
+    };
+    let per_node = |between_two: bool| if between_two { 5 } else { 3 };
+    let mut before = 0;
+    for seg in &segments {
+        if seg.first > 0 && separator.binary_search(&(seg.first - 1)).is_ok() {
+            consider(seg.first - 1, before.max(total - before));
+        }
+        let after = total - before - seg.cost();
+        // Node c as a new separator: the nodes before it form a segment
+        // with the old left side, those after it one with the old right.
+        for c in seg.first..=seg.last {
+            let head = (c - seg.first) * per_node(seg.left.is_some());
+            let tail = (seg.last - c) * per_node(seg.right.is_some());
+            consider(c, (before + head).max(tail + after) + NEW_SEPARATOR_COST);
+        }
+        before += seg.cost();
+    }
+    best.filter(|&(_, span)| 5 * span < 4 * total)
+        .map(|(c, _)| c)
+}
+
+/// Per node, transposed for the solves' column-oriented products: its
+/// Schur complement's inverse, its gain A₍ₙ,ₖ₎ Sₖ⁻¹ and coupling A₍ₖ,ₙ₎
+/// towards the node n eliminated after it (or the near separator node),
+/// and, between two separators, its fill Fₖ and far gain Kₖ.
+#[derive(Clone, Copy)]
+struct NodeFactor {
+    inverse_t: Block,
+    gain_t: Block,
+    couple_t: Block,
+    fill_t: Block,
+    far_gain_t: Block,
+}
+
+const NODE_ZERO: NodeFactor = NodeFactor {
+    inverse_t: ZERO,
+    gain_t: ZERO,
+    couple_t: ZERO,
+    fill_t: ZERO,
+    far_gain_t: ZERO,
+};
+
+/// The matrix by blocks (see [`BlockTridiagonalLu::load`]).
+#[derive(Clone, Copy)]
+struct Blocks<'a> {
+    diag: &'a [Block],
+    upper: &'a [Block],
+    lower: &'a [Block],
+}
+
+impl Blocks<'_> {
+    /// A₍ₙ,ₖ₎ and A₍ₖ,ₙ₎ for node k and the node n eliminated after it in
+    /// `seg`'s order (its neighbour on the side away from the start).
+    fn towards_next(&self, seg: &Segment, k: usize) -> (&Block, &Block) {
+        if seg.reversed() {
+            (&self.upper[k - 1], &self.lower[k - 1])
+        } else {
+            (&self.lower[k], &self.upper[k])
+        }
+    }
+}
+
+/// What a segment's elimination leaves on its separator nodes, already
+/// negated: on (near, near), (near, far), (far, near) and (far, far).
+struct Leaves([Block; 4]);
+
+/// One group of segments and its window of the node factors (nodes
+/// `offset` …).
+struct FactorPart<'a> {
+    segments: &'a [Segment],
+    offset: usize,
+    factors: &'a mut [NodeFactor],
+}
+
+/// One group of segments in a solve: its window of the node factors, of
+/// the right-hand side by blocks and of the right-hand side itself (nodes
+/// `offset` … with unknowns from `starts[0]` on).
+struct SolvePart<'a> {
+    segments: &'a [Segment],
+    offset: usize,
+    factors: &'a [NodeFactor],
+    y: &'a mut [[f64; B]],
+    starts: &'a [usize],
+    b: &'a mut [f64],
+}
+
+crate::simd_dispatch! {
+    fn eliminate(matrix: Blocks, part: FactorPart) -> Result<Vec<Leaves>, SingularBlock> = eliminate_with;
+}
+
+#[inline(always)]
+fn eliminate_with<F: Arith>(
+    matrix: Blocks,
+    part: FactorPart,
+) -> Result<Vec<Leaves>, SingularBlock> {
+    let FactorPart {
+        segments,
+        offset,
+        factors,
+    } = part;
+    // A loop, not an iterator adapter: the adapter's code is not inlined
+    // into the dispatched function, and its multiply-adds became calls.
+    let mut leaves = Vec::with_capacity(segments.len());
+    for seg in segments {
+        leaves.push(eliminate_segment::<F>(&matrix, seg, offset, factors)?);
+    }
+    Ok(leaves)
+}
+
+/// One segment's elimination (module doc), its node factors into
+/// `factors` (node k at k − `offset`).
+#[inline(always)]
+fn eliminate_segment<F: Arith>(
+    a: &Blocks,
+    seg: &Segment,
+    offset: usize,
+    factors: &mut [NodeFactor],
+) -> Result<Leaves, SingularBlock> {
+    let n = seg.len();
+    let two_sided = seg.far().is_some();
+    let mut leaves = Leaves([ZERO; 4]);
+    let (mut inverse, mut gain, mut far_gain, mut t) = (ZERO, ZERO, ZERO, ZERO);
+    // Fₖ and Rₖ: the first node's couplings to the far node (left of it).
+    let (mut fill, mut far_row) = if two_sided {
+        (a.lower[seg.first - 1], a.upper[seg.first - 1])
+    } else {
+        (ZERO, ZERO)
+    };
+    for i in 0..n {
+        let k = seg.node(i);
+        let mut s = a.diag[k];
+        if i > 0 {
+            let p = seg.node(i - 1);
+            let (_, incoming) = a.towards_next(seg, p);
+            // Sₖ = Dₖ − Gₚ A₍ₚ,ₖ₎ (`gain` and `far_gain` are p's here).
+            sub_product::<F>(&mut s, &gain, incoming);
+            if two_sided {
+                // Fₖ = −Gₚ Fₚ, Rₖ = −Kₚ A₍ₚ,ₖ₎.
+                product::<F>(&gain, &fill, &mut t);
+                fill = negated(&t);
+                product::<F>(&far_gain, incoming, &mut t);
+                far_row = negated(&t);
+            }
+        }
+        invert::<F>(&s, &mut inverse)?;
+        let node = &mut factors[k - offset];
+        transpose(&inverse, &mut node.inverse_t);
+        if two_sided {
+            product::<F>(&far_row, &inverse, &mut far_gain);
+            transpose(&far_gain, &mut node.far_gain_t);
+            transpose(&fill, &mut node.fill_t);
+            sub_product::<F>(&mut leaves.0[3], &far_gain, &fill);
+        }
+        if i + 1 < n || seg.near().is_some() {
+            let (outgoing, incoming) = a.towards_next(seg, k);
+            product::<F>(outgoing, &inverse, &mut gain);
+            transpose(&gain, &mut node.gain_t);
+            transpose(incoming, &mut node.couple_t);
+        }
+    }
+    if seg.near().is_some() {
+        // `gain` is A_se Sₑ⁻¹ here, `fill` and `far_gain` node e's.
+        let (_, incoming) = a.towards_next(seg, seg.node(n - 1));
+        sub_product::<F>(&mut leaves.0[0], &gain, incoming);
+        if two_sided {
+            sub_product::<F>(&mut leaves.0[1], &gain, &fill);
+            sub_product::<F>(&mut leaves.0[2], &far_gain, incoming);
+        }
+    }
+    Ok(leaves)
+}
+
+fn negated(a: &Block) -> Block {
+    a.map(|row| row.map(|x| -x))
+}
+
+crate::simd_dispatch! {
+    fn forward(part: SolvePart) -> Vec<[[f64; B]; 2]> = forward_with;
+}
+
+crate::simd_dispatch! {
+    fn backward(part: SolvePart, separator: &[[f64; B]]) = backward_with;
+}
+
+/// The part's right-hand side into its blocks, and the forward pass of
+/// each of its segments; per segment, what it leaves on its near and far
+/// separator nodes' right-hand sides (to subtract).
+#[inline(always)]
+fn forward_with<F: Arith>(part: SolvePart) -> Vec<[[f64; B]; 2]> {
+    let SolvePart {
+        segments,
+        offset,
+        factors,
+        y,
+        starts,
+        b,
+    } = part;
+    let s0 = starts[0];
+    for (k, w) in starts.windows(2).enumerate() {
+        y[k] = load_block(&b[w[0] - s0..w[1] - s0]);
+    }
+    let mut leaves = Vec::with_capacity(segments.len());
+    for seg in segments {
+        let two_sided = seg.far().is_some();
+        let mut far = [0.0; B];
+        let mut previous: Option<usize> = None;
+        for i in 0..seg.len() {
+            let k = seg.node(i) - offset;
+            if let Some(p) = previous {
+                let g = matvec_t::<F, f64>(&factors[p].gain_t, &y[p]);
+                for (y, g) in y[k].iter_mut().zip(g) {
+                    *y -= g;
+                }
+            }
+            if two_sided {
+                let g = matvec_t::<F, f64>(&factors[k].far_gain_t, &y[k]);
+                for (f, g) in far.iter_mut().zip(g) {
+                    *f += g;
+                }
+            }
+            previous = Some(k);
+        }
+        let e = seg.node(seg.len() - 1) - offset;
+        let near = match seg.near() {
+            Some(_) => matvec_t::<F, f64>(&factors[e].gain_t, &y[e]),
+            None => [0.0; B],
+        };
+        leaves.push([near, far]);
+    }
+    leaves
+}
+
+/// The backward pass of each of the part's segments from the separator's
+/// solution (`separator`, by separator index), into `b`.
+#[inline(always)]
+fn backward_with<F: Arith>(part: SolvePart, separator: &[[f64; B]]) {
+    let SolvePart {
+        segments,
+        offset,
+        factors,
+        y,
+        starts,
+        b,
+    } = part;
+    for seg in segments {
+        let far = seg.far().map(|f| separator[f]);
+        let mut next = seg.near().map(|s| separator[s]);
+        for i in (0..seg.len()).rev() {
+            let k = seg.node(i) - offset;
+            let mut rest = y[k];
+            if let Some(x) = &next {
+                let u = matvec_t::<F, f64>(&factors[k].couple_t, x);
+                for (r, u) in rest.iter_mut().zip(u) {
+                    *r -= u;
+                }
+            }
+            if let Some(x) = &far {
+                let u = matvec_t::<F, f64>(&factors[k].fill_t, x);
+                for (r, u) in rest.iter_mut().zip(u) {
+                    *r -= u;
+                }
+            }
+            y[k] = matvec_t::<F, f64>(&factors[k].inverse_t, &rest);
+            next = Some(y[k]);
+        }
+        let s0 = starts[0];
+        for k in seg.first..=seg.last {
+            let (lo, hi) = (starts[k - offset] - s0, starts[k - offset + 1] - s0);
+            store_block(&mut b[lo..hi], &y[k - offset]);
+        }
+    }
+}
+
+/// The groups of `segments` of `m` nodes: all of them, or those before and
+/// after the `cut` node, with their nodes.
+fn groups(
+    segments: &[Segment],
+    cut: Option<usize>,
+    m: usize,
+) -> Vec<(&[Segment], std::ops::Range<usize>)> {
+    match cut {
+        None => vec![(segments, 0..m)],
+        Some(c) => {
+            let (before, after) = segments.split_at(segments.partition_point(|s| s.last < c));
+            vec![(before, 0..c), (after, c..m)]
+        }
+    }
+}
+
 /// The factorization of a coupled Newton matrix around its separator.
 pub struct SeparatedLu {
     /// The pattern's node blocks (its slot map and starts).
     blocks: BlockTridiagonalLu,
+    /// Node k's unknowns are starts[k] … starts[k + 1] − 1.
+    starts: Vec<usize>,
+    /// From this many nodes on, the segments are cut into two groups.
+    cut_from: usize,
     /// The separator's nodes, increasing.
     separator: Vec<usize>,
     segments: Vec<Segment>,
-    /// Per node: Sₖ⁻¹ of its segment's elimination, and Gₖ = Lₖ Sₖ⁻¹.
-    inverse: Vec<Block>,
-    gain: Vec<Block>,
-    /// The blocks Uₖ and Lₖ of the last matrix (the solves need them).
-    upper: Vec<Block>,
-    lower: Vec<Block>,
+    /// The node between the two groups of segments (a separator node).
+    cut: Option<usize>,
+    factors: Vec<NodeFactor>,
     /// The separator's matrix, factored.
     dense: Option<PartialPivLu<f64>>,
     /// Right-hand side by blocks (padded), for the solves.
@@ -64,23 +447,28 @@ impl SeparatedLu {
     /// The solver for matrices on the node blocks of `blocks` (a block
     /// tridiagonal pattern's, see [`BlockTridiagonalLu::new`]).
     pub fn new(blocks: BlockTridiagonalLu) -> Self {
-        let m = blocks.starts().len() - 1;
+        let starts = blocks.starts().to_vec();
+        let m = starts.len() - 1;
         SeparatedLu {
             blocks,
+            starts,
+            cut_from: TWIST_MIN_NODES,
             separator: Vec::new(),
             segments: Vec::new(),
-            inverse: vec![ZERO; m],
-            gain: vec![ZERO; m],
-            upper: Vec::new(),
-            lower: Vec::new(),
+            cut: None,
+            factors: vec![NODE_ZERO; m],
             dense: None,
             work: vec![[0.0; B]; m],
         }
     }
 
+    fn nodes(&self) -> usize {
+        self.starts.len() - 1
+    }
+
     /// The node (block) of unknown `j`.
     fn node_of(&self, j: usize) -> usize {
-        self.blocks.starts().partition_point(|&s| s <= j) - 1
+        self.starts.partition_point(|&s| s <= j) - 1
     }
 
     /// Factor the pattern's matrix `values` plus `coupling`.
@@ -89,8 +477,18 @@ impl SeparatedLu {
         values: &[f64],
         coupling: &[CoupledBlock],
     ) -> Result<(), SingularBlock> {
-        let m = self.inverse.len();
-        // The separator: every node a coupling block touches.
+        self.factorize_on(path(), values, coupling)
+    }
+
+    /// [`SeparatedLu::factorize`] on the SIMD path `simd`.
+    fn factorize_on(
+        &mut self,
+        simd: SimdPath,
+        values: &[f64],
+        coupling: &[CoupledBlock],
+    ) -> Result<(), SingularBlock> {
+        let m = self.nodes();
+        // The separator: every node a coupling block touches, and the cut.
         let mut separator: Vec<usize> = coupling
             .iter()
             .flat_map(|b| b.rows.iter().chain(&b.cols).flatten())
@@ -98,69 +496,59 @@ impl SeparatedLu {
             .collect();
         separator.sort_unstable();
         separator.dedup();
-        let index_of = |k: usize| separator.binary_search(&k).ok();
-        let mut segments = Vec::new();
-        let mut k = 0;
-        while k < m {
-            if index_of(k).is_some() {
-                k += 1;
-                continue;
-            }
-            let first = k;
-            while k < m && index_of(k).is_none() {
-                k += 1;
-            }
-            let last = k - 1;
-            segments.push(Segment {
-                first,
-                last,
-                left: first.checked_sub(1).and_then(index_of),
-                right: (last + 1 < m).then(|| index_of(last + 1)).flatten(),
+        self.cut = (m >= self.cut_from)
+            .then(|| balanced_cut(m, &separator))
+            .flatten();
+        if let Some(c) = self.cut
+            && let Err(at) = separator.binary_search(&c)
+        {
+            separator.insert(at, c);
+        }
+        self.segments = segments(m, &separator);
+        self.separator = separator;
+        let (diag, upper, lower) = self.blocks.load(values);
+        let matrix = Blocks { diag, upper, lower };
+        // Each group's eliminations.
+        let mut factors = std::mem::take(&mut self.factors);
+        let mut parts = Vec::new();
+        let mut rest = &mut factors[..];
+        let mut taken = 0;
+        for (segments, nodes) in groups(&self.segments, self.cut, m) {
+            let (window, tail) = std::mem::take(&mut rest).split_at_mut(nodes.end - taken);
+            (rest, taken) = (tail, nodes.end);
+            parts.push(FactorPart {
+                segments,
+                offset: nodes.start,
+                factors: window,
             });
         }
-        let (diag, upper, lower) = self.blocks.load(values);
-        self.upper.clear();
-        self.upper.extend_from_slice(upper);
-        self.lower.clear();
-        self.lower.extend_from_slice(lower);
-        let diag = diag.to_vec();
-        // Each segment's elimination.
-        for seg in &segments {
-            let mut s = diag[seg.first];
-            for k in seg.first..=seg.last {
-                if k > seg.first {
-                    s = diag[k];
-                    let g = self.gain[k - 1];
-                    sub_product::<Plain>(&mut s, &g, &self.upper[k - 1]);
-                }
-                let mut inv = ZERO;
-                invert::<Plain>(&s, &mut inv)?;
-                self.inverse[k] = inv;
-                if k < seg.last {
-                    let mut g = ZERO;
-                    product::<Plain>(&self.lower[k], &inv, &mut g);
-                    self.gain[k] = g;
-                }
-            }
-        }
+        let leaves = run_tasks(parts, |part| eliminate(simd, matrix, part));
+        self.factors = factors;
+        let leaves: Vec<Leaves> = leaves
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .flatten()
+            .collect();
         // The separator's matrix.
+        let separator = &self.separator;
         let p = separator.len();
         let mut dense = Mat::<f64>::zeros(B * p, B * p);
-        let add = |dense: &mut Mat<f64>, i: usize, j: usize, blk: &Block, sign: f64| {
+        let add = |dense: &mut Mat<f64>, i: usize, j: usize, blk: &Block| {
             for r in 0..B {
                 for c in 0..B {
-                    dense[(B * i + r, B * j + c)] += sign * blk[r][c];
+                    dense[(B * i + r, B * j + c)] += blk[r][c];
                 }
             }
         };
         for (i, &k) in separator.iter().enumerate() {
-            add(&mut dense, i, i, &diag[k], 1.0);
+            add(&mut dense, i, i, &diag[k]);
             if i + 1 < p && separator[i + 1] == k + 1 {
-                add(&mut dense, i, i + 1, &self.upper[k], 1.0);
-                add(&mut dense, i + 1, i, &self.lower[k], 1.0);
+                add(&mut dense, i, i + 1, &upper[k]);
+                add(&mut dense, i + 1, i, &lower[k]);
             }
         }
-        let starts = self.blocks.starts();
+        let starts = &self.starts;
         for b in coupling {
             for (r, row) in b.rows.iter().enumerate() {
                 let Some(row) = *row else { continue };
@@ -175,173 +563,94 @@ impl SeparatedLu {
                 }
             }
         }
-        for seg in &segments {
-            let (u, v) = (seg.first, seg.last);
-            // T⁻¹'s last block column: x_v = S_v⁻¹, x_k = −S_k⁻¹ U_k x_{k+1}.
-            let corner_right = |this: &Self| {
-                let xv = this.inverse[v];
-                let mut x = xv;
-                for k in (u..v).rev() {
-                    let (mut ux, mut next) = (ZERO, ZERO);
-                    product::<Plain>(&this.upper[k], &x, &mut ux);
-                    product::<Plain>(&this.inverse[k], &ux, &mut next);
-                    next.iter_mut().flatten().for_each(|e| *e = -*e);
-                    x = next;
-                }
-                (x, xv)
-            };
-            // T⁻¹'s first block column: forward y_u = I, y_{k+1} = −G_k y_k;
-            // backward x_v = S_v⁻¹ y_v, x_k = S_k⁻¹ (y_k − U_k x_{k+1}).
-            let corner_left = |this: &Self| {
-                let mut y = vec![ZERO; v - u + 1];
-                for (i, row) in y[0].iter_mut().enumerate() {
-                    row[i] = 1.0;
-                }
-                for k in u..v {
-                    let mut gy = ZERO;
-                    product::<Plain>(&this.gain[k], &y[k - u], &mut gy);
-                    gy.iter_mut().flatten().for_each(|e| *e = -*e);
-                    y[k + 1 - u] = gy;
-                }
-                let mut x = ZERO;
-                product::<Plain>(&this.inverse[v], &y[v - u], &mut x);
-                let xv = x;
-                for k in (u..v).rev() {
-                    let mut rest = y[k - u];
-                    sub_product::<Plain>(&mut rest, &this.upper[k], &x);
-                    product::<Plain>(&this.inverse[k], &rest, &mut x);
-                }
-                (x, xv)
-            };
-            if let Some(ia) = seg.left {
-                let a = u - 1;
-                let (xuu, xvu) = corner_left(self);
-                // S_aa −= U_a X_uu L_a
-                let mut t = ZERO;
-                let mut w = ZERO;
-                product::<Plain>(&self.upper[a], &xuu, &mut t);
-                product::<Plain>(&t, &self.lower[a], &mut w);
-                add(&mut dense, ia, ia, &w, -1.0);
-                if let Some(ib) = seg.right {
-                    // S_ba −= L_v X_vu L_a
-                    product::<Plain>(&self.lower[v], &xvu, &mut t);
-                    product::<Plain>(&t, &self.lower[a], &mut w);
-                    add(&mut dense, ib, ia, &w, -1.0);
-                }
-            }
-            if let Some(ib) = seg.right {
-                let (xuv, xvv) = corner_right(self);
-                let (mut t, mut w) = (ZERO, ZERO);
-                // S_bb −= L_v X_vv U_v
-                product::<Plain>(&self.lower[v], &xvv, &mut t);
-                product::<Plain>(&t, &self.upper[v], &mut w);
-                add(&mut dense, ib, ib, &w, -1.0);
-                if let Some(ia) = seg.left {
-                    // S_ab −= U_a X_uv U_v
-                    product::<Plain>(&self.upper[u - 1], &xuv, &mut t);
-                    product::<Plain>(&t, &self.upper[v], &mut w);
-                    add(&mut dense, ia, ib, &w, -1.0);
+        for (seg, Leaves(blocks)) in self.segments.iter().zip(&leaves) {
+            if let Some(s) = seg.near() {
+                add(&mut dense, s, s, &blocks[0]);
+                if let Some(f) = seg.far() {
+                    add(&mut dense, s, f, &blocks[1]);
+                    add(&mut dense, f, s, &blocks[2]);
+                    add(&mut dense, f, f, &blocks[3]);
                 }
             }
         }
-        let lu = dense.as_ref().partial_piv_lu();
-        self.separator = separator;
-        self.segments = segments;
-        self.dense = Some(lu);
+        self.dense = Some(dense.as_ref().partial_piv_lu());
         Ok(())
     }
 
-    /// Solve T x = y in place on one segment (y by blocks, padded).
-    fn segment_solve(&self, seg: &Segment, y: &mut [[f64; B]]) {
-        let (u, v) = (seg.first, seg.last);
-        for k in u..v {
-            let yk = y[k];
-            let g = &self.gain[k];
-            for (i, row) in g.iter().enumerate() {
-                y[k + 1][i] -= row.iter().zip(&yk).map(|(a, b)| a * b).sum::<f64>();
-            }
+    /// The groups' windows for a solve of `b`.
+    fn solve_parts<'a>(
+        groups: &[(&'a [Segment], std::ops::Range<usize>)],
+        factors: &'a [NodeFactor],
+        work: &'a mut [[f64; B]],
+        starts: &'a [usize],
+        b: &'a mut [f64],
+    ) -> Vec<SolvePart<'a>> {
+        let mut parts = Vec::new();
+        let (mut y_rest, mut b_rest) = (work, b);
+        for (segments, nodes) in groups {
+            let (y, y_tail) = std::mem::take(&mut y_rest).split_at_mut(nodes.len());
+            let unknowns = starts[nodes.end] - starts[nodes.start];
+            let (b, b_tail) = std::mem::take(&mut b_rest).split_at_mut(unknowns);
+            (y_rest, b_rest) = (y_tail, b_tail);
+            parts.push(SolvePart {
+                segments,
+                offset: nodes.start,
+                factors: &factors[nodes.clone()],
+                y,
+                starts: &starts[nodes.start..=nodes.end],
+                b,
+            });
         }
-        let apply = |blk: &Block, x: &[f64; B]| -> [f64; B] {
-            std::array::from_fn(|i| blk[i].iter().zip(x).map(|(a, b)| a * b).sum())
-        };
-        y[v] = apply(&self.inverse[v], &y[v]);
-        for k in (u..v).rev() {
-            let ux = apply(&self.upper[k], &y[k + 1]);
-            let rest: [f64; B] = std::array::from_fn(|i| y[k][i] - ux[i]);
-            y[k] = apply(&self.inverse[k], &rest);
-        }
+        parts
     }
 
     /// Solve A x = b in place with the last factorization.
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
-        let starts = self.blocks.starts().to_vec();
-        let m = starts.len() - 1;
-        let mut y = std::mem::take(&mut self.work);
-        for k in 0..m {
-            let part = &b[starts[k]..starts[k + 1]];
-            y[k] = [0.0; B];
-            y[k][..part.len()].copy_from_slice(part);
-        }
-        let rhs = y.clone();
-        let apply = |blk: &Block, x: &[f64; B]| -> [f64; B] {
-            std::array::from_fn(|i| blk[i].iter().zip(x).map(|(a, b)| a * b).sum())
+        self.solve_on(path(), b)
+    }
+
+    /// [`SeparatedLu::solve_in_place`] on the SIMD path `simd` (the AVX2
+    /// code on the AVX-512 path, as the block LU's solves).
+    fn solve_on(&mut self, simd: SimdPath, b: &mut [f64]) {
+        let simd = match simd {
+            SimdPath::Avx512 => SimdPath::Avx2,
+            other => other,
         };
-        // Each segment's T⁻¹ b onto the separator's right-hand side.
+        let mut work = std::mem::take(&mut self.work);
+        let groups = groups(&self.segments, self.cut, self.nodes());
+        let parts = Self::solve_parts(&groups, &self.factors, &mut work, &self.starts, b);
+        let leaves = run_tasks(parts, |part| forward(simd, part));
+        // The separator's right-hand side, its solve.
         let p = self.separator.len();
-        let mut s_rhs = Mat::<f64>::zeros(B * p, 1);
+        let mut rhs = Mat::<f64>::zeros(B * p, 1);
         for (i, &k) in self.separator.iter().enumerate() {
             for r in 0..B {
-                s_rhs[(B * i + r, 0)] = rhs[k][r];
+                rhs[(B * i + r, 0)] = work[k][r];
             }
         }
-        for seg in &self.segments {
-            self.segment_solve(seg, &mut y);
-            if let Some(ia) = seg.left {
-                let w = apply(&self.upper[seg.first - 1], &y[seg.first]);
-                for r in 0..B {
-                    s_rhs[(B * ia + r, 0)] -= w[r];
-                }
-            }
-            if let Some(ib) = seg.right {
-                let w = apply(&self.lower[seg.last], &y[seg.last]);
-                for r in 0..B {
-                    s_rhs[(B * ib + r, 0)] -= w[r];
+        for (seg, [near, far]) in self.segments.iter().zip(leaves.iter().flatten()) {
+            for (i, leaf) in [(seg.near(), near), (seg.far(), far)] {
+                if let Some(i) = i {
+                    for r in 0..B {
+                        rhs[(B * i + r, 0)] -= leaf[r];
+                    }
                 }
             }
         }
         self.dense
             .as_ref()
             .expect("factorize before solve")
-            .solve_in_place_with_conj(faer::Conj::No, s_rhs.as_mut());
+            .solve_in_place_with_conj(faer::Conj::No, rhs.as_mut());
         let xs: Vec<[f64; B]> = (0..p)
-            .map(|i| std::array::from_fn(|r| s_rhs[(B * i + r, 0)]))
+            .map(|i| std::array::from_fn(|r| rhs[(B * i + r, 0)]))
             .collect();
-        for (i, &k) in self.separator.iter().enumerate() {
-            y[k] = xs[i];
+        let parts = Self::solve_parts(&groups, &self.factors, &mut work, &self.starts, b);
+        run_tasks(parts, |part| backward(simd, part, &xs));
+        for (x, &k) in xs.iter().zip(&self.separator) {
+            store_block(&mut b[self.starts[k]..self.starts[k + 1]], x);
         }
-        // Back-substitution: T x = b_T − (the separator's share).
-        for seg in &self.segments {
-            y[seg.first..=seg.last].copy_from_slice(&rhs[seg.first..=seg.last]);
-            if let Some(ia) = seg.left {
-                let w = apply(&self.lower[seg.first - 1], &xs[ia]);
-                for r in 0..B {
-                    y[seg.first][r] -= w[r];
-                }
-            }
-            if let Some(ib) = seg.right {
-                let w = apply(&self.upper[seg.last], &xs[ib]);
-                for r in 0..B {
-                    y[seg.last][r] -= w[r];
-                }
-            }
-            self.segment_solve(seg, &mut y);
-        }
-        for k in 0..m {
-            let part = &mut b[starts[k]..starts[k + 1]];
-            let len = part.len();
-            part.copy_from_slice(&y[k][..len]);
-        }
-        self.work = y;
+        drop(groups);
+        self.work = work;
     }
 }
 
@@ -349,20 +658,27 @@ impl SeparatedLu {
 mod tests {
     use super::*;
     use crate::linalg::band_cholesky::tests::TestMatrix;
+    use crate::linalg::parallel::with_threads;
 
-    /// A block-tridiagonal matrix of nodes `sizes` (a held node has fewer
-    /// unknowns) with coupling blocks between far nodes, solved around the
-    /// separator, against a dense solve of the same matrix.
-    #[test]
-    fn coupled_blocks_solve_as_the_dense_matrix() {
-        // Separators inside (segments coupled at both ends) and reaching
-        // the last node; separators adjacent; a segment at the end.
-        coupled_solve(&[(2, 9), (9, 2), (5, 12), (12, 5)]);
-        coupled_solve(&[(2, 9), (9, 2), (4, 11), (11, 4)]);
+    /// A block-tridiagonal matrix of `m` nodes (a held node, every
+    /// seventh, has 9 unknowns; one node 6) with coupling blocks between
+    /// the node pairs `pairs` (each coupling two nodes on either side,
+    /// both ways), and the same matrix dense.
+    struct Coupled {
+        n: usize,
+        a: TestMatrix,
+        coupling: Vec<CoupledBlock>,
+        full: Vec<f64>,
     }
 
-    fn coupled_solve(pairs: &[(usize, usize)]) {
-        let sizes = [12usize, 9, 12, 12, 12, 12, 12, 12, 12, 6, 12, 12, 12, 12];
+    fn coupled(m: usize, pairs: &[(usize, usize)]) -> Coupled {
+        let sizes: Vec<usize> = (0..m)
+            .map(|k| match k {
+                _ if k % 7 == 1 => 9,
+                9 => 6,
+                _ => 12,
+            })
+            .collect();
         let n: usize = sizes.iter().sum();
         let mut node = Vec::new();
         for (k, s) in sizes.iter().enumerate() {
@@ -374,10 +690,10 @@ mod tests {
                 Some(*a)
             }))
             .collect();
-        let coupled = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
+        let near = |r: usize, c: usize| node[r].abs_diff(node[c]) <= 1;
         let mut dense = vec![0.0; n * n];
         for r in 0..n {
-            for c in (0..n).filter(|&c| coupled(r, c)) {
+            for c in (0..n).filter(|&c| near(r, c)) {
                 dense[r * n + c] = if r == c {
                     40.0 + (r % 5) as f64
                 } else {
@@ -385,10 +701,8 @@ mod tests {
                 };
             }
         }
-        let a = TestMatrix::new(n, dense.clone(), coupled);
-        let blocks = BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).expect("block tridiagonal");
-        // Coupling "elements" (two nodes each, both ways); unknowns of
-        // node k from starts.
+        let a = TestMatrix::new(n, dense.clone(), near);
+        // Coupling "elements" (two nodes each); unknowns of node k from starts.
         let unknowns = |el: usize| -> [Option<usize>; 24] {
             let (a, b) = (starts[el], starts[el + 2]);
             std::array::from_fn(|i| (a + i < b).then_some(a + i))
@@ -409,28 +723,162 @@ mod tests {
             }
             coupling.push(CoupledBlock { rows, cols, values });
         }
-        // Solve (matrix) x = b for a known x with `lu`: the largest error.
-        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
-        let error = |lu: &mut SeparatedLu, matrix: &[f64]| {
-            let mut b: Vec<f64> = (0..n)
+        Coupled {
+            n,
+            a,
+            coupling,
+            full,
+        }
+    }
+
+    impl Coupled {
+        /// The solver of the pattern, cutting from `cut_from` nodes on.
+        fn solver(&self, cut_from: usize) -> SeparatedLu {
+            let a = &self.a;
+            let blocks =
+                BlockTridiagonalLu::new(self.n, &a.col_ptr, &a.row_idx).expect("block tridiagonal");
+            let mut lu = SeparatedLu::new(blocks);
+            lu.cut_from = cut_from;
+            lu
+        }
+
+        /// x = (i 0.37).cos(), and b = `matrix` x.
+        fn problem(&self, matrix: &[f64]) -> (Vec<f64>, Vec<f64>) {
+            let n = self.n;
+            let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).cos()).collect();
+            let b = (0..n)
                 .map(|r| (0..n).map(|c| matrix[r * n + c] * x[c]).sum())
                 .collect();
+            (x, b)
+        }
+
+        /// The solution of the coupled matrix by `lu` and its largest error.
+        fn solve(&self, lu: &mut SeparatedLu, coupled: bool) -> (Vec<f64>, f64) {
+            let matrix = if coupled { &self.full } else { &self.a.dense };
+            let coupling = if coupled { &self.coupling[..] } else { &[] };
+            lu.factorize(&self.a.values, coupling).expect("regular");
+            let (x, mut b) = self.problem(matrix);
             lu.solve_in_place(&mut b);
-            b.iter()
-                .zip(&x)
+            let err = (b.iter().zip(&x))
                 .map(|(p, q)| (p - q).abs())
-                .fold(0.0, f64::max)
+                .fold(0.0, f64::max);
+            (b, err)
+        }
+    }
+
+    /// Solved around the separator, the coupled matrix's solution is the
+    /// dense one's: separators inside (segments between two of them) and
+    /// at the last node; adjacent separators; a segment at either end
+    /// (eliminated towards its only separator, left or right); segments
+    /// of one node; without coupling, the segments alone; each without
+    /// and with a cut into two groups.
+    #[test]
+    fn coupled_blocks_solve_as_the_dense_matrix() {
+        let cases: [(usize, &[(usize, usize)]); 5] = [
+            (14, &[(2, 9), (9, 2), (5, 12), (12, 5)]),
+            (14, &[(2, 9), (9, 2), (4, 11), (11, 4)]),
+            (14, &[(3, 5), (5, 3)]),
+            (40, &[(30, 5), (5, 30)]),
+            (40, &[(0, 37), (37, 0), (18, 21)]),
+        ];
+        for (m, pairs) in cases {
+            let c = coupled(m, pairs);
+            for cut_from in [usize::MAX, 0] {
+                let mut lu = c.solver(cut_from);
+                let (_, err) = c.solve(&mut lu, true);
+                assert!(
+                    err < 1e-12,
+                    "{m} nodes, {pairs:?}, cut {:?}: {err:e}",
+                    lu.cut
+                );
+                if cut_from == usize::MAX {
+                    assert_eq!(lu.cut, None);
+                } else if m == 40 {
+                    assert!(lu.cut.is_some(), "{pairs:?}");
+                }
+                let (_, err) = c.solve(&mut lu, false);
+                assert!(
+                    err < 1e-12,
+                    "{m} nodes, uncoupled, cut {:?}: {err:e}",
+                    lu.cut
+                );
+            }
+        }
+    }
+
+    /// With a cut the two groups run on two threads, with the bits of one.
+    #[test]
+    fn two_threads_give_the_bits_of_one() {
+        let c = coupled(40, &[(30, 5), (5, 30)]);
+        let solve = |threads| {
+            with_threads(threads, || {
+                let mut lu = c.solver(0);
+                let solved = c.solve(&mut lu, true);
+                assert!(lu.cut.is_some(), "cut");
+                solved
+            })
         };
-        let mut lu = SeparatedLu::new(blocks);
-        lu.factorize(&a.values, &coupling).expect("regular");
-        let err = error(&mut lu, &full);
+        let (one, err) = solve(1);
         assert!(err < 1e-12, "{err:e}");
-        // Without coupling: the segments alone (no separator).
-        let mut plain = SeparatedLu::new(
-            BlockTridiagonalLu::new(n, &a.col_ptr, &a.row_idx).expect("block tridiagonal"),
+        let (two, _) = solve(2);
+        assert!(
+            one.iter()
+                .zip(&two)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
         );
-        plain.factorize(&a.values, &[]).expect("regular");
-        let err = error(&mut plain, &a.dense);
-        assert!(err < 1e-12, "{err:e}");
+    }
+
+    /// Every SIMD path solves to round-off and agrees with the baseline.
+    #[test]
+    fn every_simd_path_agrees_with_the_baseline() {
+        let c = coupled(40, &[(30, 5), (5, 30)]);
+        let (x, b) = c.problem(&c.full);
+        let mut reference: Option<Vec<f64>> = None;
+        for simd in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
+            let mut lu = c.solver(0);
+            (lu.factorize_on(simd, &c.a.values, &c.coupling)).expect("regular");
+            let mut got = b.clone();
+            lu.solve_on(simd, &mut got);
+            let err = got.iter().zip(&x).map(|(p, q)| (p - q).abs());
+            let err = err.fold(0.0, f64::max);
+            assert!(err < 1e-12, "{}: {err:e}", simd.name());
+            let base = reference.get_or_insert(got.clone());
+            let diff = got.iter().zip(base.iter()).map(|(g, b)| (g - b).abs());
+            let diff = diff.fold(0.0, f64::max);
+            assert!(diff < 1e-13, "{} against baseline: {diff:e}", simd.name());
+        }
+    }
+
+    /// The cut balances the groups' work: a wire of 1001 nodes touching a
+    /// member at node 720 (its member's nodes after it), or nowhere.
+    #[test]
+    fn the_cut_balances_the_work() {
+        let span = |m: usize, separator: &[usize], cut: usize| {
+            let mut separator = separator.to_vec();
+            if let Err(at) = separator.binary_search(&cut) {
+                separator.insert(at, cut);
+            }
+            let segs = segments(m, &separator);
+            let total: usize = segs.iter().map(Segment::cost).sum();
+            let before: usize = segs
+                .iter()
+                .filter(|s| s.last < cut)
+                .map(Segment::cost)
+                .sum();
+            (before, total - before)
+        };
+        for separator in [&[720, 721, 1010][..], &[960, 1030], &[]] {
+            let cut = balanced_cut(1052, separator).expect("a cut");
+            let (before, after) = span(1052, separator, cut);
+            let unbalance = before.abs_diff(after) as f64 / (before + after) as f64;
+            assert!(
+                unbalance < 0.01,
+                "{separator:?}: cut at {cut}, {before} + {after}"
+            );
+        }
+        // Too little to gain: a new separator node costs more than it saves.
+        assert_eq!(balanced_cut(4, &[]), None);
+        // An existing separator node costs nothing.
+        assert_eq!(balanced_cut(4, &[1]), Some(1));
     }
 }

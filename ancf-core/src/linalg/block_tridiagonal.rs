@@ -879,7 +879,12 @@ fn forward_chain<F: Arith, T: Stored>(c: ChainSolve<T>) -> Option<[f64; B]> {
         }
         previous = Some(k);
     }
-    previous.map(|p| matvec_t::<F, T>(&c.gain_t[p], &c.y[p]))
+    // A match, not `Option::map`: the closure was not inlined into the
+    // dispatched function, and its multiply-adds became calls.
+    match previous {
+        Some(p) => Some(matvec_t::<F, T>(&c.gain_t[p], &c.y[p])),
+        None => None,
+    }
 }
 
 /// The backward pass from the meeting node's solution `x`, in the reverse

@@ -29,6 +29,7 @@
 //! S_wᵀ f, the member −S_mᵀ f(η*), whose derivative adds −S_m′ᵀ f δη*.
 //! Friction and damping use the relative velocity S_w v_w − S_m v_m.
 
+use super::capsule::{capsules_within, centerline_capsule};
 use super::point::{LawInput, point_law};
 use super::zone::{GapFunction, centerline, zones_of};
 use super::{ContactEvaluator, ContactSample, DeepestPoint};
@@ -300,10 +301,15 @@ pub(crate) fn element_member(
     jacobians: bool,
     out: &mut BeamContactOut,
 ) {
-    if elements.is_empty() {
+    let reach = member.radius + contact.wire_radius;
+    // No zone where no member element's capsule comes within reach (most
+    // of the elements the broad phase's spheres let through): the search
+    // below would sample the gap and find it positive everywhere.
+    let wire = centerline_capsule(e, l);
+    let near = |m: &MemberElement| capsules_within(&wire, &centerline_capsule(&m.e, m.l), reach);
+    if !elements.iter().any(near) {
         return;
     }
-    let reach = member.radius + contact.wire_radius;
     let damping = member.damping.map(|d| {
         if impact_speed > 0.0 {
             d.factor(impact_speed, contact.settings.min_impact_speed)

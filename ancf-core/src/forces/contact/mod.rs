@@ -12,6 +12,7 @@
 //! phase skips elements whose centerline is far from every rod.
 
 pub mod beam;
+pub mod capsule;
 mod line;
 mod point;
 mod surface;

@@ -271,26 +271,55 @@ impl BlockTridiagonalLu {
         &self.starts
     }
 
-    /// The matrix with pattern values `values` by blocks, padded (a
-    /// node's missing unknowns have the identity): the diagonal blocks
-    /// Dₖ, the upper Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎.
-    pub(crate) fn load(&mut self, values: &[f64]) -> (&[Block], &[Block], &[Block]) {
+    /// The matrix with slot values `values` (an array over the pattern,
+    /// or a [`ValueSum`] never formed) by blocks, padded (a node's missing
+    /// unknowns have the identity): the diagonal blocks Dₖ, the upper
+    /// Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎; `None` when a value is
+    /// not finite. From [`TWIST_MIN_NODES`] nodes on, in two halves on two
+    /// threads.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn load<V: SlotValues + ?Sized + Sync>(
+        &mut self,
+        values: &V,
+    ) -> Option<(&[Block], &[Block], &[Block])> {
         let m = self.nodes();
-        self.input.resize(3 * m - 2, ZERO);
-        let mut columns = [ZERO; 3];
-        for k in 0..m {
-            load_node(self, k, values, &mut columns);
-            self.input[k] = columns[1];
-            if k > 0 {
-                self.input[m + k - 1] = columns[0];
+        let mut input = std::mem::take(&mut self.input);
+        input.resize(3 * m - 2, ZERO);
+        let (diag, rest) = input.split_at_mut(m);
+        let (upper, lower) = rest.split_at_mut(m - 1);
+        // Node k writes Dₖ, Uₖ₋₁ and Lₖ: the halves' windows are disjoint.
+        let half = if m >= TWIST_MIN_NODES { m / 2 } else { m };
+        let (diag_a, diag_b) = diag.split_at_mut(half);
+        let (upper_a, upper_b) = upper.split_at_mut(half.saturating_sub(1));
+        let (lower_a, lower_b) = lower.split_at_mut(half.min(m - 1));
+        let mut halves = vec![(0..half, diag_a, upper_a, lower_a)];
+        if half < m {
+            halves.push((half..m, diag_b, upper_b, lower_b));
+        }
+        let lu = &*self;
+        let finite = run_tasks(halves, |(nodes, diag, upper, lower)| {
+            let first = nodes.start;
+            let mut columns = [ZERO; 3];
+            let mut finite = true;
+            for k in nodes {
+                finite &= load_node(lu, k, values, &mut columns);
+                diag[k - first] = columns[1];
+                if k > 0 {
+                    upper[k - first.max(1)] = columns[0];
+                }
+                if k + 1 < m {
+                    lower[k - first] = columns[2];
+                }
             }
-            if k + 1 < m {
-                self.input[2 * m - 1 + k] = columns[2];
-            }
+            finite
+        });
+        self.input = input;
+        if !finite.into_iter().all(|f| f) {
+            return None;
         }
         let (diag, rest) = self.input.split_at(m);
         let (upper, lower) = rest.split_at(m - 1);
-        (diag, upper, lower)
+        Some((diag, upper, lower))
     }
 }
 

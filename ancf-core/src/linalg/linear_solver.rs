@@ -337,14 +337,7 @@ impl SparseSolver {
             ));
         }
         self.factorizations += 1;
-        if let Some(separated) = self
-            .separated
-            .get_or_insert_with(|| {
-                let sym = self.pattern.symbolic.as_ref();
-                BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
-                    .map(SeparatedLu::new)
-            })
-            .as_mut()
+        if let Some(separated) = self.separated_lu()
             && separated.factorize(values, blocks).is_ok()
         {
             self.factor = Factor::Separated;
@@ -355,12 +348,25 @@ impl SparseSolver {
         Ok(FactorKind::Lu)
     }
 
+    /// The separated LU of the pattern, built at the first call (`None`:
+    /// the pattern is not block tridiagonal).
+    fn separated_lu(&mut self) -> Option<&mut SeparatedLu> {
+        self.separated
+            .get_or_insert_with(|| {
+                let sym = self.pattern.symbolic.as_ref();
+                BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
+                    .map(SeparatedLu::new)
+            })
+            .as_mut()
+    }
+
     /// [`SparseSolver::factorize_coupled`] of the matrix `sum`: the block
-    /// LU reads the sum where it loads each block, with nothing formed
-    /// (one pass over the value arrays instead of three), and keeps its
-    /// blocks in `precision`; the other factorizations, and a block LU
-    /// that fails, get the sum written into `formed` (sized to one value
-    /// per slot here) first, and keep double precision.
+    /// LU and the separated LU read the sum where they load each block,
+    /// with nothing formed (one pass over the value arrays instead of
+    /// three), and the block LU keeps its blocks in `precision`; the other
+    /// factorizations, and a block or separated LU that fails, get the sum
+    /// written into `formed` (sized to one value per slot here) first, and
+    /// keep double precision.
     pub fn factorize_sum(
         &mut self,
         sum: &ValueSum,
@@ -376,6 +382,16 @@ impl SparseSolver {
         {
             self.factorizations += 1;
             self.factor = Factor::BlockLu;
+            return Ok(FactorKind::Lu);
+        }
+        let finite = || (blocks.iter()).all(|b| b.values.iter().all(|v| v.is_finite()));
+        if !blocks.is_empty()
+            && finite()
+            && let Some(separated) = self.separated_lu()
+            && separated.factorize_sum(sum, blocks).is_ok()
+        {
+            self.factorizations += 1;
+            self.factor = Factor::Separated;
             return Ok(FactorKind::Lu);
         }
         formed.resize(self.pattern.nnz(), 0.0);

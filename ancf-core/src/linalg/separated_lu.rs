@@ -41,6 +41,7 @@ use crate::linalg::block_tridiagonal::{
 };
 use crate::linalg::coupled::CoupledBlock;
 use crate::linalg::parallel::run_tasks;
+use crate::linalg::value_sum::{SlotValues, ValueSum};
 use crate::math::simd::{Arith, SimdPath, path};
 use faer::Mat;
 use faer::linalg::solvers::{PartialPivLu, SolveCore};
@@ -480,11 +481,23 @@ impl SeparatedLu {
         self.factorize_on(path(), values, coupling)
     }
 
-    /// [`SeparatedLu::factorize`] on the SIMD path `simd`.
-    fn factorize_on(
+    /// [`SeparatedLu::factorize`] of the pattern's matrix `sum`, read
+    /// where each block is loaded (never formed). A non-finite value is
+    /// reported as a [`SingularBlock`].
+    pub fn factorize_sum(
+        &mut self,
+        sum: &ValueSum,
+        coupling: &[CoupledBlock],
+    ) -> Result<(), SingularBlock> {
+        self.factorize_on(path(), sum, coupling)
+    }
+
+    /// [`SeparatedLu::factorize`] on the SIMD path `simd`, of the slot
+    /// values `values` (an array or a sum).
+    fn factorize_on<V: SlotValues + ?Sized + Sync>(
         &mut self,
         simd: SimdPath,
-        values: &[f64],
+        values: &V,
         coupling: &[CoupledBlock],
     ) -> Result<(), SingularBlock> {
         let m = self.nodes();
@@ -506,7 +519,7 @@ impl SeparatedLu {
         }
         self.segments = segments(m, &separator);
         self.separator = separator;
-        let (diag, upper, lower) = self.blocks.load(values);
+        let (diag, upper, lower) = self.blocks.load(values).ok_or(SingularBlock)?;
         let matrix = Blocks { diag, upper, lower };
         // Each group's eliminations.
         let mut factors = std::mem::take(&mut self.factors);
@@ -828,6 +841,49 @@ mod tests {
         );
     }
 
+    /// A sum read where the blocks are loaded gives the bits of the sum
+    /// written out first (split into halves from 256 nodes as well); a
+    /// value that is not finite is refused.
+    #[test]
+    fn a_sum_loads_as_its_written_values() {
+        for m in [40, 300] {
+            let c = coupled(m, &[(30, 5), (5, 30)]);
+            let other: Vec<f64> = (c.a.values.iter().enumerate())
+                .map(|(i, v)| v * (1.0 + 0.01 * (i % 7) as f64))
+                .collect();
+            let third = vec![0.5; other.len()];
+            let sum = ValueSum {
+                parts: [&c.a.values, &other, &third],
+                weights: [0.3, 0.7, 1e-3],
+                third_slots: 10..other.len() / 2,
+            };
+            let mut formed = vec![0.0; other.len()];
+            sum.write(&mut formed);
+            let (_, b) = c.problem(&c.full);
+            let solve = |lu: &mut SeparatedLu| {
+                let mut x = b.clone();
+                lu.solve_in_place(&mut x);
+                x
+            };
+            let mut read = c.solver(TWIST_MIN_NODES);
+            read.factorize_sum(&sum, &c.coupling).expect("regular");
+            let mut written = c.solver(TWIST_MIN_NODES);
+            written.factorize(&formed, &c.coupling).expect("regular");
+            let (x, y) = (solve(&mut read), solve(&mut written));
+            assert!(
+                x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{m}"
+            );
+            let mut bad = other.clone();
+            bad[other.len() / 3] = f64::NAN;
+            let sum = ValueSum {
+                parts: [&c.a.values, &bad, &third],
+                ..sum
+            };
+            assert!(read.factorize_sum(&sum, &c.coupling).is_err(), "{m}");
+        }
+    }
+
     /// Every SIMD path solves to round-off and agrees with the baseline.
     #[test]
     fn every_simd_path_agrees_with_the_baseline() {
@@ -836,7 +892,7 @@ mod tests {
         let mut reference: Option<Vec<f64>> = None;
         for simd in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
             let mut lu = c.solver(0);
-            (lu.factorize_on(simd, &c.a.values, &c.coupling)).expect("regular");
+            (lu.factorize_on(simd, &c.a.values[..], &c.coupling)).expect("regular");
             let mut got = b.clone();
             lu.solve_on(simd, &mut got);
             let err = got.iter().zip(&x).map(|(p, q)| (p - q).abs());

@@ -1,7 +1,8 @@
 //! A matrix on a pattern given as a weighted sum of value arrays over that
 //! pattern — the dynamic Newton matrix (1 − α_m) M + c_k K_q + c_d K_v —
 //! read slot by slot, so that a factorization that loads its own blocks
-//! ([`crate::linalg::block_tridiagonal::BlockTridiagonalLu`]) never needs
+//! ([`crate::linalg::block_tridiagonal::BlockTridiagonalLu`],
+//! [`crate::linalg::separated_lu::SeparatedLu`]) never needs
 //! the sum written out: on a 1000-element wire that array is 3.5 MB
 //! written, checked and read back at every refactorization.
 

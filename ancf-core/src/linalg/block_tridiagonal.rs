@@ -42,7 +42,7 @@
 
 use crate::linalg::band_cholesky::pattern_entries;
 use crate::linalg::parallel::run_tasks;
-use crate::linalg::value_sum::{SlotValues, ValueSum};
+use crate::linalg::value_sum::{SlotValues, ValueSum, all_finite};
 use crate::math::simd::{Arith, SimdPath, path};
 
 /// Block size: a node's coordinates.
@@ -350,7 +350,11 @@ fn load_node<V: SlotValues + ?Sized>(
         }
     }
     let places = &lu.places[slots.clone()];
-    values.scatter(slots, places, out.as_flattened_mut().as_flattened_mut())
+    let out = out.as_flattened_mut().as_flattened_mut();
+    values.scatter(slots, places, out);
+    // The blocks not written keep finite values: the padding's, or those
+    // of a node loaded and checked before.
+    all_finite(out)
 }
 
 /// c −= a b (12 × 12 blocks).

@@ -29,9 +29,11 @@
 //! a general sparse LU of the whole (whose fill-reducing ordering does not
 //! see the beams: several times slower on the frame scene).
 //!
-//! Segments are independent. From [`TWIST_MIN_NODES`] nodes on, one node
-//! splits them into two groups of about equal work (a separator node of
-//! its own where it falls inside a segment), and the two groups'
+//! Segments are independent, but of very unequal size: a wire touching a
+//! tube near one end leaves one long run. From [`TWIST_MIN_NODES`] nodes
+//! on, one node splits the segments into two groups of about equal work (a
+//! separator node of its own where it falls inside a segment), wherever
+//! that takes at least a fifth off the serial work, and the two groups'
 //! eliminations and passes run on two threads. The cut is chosen from the
 //! sizes alone, so results do not depend on the thread count.
 

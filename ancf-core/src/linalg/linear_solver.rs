@@ -22,7 +22,7 @@ use crate::linalg::block_tridiagonal::{BlockTridiagonalLu, Precision};
 use crate::linalg::coupled::{CoupledBlock, CoupledLu};
 use crate::linalg::pattern::Pattern;
 use crate::linalg::separated_lu::SeparatedLu;
-use crate::linalg::value_sum::ValueSum;
+use crate::linalg::value_sum::{ValueSum, all_finite};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::{
@@ -42,6 +42,11 @@ const MAX_BAND: usize = 48;
 /// factoring and solving on two threads, keeps full-Newton steps faster
 /// for equal modified-Newton steps.
 const BLOCK_LU_MAX_SYMMETRIC: usize = 20_000;
+
+/// Whether every value of the coupling blocks is finite.
+fn coupling_finite(blocks: &[CoupledBlock]) -> bool {
+    blocks.iter().all(|b| all_finite(&b.values[..]))
+}
 
 /// faer's sparse LLᵀ at its low level: the symbolic factor, the factor's
 /// values and one workspace for factorization and solves, all allocated
@@ -251,11 +256,7 @@ impl SparseSolver {
         values: &[f64],
         symmetric: bool,
     ) -> Result<FactorKind, FactorError> {
-        // Eight at a time without an exit inside, so that it vectorizes.
-        let finite = values
-            .chunks(8)
-            .all(|c| c.iter().fold(true, |ok, v| ok & v.is_finite()));
-        if !finite {
+        if !all_finite(values) {
             return Err(FactorError(
                 "the Newton matrix has non-finite entries".into(),
             ));
@@ -328,10 +329,7 @@ impl SparseSolver {
         if blocks.is_empty() {
             return self.factorize(values, symmetric);
         }
-        let finite = values
-            .iter()
-            .chain(blocks.iter().flat_map(|b| b.values.iter()));
-        if !finite.fold(true, |ok, v| ok & v.is_finite()) {
+        if !(all_finite(values) && coupling_finite(blocks)) {
             return Err(FactorError(
                 "the Newton matrix has non-finite entries".into(),
             ));
@@ -384,9 +382,8 @@ impl SparseSolver {
             self.factor = Factor::BlockLu;
             return Ok(FactorKind::Lu);
         }
-        let finite = || (blocks.iter()).all(|b| b.values.iter().all(|v| v.is_finite()));
         if !blocks.is_empty()
-            && finite()
+            && coupling_finite(blocks)
             && let Some(separated) = self.separated_lu()
             && separated.factorize_sum(sum, blocks).is_ok()
         {

@@ -410,6 +410,12 @@ fn backward_with<F: Arith>(part: SolvePart, separator: &[[f64; B]]) {
     }
 }
 
+/// The node (block) of unknown `j`, node k's unknowns being `starts[k]` …
+/// `starts[k + 1] − 1`.
+fn node_of(starts: &[usize], j: usize) -> usize {
+    starts.partition_point(|&s| s <= j) - 1
+}
+
 /// The groups of `segments` of `m` nodes: all of them, or those before and
 /// after the `cut` node, with their nodes.
 fn groups(
@@ -469,11 +475,6 @@ impl SeparatedLu {
         self.starts.len() - 1
     }
 
-    /// The node (block) of unknown `j`.
-    fn node_of(&self, j: usize) -> usize {
-        self.starts.partition_point(|&s| s <= j) - 1
-    }
-
     /// Factor the pattern's matrix `values` plus `coupling`.
     pub fn factorize(
         &mut self,
@@ -507,7 +508,7 @@ impl SeparatedLu {
         let mut separator: Vec<usize> = coupling
             .iter()
             .flat_map(|b| b.rows.iter().chain(&b.cols).flatten())
-            .map(|&j| self.node_of(j))
+            .map(|&j| node_of(&self.starts, j))
             .collect();
         separator.sort_unstable();
         separator.dedup();
@@ -567,11 +568,11 @@ impl SeparatedLu {
         for b in coupling {
             for (r, row) in b.rows.iter().enumerate() {
                 let Some(row) = *row else { continue };
-                let kr = starts.partition_point(|&s| s <= row) - 1;
+                let kr = node_of(starts, row);
                 let ir = separator.binary_search(&kr).expect("a separator node");
                 for (c, col) in b.cols.iter().enumerate() {
                     let Some(col) = *col else { continue };
-                    let kc = starts.partition_point(|&s| s <= col) - 1;
+                    let kc = node_of(starts, col);
                     let ic = separator.binary_search(&kc).expect("a separator node");
                     dense[(B * ir + row - starts[kr], B * ic + col - starts[kc])] +=
                         b.values[r * 24 + c];

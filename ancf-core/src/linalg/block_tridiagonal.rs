@@ -17,6 +17,10 @@
 //! independent, where the band solve was a chain of single unknowns.
 //! Blocks are stored padded to 12 × 12 (a pinned node has 9 unknowns; its
 //! padding is the identity), so the kernels have fixed sizes.
+//! The elimination runs on the transposes of these recurrences, which is
+//! what the solves keep (their products go column by column) and how the
+//! compressed columns load (a column's part of a block is one run of
+//! slots); every entry is the same sum in the same order as untransposed.
 //!
 //! From [`TWIST_MIN_NODES`] nodes on, the elimination runs from both ends
 //! towards the middle node t (a "twisted" factorization): the top chain as
@@ -129,14 +133,15 @@ pub struct BlockTridiagonalLu {
     /// `node_values[k + 1] − 1` (compressed columns: one window).
     node_values: Vec<usize>,
     /// For every value slot, its place among the three blocks of its
-    /// column node k, [Uₖ₋₁, Dₖ, Lₖ] row-major one after the other (0 …
-    /// 431): the factorization reads the values front to back and
-    /// scatters them into three blocks on the stack. (Read in the blocks'
-    /// order instead, every value was a cache line of its own: the loads
-    /// missed.)
+    /// column node k, transposed, [Uₖ₋₁ᵀ, Dₖᵀ, Lₖᵀ] row-major one after
+    /// the other (0 … 431): the factorization reads the values front to
+    /// back into three blocks on the stack. Transposed, a column's part in
+    /// one block is a contiguous run. (Read in the blocks' order instead,
+    /// every value was a cache line of its own: the loads missed.)
     places: Vec<u16>,
-    /// Whether node k's columns fill its blocks (all but the nodes at a
-    /// support or beside a gap between two beams): they are then
+    /// Whether node k's columns fill its blocks in runs of twelve slots to
+    /// twelve places (all but the nodes at a support or beside a gap
+    /// between two beams): they are then copied run by run and
     /// overwritten whole, with no clearing.
     full: Vec<bool>,
     /// The matrix by blocks, for [`Self::load`] only (empty until then):
@@ -199,13 +204,15 @@ impl BlockTridiagonalLu {
                 1 => 2,
                 _ => return None,
             };
-            places[v] = (block * B * B + lr * B + lc) as u16;
+            places[v] = (block * B * B + lc * B + lr) as u16;
         }
         let node_values: Vec<usize> = starts.iter().map(|&c| col_ptr[c]).collect();
         let full = (0..m)
             .map(|k| {
                 let blocks = 1 + usize::from(k > 0) + usize::from(k + 1 < m);
-                node_values[k + 1] - node_values[k] == blocks * B * B
+                let node = &places[node_values[k]..node_values[k + 1]];
+                node.len() == blocks * B * B
+                    && (node.chunks(B)).all(|run| run.iter().zip(run[0]..).all(|(&p, q)| p == q))
             })
             .collect();
         Some(BlockTridiagonalLu {
@@ -274,9 +281,9 @@ impl BlockTridiagonalLu {
     /// The matrix with slot values `values` (an array over the pattern,
     /// or a [`ValueSum`] never formed) by blocks, padded (a node's missing
     /// unknowns have the identity): the diagonal blocks Dₖ, the upper
-    /// Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎; `None` when a value is
-    /// not finite. From [`TWIST_MIN_NODES`] nodes on, in two halves on two
-    /// threads.
+    /// Uₖ = A₍ₖ,ₖ₊₁₎ and the lower Lₖ = A₍ₖ₊₁,ₖ₎ (untransposed, for the
+    /// separated LU); `None` when a value is not finite. From
+    /// [`TWIST_MIN_NODES`] nodes on, in two halves on two threads.
     #[allow(clippy::type_complexity)]
     pub(crate) fn load<V: SlotValues + ?Sized + Sync>(
         &mut self,
@@ -303,12 +310,12 @@ impl BlockTridiagonalLu {
             let mut finite = true;
             for k in nodes {
                 finite &= load_node(lu, k, values, &mut columns);
-                diag[k - first] = columns[1];
+                transpose(&columns[1], &mut diag[k - first]);
                 if k > 0 {
-                    upper[k - first.max(1)] = columns[0];
+                    transpose(&columns[0], &mut upper[k - first.max(1)]);
                 }
                 if k + 1 < m {
-                    lower[k - first] = columns[2];
+                    transpose(&columns[2], &mut lower[k - first]);
                 }
             }
             finite
@@ -331,10 +338,10 @@ enum Source<'a> {
 }
 
 /// Node k's columns of the matrix with slot values `values` into its
-/// three blocks [Uₖ₋₁, Dₖ, Lₖ] (`out`, written over), padded: a node's
-/// missing unknowns have the identity on Dₖ; entries outside the pattern
-/// are zero (Uₖ₋₁ of the first node and Lₖ of the last are left as they
-/// were). False when a value is not finite.
+/// three blocks, transposed, [Uₖ₋₁ᵀ, Dₖᵀ, Lₖᵀ] (`out`, written over),
+/// padded: a node's missing unknowns have the identity on Dₖ; entries
+/// outside the pattern are zero (Uₖ₋₁ of the first node and Lₖ of the last
+/// are left as they were). False when a value is not finite.
 #[inline(always)]
 fn load_node<V: SlotValues + ?Sized>(
     lu: &BlockTridiagonalLu,
@@ -351,7 +358,15 @@ fn load_node<V: SlotValues + ?Sized>(
     }
     let places = &lu.places[slots.clone()];
     let out = out.as_flattened_mut().as_flattened_mut();
-    values.scatter(slots, places, out);
+    if lu.full[k] {
+        for (start, run) in slots.step_by(B).zip(places.chunks(B)) {
+            let at = usize::from(run[0]);
+            let run: &mut [f64; B] = (&mut out[at..at + B]).try_into().expect("a run of B");
+            values.copy_run(start, run);
+        }
+    } else {
+        values.scatter(slots, places, out);
+    }
     // The blocks not written keep finite values: the padding's, or those
     // of a node loaded and checked before.
     all_finite(out)
@@ -405,6 +420,16 @@ pub(crate) fn matvec_t<F: Arith, T: Stored>(at: &[[T; B]; B], x: &[f64; B]) -> [
     lo
 }
 
+/// `a` kept in t's precision (each entry rounded once), written over t.
+#[inline(always)]
+fn keep<T: Stored>(a: &Block, t: &mut [[T; B]; B]) {
+    for (a, t) in a.iter().zip(t.iter_mut()) {
+        for (a, t) in a.iter().zip(t.iter_mut()) {
+            *t = T::store(*a);
+        }
+    }
+}
+
 /// t = aᵀ, written over t (each entry rounded to t's precision).
 #[inline(always)]
 pub(crate) fn transpose<T: Stored>(a: &Block, t: &mut [[T; B]; B]) {
@@ -415,55 +440,115 @@ pub(crate) fn transpose<T: Stored>(a: &Block, t: &mut [[T; B]; B]) {
     }
 }
 
-/// The inverse of `s`, written over `inv`, by Gauss–Jordan elimination
-/// with partial pivoting, on the augmented rows [s | I] (one 24-wide row
-/// operation per elimination instead of two 12-wide ones; the same
-/// operations).
+/// Row `c`: ones but for a zero at column c ([`invert_transposed`]'s
+/// pivot position).
+const KEEP: Block = {
+    let mut t = [[1.0; B]; B];
+    let mut c = 0;
+    while c < B {
+        t[c][c] = 0.0;
+        c += 1;
+    }
+    t
+};
+
+/// Row `c`: the unit row e_c (the identity's).
+const UNIT: Block = {
+    let mut t = ZERO;
+    let mut c = 0;
+    while c < B {
+        t[c][c] = 1.0;
+        c += 1;
+    }
+    t
+};
+
+/// The inverse of `s`, written over `inv` ([`invert_transposed`] on sᵀ;
+/// for the separated LU, which eliminates untransposed blocks).
 #[inline(always)]
 pub(crate) fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), SingularBlock> {
-    let mut m = [[0.0f64; 2 * B]; B];
-    for (i, row) in m.iter_mut().enumerate() {
-        row[..B].copy_from_slice(&s[i]);
-        row[B + i] = 1.0;
-    }
-    // max |s_ij| in twelve running maxima, one per column (the maximum is
-    // exact in any order; one running maximum waited on each compare).
+    let (mut st, mut inv_t) = (ZERO, ZERO);
+    transpose(s, &mut st);
+    invert_transposed::<F>(&st, &mut inv_t)?;
+    transpose(&inv_t, inv);
+    Ok(())
+}
+
+/// (S⁻¹)ᵀ from `st` = Sᵀ, written over `inv_t`: Gauss–Jordan elimination
+/// of S with partial pivoting (rows of S), carried out on Sᵀ, whose rows
+/// are S's columns. Each row operation on S, row r −= S₍ᵣ,c₎ · (pivot row),
+/// is on Sᵀ one multiply-add of every row i by its own scalar (S's scaled
+/// pivot-row entry, Sᵀ₍ᵢ,c₎ / pivot) with the same vector of multipliers
+/// (Sᵀ's row c): twelve-wide, in place, each entry the same operation on
+/// the same values as [S | I] reduced to [I | S⁻¹] (the column a pivot
+/// clears holds from then on the column of the inverse that the identity's
+/// column of the pivot row becomes; that form is half zeros and ones).
+/// Row swaps of S are column swaps of Sᵀ, and, undone last in reverse
+/// order, row swaps of (S⁻¹)ᵀ.
+#[inline(always)]
+pub(crate) fn invert_transposed<F: Arith>(
+    st: &Block,
+    inv_t: &mut Block,
+) -> Result<(), SingularBlock> {
+    let m = inv_t;
+    *m = *st;
+    // max |s_ij| in twelve running maxima (the maximum is exact in any
+    // order; one running maximum waited on each compare).
     let mut column_max = [0.0f64; B];
-    for row in s {
+    for row in st {
         for (m, v) in column_max.iter_mut().zip(row) {
             *m = m.max(v.abs());
         }
     }
     let scale = column_max.iter().fold(0.0f64, |m, v| m.max(*v));
+    let mut pivot_rows = [0usize; B];
     for col in 0..B {
+        // S's column `col` is Sᵀ's row.
         let pivot_row = (col..B)
-            .max_by(|&p, &q| m[p][col].abs().total_cmp(&m[q][col].abs()))
+            .max_by(|&p, &q| m[col][p].abs().total_cmp(&m[col][q].abs()))
             .unwrap_or(col);
-        let pivot = m[pivot_row][col];
+        let pivot = m[col][pivot_row];
         if !pivot.is_finite() || pivot.abs() <= 1e-14 * scale {
             return Err(SingularBlock);
         }
-        // (Only when needed: a row swapped with itself was a 24-wide load
-        // and store that waited on the elimination's stores, perf.)
         if pivot_row != col {
-            m.swap(col, pivot_row);
+            for row in m.iter_mut() {
+                row.swap(col, pivot_row);
+            }
         }
+        pivot_rows[col] = pivot_row;
         let p = 1.0 / pivot;
-        for x in m[col].iter_mut() {
-            *x *= p;
+        // The negated multipliers −S₍ᵣ,c₎ (Sᵀ's row c before it is
+        // cleared), and 1 at r = c, where the pivot row's entry s is kept:
+        // 1 · s + 0. (Tables, not a branch on r: that turned the rows
+        // scalar, and a store into the row before its vector load stalled.)
+        let mut neg_f = [0.0; B];
+        for (((n, f), k), u) in neg_f
+            .iter_mut()
+            .zip(&m[col])
+            .zip(&KEEP[col])
+            .zip(&UNIT[col])
+        {
+            *n = u - f * k;
         }
-        let pr = m[col];
-        for (r, row) in m.iter_mut().enumerate() {
-            if r != col {
-                let f = row[col];
-                for (x, y) in row.iter_mut().zip(&pr) {
-                    *x = F::mul_add(-f, *y, *x);
-                }
+        for (i, row) in m.iter_mut().enumerate() {
+            // S's pivot row, scaled: its entry i (the identity's 1 at
+            // i = c), and the cleared column (i = c) starting from 0.
+            let (s, keep) = if i == col {
+                (p, &[0.0; B])
+            } else {
+                (row[col] * p, &KEEP[col])
+            };
+            for ((x, n), k) in row.iter_mut().zip(&neg_f).zip(keep) {
+                *x = F::mul_add(*n, s, *x * k);
             }
         }
     }
-    for (i, row) in inv.iter_mut().enumerate() {
-        row.copy_from_slice(&m[i][B..]);
+    for col in (0..B).rev() {
+        let p = pivot_rows[col];
+        if p != col {
+            m.swap(col, p);
+        }
     }
     Ok(())
 }
@@ -570,8 +655,11 @@ fn eliminate_with<F: Arith>(
 ///
 /// Each node keeps its inverse and its gain towards the meeting node, and
 /// the node eliminated before it its coupling to this one (for the
-/// backward pass). Returns the last gain (Gₜ₋₁ or Hₜ₊₁) unrounded, for the
-/// meeting node.
+/// backward pass). The recurrence runs on the transposes, which are what
+/// the solves keep and what loads in runs: Sₖᵀ = Dₖᵀ − Uₖ₋₁ᵀ Gₖ₋₁ᵀ,
+/// Gₖᵀ = Sₖ⁻ᵀ Lₖᵀ, each entry the same sum in the same order as
+/// untransposed. Returns the last gain's transpose (Gₜ₋₁ᵀ or Hₜ₊₁ᵀ)
+/// unrounded, for the meeting node.
 #[inline(always)]
 fn eliminate_chain<F: Arith, V: SlotValues + ?Sized, T: Stored>(
     lu: &BlockTridiagonalLu,
@@ -592,16 +680,16 @@ fn eliminate_chain<F: Arith, V: SlotValues + ?Sized, T: Stored>(
             (&*upper, &*lower)
         };
         if let Some(p) = previous {
-            // Sₖ = Dₖ − Gₖ₋₁ Uₖ₋₁ (`gain` is the previous node's here).
-            sub_product::<F>(s, &gain, incoming);
-            transpose(incoming, &mut chain.upper_t[p - chain.first]);
+            // Sₖᵀ = Dₖᵀ − Uₖ₋₁ᵀ Gₖ₋₁ᵀ (`gain` is the previous node's here).
+            sub_product::<F>(s, incoming, &gain);
+            keep(incoming, &mut chain.upper_t[p - chain.first]);
         }
         // Results written in place: returned by value, each 1152-byte
         // block was a memcpy more.
-        invert::<F>(s, &mut inverse)?;
-        transpose(&inverse, &mut chain.inverse_t[k - chain.first]);
-        product::<F>(outgoing, &inverse, &mut gain);
-        transpose(&gain, &mut chain.gain_t[k - chain.first]);
+        invert_transposed::<F>(s, &mut inverse)?;
+        keep(&inverse, &mut chain.inverse_t[k - chain.first]);
+        product::<F>(&inverse, outgoing, &mut gain);
+        keep(&gain, &mut chain.gain_t[k - chain.first]);
         previous = Some(k);
     }
     Ok(gain)
@@ -619,8 +707,9 @@ enum MeetOut<'a> {
 }
 
 /// The meeting node t: Sₜ = Dₜ − Gₜ₋₁ Uₜ₋₁ − Hₜ₊₁ Lₜ, inverted, with
-/// the gains of the two chains' last nodes (`gains`, None for an empty
-/// chain). `out` is [Sₜ⁻¹ᵀ, slot of Uₜ₋₁ᵀ, slot of Lₜᵀ].
+/// the gains of the two chains' last nodes (`gains`, transposed, None for
+/// an empty chain), on the transposes as the chains. `out` is [Sₜ⁻¹ᵀ,
+/// slot of Uₜ₋₁ᵀ, slot of Lₜᵀ].
 #[inline(always)]
 fn meet_with<F: Arith>(
     lu: &BlockTridiagonalLu,
@@ -638,13 +727,13 @@ fn meet_with<F: Arith>(
     }
     let [upper, s, lower] = &mut columns;
     if let Some(g) = gains[0] {
-        sub_product::<F>(s, g, upper);
+        sub_product::<F>(s, upper, g);
     }
     if let Some(h) = gains[1] {
-        sub_product::<F>(s, h, lower);
+        sub_product::<F>(s, lower, h);
     }
     let mut inverse = ZERO;
-    invert::<F>(s, &mut inverse)?;
+    invert_transposed::<F>(s, &mut inverse)?;
     match out {
         MeetOut::Double([inv, u, l]) => store_meet(&inverse, upper, lower, [inv, u, l]),
         MeetOut::Single([inv, u, l]) => store_meet(&inverse, upper, lower, [inv, u, l]),
@@ -652,6 +741,7 @@ fn meet_with<F: Arith>(
     Ok(())
 }
 
+/// The meeting node's kept blocks (all three transposed already).
 #[inline(always)]
 fn store_meet<T: Stored>(
     inverse: &Block,
@@ -660,13 +750,13 @@ fn store_meet<T: Stored>(
     [inv, u, l]: [Option<&mut [[T; B]; B]>; 3],
 ) {
     if let Some(inv) = inv {
-        transpose(inverse, inv);
+        keep(inverse, inv);
     }
     if let Some(u) = u {
-        transpose(upper, u);
+        keep(upper, u);
     }
     if let Some(l) = l {
-        transpose(lower, l);
+        keep(lower, l);
     }
 }
 
@@ -1048,6 +1138,93 @@ mod tests {
             Precision::Double => bits(&lu.double, f64::to_bits),
             Precision::Single => bits(&lu.single, |v| u64::from(v.to_bits())),
         }
+    }
+
+    /// [S | I] reduced to [I | S⁻¹], the textbook form of [`invert`].
+    fn invert_augmented(s: &Block) -> Option<Block> {
+        let mut m = [[0.0f64; 2 * B]; B];
+        for (i, row) in m.iter_mut().enumerate() {
+            row[..B].copy_from_slice(&s[i]);
+            row[B + i] = 1.0;
+        }
+        let scale = s.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for col in 0..B {
+            let pivot_row = (col..B)
+                .max_by(|&p, &q| m[p][col].abs().total_cmp(&m[q][col].abs()))
+                .unwrap_or(col);
+            let pivot = m[pivot_row][col];
+            if !pivot.is_finite() || pivot.abs() <= 1e-14 * scale {
+                return None;
+            }
+            m.swap(col, pivot_row);
+            let p = 1.0 / pivot;
+            m[col].iter_mut().for_each(|x| *x *= p);
+            let pr = m[col];
+            for (r, row) in m.iter_mut().enumerate() {
+                if r != col {
+                    let f = row[col];
+                    row.iter_mut()
+                        .zip(&pr)
+                        .for_each(|(x, y)| *x = (-f).mul_add(*y, *x));
+                }
+            }
+        }
+        let mut inv = ZERO;
+        for (i, row) in inv.iter_mut().enumerate() {
+            row.copy_from_slice(&m[i][B..]);
+        }
+        Some(inv)
+    }
+
+    #[test]
+    fn inverts_in_place_as_the_augmented_reduction_does() {
+        use crate::math::simd::Fused;
+        let mut pivoted = 0;
+        for seed in 0..200u64 {
+            // Entries in [−1, 1) from a linear congruential sequence; every
+            // fourth matrix with a weak diagonal, so that rows are swapped.
+            let mut state = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let mut next = || {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            };
+            let mut s = ZERO;
+            for i in 0..B {
+                for j in 0..B {
+                    s[i][j] = next();
+                }
+                if seed % 4 != 0 {
+                    s[i][i] += 6.0;
+                }
+            }
+            let expected = invert_augmented(&s).expect("regular");
+            let mut inv = ZERO;
+            invert::<Fused>(&s, &mut inv).expect("regular");
+            // Equal values (a zero's sign may differ: the augmented form
+            // scales zeros by negative pivots).
+            assert_eq!(inv, expected, "seed {seed}");
+            for i in 0..B {
+                for j in 0..B {
+                    let sij: f64 = (0..B).map(|k| s[i][k] * inv[k][j]).sum();
+                    let delta = if i == j { 1.0 } else { 0.0 };
+                    assert!(
+                        (sij - delta).abs() < 1e-12,
+                        "seed {seed}: (S S⁻¹)[{i}][{j}] = {sij}"
+                    );
+                }
+            }
+            pivoted += usize::from(
+                (0..B).any(|c| s[c][c].abs() < s.iter().map(|r| r[c].abs()).fold(0.0, f64::max)),
+            );
+        }
+        assert!(pivoted > 20, "only {pivoted} matrices needed row swaps");
+        let mut singular = ZERO;
+        singular[3][3] = 1.0;
+        assert!(invert::<Fused>(&singular, &mut ZERO.clone()).is_err());
     }
 
     #[test]

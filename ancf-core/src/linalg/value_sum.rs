@@ -29,6 +29,11 @@ pub trait SlotValues {
     /// [`all_finite`]: a test per value took a quarter of the block LU's
     /// loading, perf.)
     fn scatter(&self, slots: Range<usize>, places: &[u16], out: &mut [f64]);
+
+    /// The values of the slots from `start` on, in order, written over
+    /// `out`: a run of slots to a run of places, the block LU's column of
+    /// a block (of fixed length, so that the loop is unrolled).
+    fn copy_run<const N: usize>(&self, start: usize, out: &mut [f64; N]);
 }
 
 /// Whether every value is finite: exponent bits tested on all of them
@@ -55,6 +60,11 @@ impl SlotValues for [f64] {
     fn scatter(&self, slots: Range<usize>, places: &[u16], out: &mut [f64]) {
         scatter(self[slots].iter().copied(), places, out)
     }
+
+    #[inline(always)]
+    fn copy_run<const N: usize>(&self, start: usize, out: &mut [f64; N]) {
+        out.copy_from_slice(&self[start..start + N]);
+    }
 }
 
 impl SlotValues for ValueSum<'_> {
@@ -80,6 +90,34 @@ impl SlotValues for ValueSum<'_> {
         scatter(two(slots.start..lo), before, out);
         scatter(three, within, out);
         scatter(two(hi..slots.end), after, out);
+    }
+
+    /// The same operations as [`SlotValues::scatter`], written in order.
+    #[inline(always)]
+    fn copy_run<const N: usize>(&self, start: usize, out: &mut [f64; N]) {
+        let [w0, w1, w2] = self.weights;
+        let part = |p: &[f64]| -> [f64; N] { p[start..start + N].try_into().expect("N slots") };
+        let (x, y) = (part(self.parts[0]), part(self.parts[1]));
+        let third = &self.third_slots;
+        if start + N <= third.start || third.end <= start {
+            for i in 0..N {
+                out[i] = w0 * x[i] + w1 * y[i];
+            }
+        } else if third.start <= start && start + N <= third.end {
+            let z = part(self.parts[2]);
+            for i in 0..N {
+                out[i] = (w0 * x[i] + w1 * y[i]) + w2 * z[i];
+            }
+        } else {
+            for i in 0..N {
+                let two = w0 * x[i] + w1 * y[i];
+                out[i] = if third.contains(&(start + i)) {
+                    two + w2 * self.parts[2][start + i]
+                } else {
+                    two
+                };
+            }
+        }
     }
 }
 

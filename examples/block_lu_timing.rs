@@ -8,30 +8,16 @@
 //! one solve's bits (equal hashes: the same arithmetic).
 //! Run: `cargo run --release --example block_lu_timing [elements] [factorizations per batch]`
 
-use ancf::bench::pendulum;
-use ancf_core::forces::assembly::{assemble, mass_values, pattern};
-use ancf_core::linalg::block_tridiagonal::{BlockTridiagonalLu, Precision};
-use ancf_core::linalg::value_sum::ValueSum;
+use ancf::bench::{newton_parts, newton_sum, pendulum};
+use ancf_core::linalg::block_tridiagonal::Precision;
 
 fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(1000);
     let reps: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(100);
     let model = pendulum(n);
-    let pattern = pattern(&model);
-    // K at the reference stretched by 1 %, h = 1e-4 s, ρ∞ = 1.
-    let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
-    let mut k = pattern.zeros();
-    assemble(&model, &pattern, &q, Some(&mut k));
-    let mass = mass_values(&model, &pattern);
-    let sum = ValueSum {
-        parts: [&mass, &k, &k],
-        weights: [0.5, 0.5 * 0.25 * 1e-8, 0.0],
-        third_slots: 0..0,
-    };
-    let sym = pattern.symbolic.as_ref();
-    let mut lu = BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
-        .expect("a wire's matrix has node blocks");
+    let (mass, k, mut lu) = newton_parts(&model);
+    let sum = newton_sum(&mass, &k);
     let mut other = vec![0.0f64; 8 << 20];
     let mut best = [f64::INFINITY; 2];
     for _ in 0..7 {
@@ -52,7 +38,9 @@ fn main() {
     std::hint::black_box(&other);
     let mut x: Vec<f64> = (0..model.n_unknowns).map(|i| (i as f64).sin()).collect();
     lu.solve_in_place(&mut x);
-    let hash = x.iter().fold(0u64, |h, v| h.wrapping_mul(31).wrapping_add(v.to_bits()));
+    let hash = x
+        .iter()
+        .fold(0u64, |h, v| h.wrapping_mul(31).wrapping_add(v.to_bits()));
     let [warm, cold] = best;
     println!(
         "{n} elements: factorization {warm:.1} µs warm, {cold:.1} µs cold (best of 7 batches of {reps}); solution bits {hash:016x}"

@@ -106,29 +106,48 @@ pub fn assembly_us(model: &Model) -> f64 {
     })
 }
 
-/// Time (µs) to factor, and to solve with, the block-tridiagonal LU of the
-/// dynamic Newton matrix (1 − α_m) M + (1 − α_f) β h² K of `model` (ρ∞ = 1,
-/// h = 1e-4 s, K at the reference stretched by 1 %): what a modified-Newton
-/// refresh (the sum read from M and K where each block is loaded) and each
-/// iteration of the impact scene's solver do (kept in single precision, as
-/// modified Newton keeps it).
-pub fn block_lu_us(model: &Model) -> (f64, f64) {
+/// The parts of the dynamic Newton matrix (1 − α_m) M + (1 − α_f) β h² K
+/// of `model` (ρ∞ = 1, h = 1e-4 s, K at the reference stretched by 1 %),
+/// M's and K's values over the pattern (see [`newton_sum`]), and a block
+/// LU for it: what a modified-Newton refresh of the impact scene factors.
+pub fn newton_parts(
+    model: &Model,
+) -> (
+    Vec<f64>,
+    Vec<f64>,
+    ancf_core::linalg::block_tridiagonal::BlockTridiagonalLu,
+) {
     use ancf_core::forces::assembly::{assemble, mass_values, pattern};
-    use ancf_core::linalg::block_tridiagonal::{BlockTridiagonalLu, Precision};
-    use ancf_core::linalg::value_sum::ValueSum;
+    use ancf_core::linalg::block_tridiagonal::BlockTridiagonalLu;
     let pattern = pattern(model);
     let q: Vec<f64> = model.reference.iter().map(|x| 1.01 * x).collect();
     let mut k = pattern.zeros();
     assemble(model, &pattern, &q, Some(&mut k));
     let mass = mass_values(model, &pattern);
-    let sum = ValueSum {
-        parts: [&mass, &k, &k],
+    let sym = pattern.symbolic.as_ref();
+    let lu = BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
+        .expect("a wire's matrix has node blocks");
+    (mass, k, lu)
+}
+
+/// The Newton matrix of [`newton_parts`] as the sum its factorization reads.
+pub fn newton_sum<'a>(mass: &'a [f64], k: &'a [f64]) -> ancf_core::linalg::value_sum::ValueSum<'a> {
+    ancf_core::linalg::value_sum::ValueSum {
+        parts: [mass, k, k],
         weights: [0.5, 0.5 * 0.25 * 1e-8, 0.0],
         third_slots: 0..0,
-    };
-    let sym = pattern.symbolic.as_ref();
-    let mut lu = BlockTridiagonalLu::new(sym.nrows(), sym.col_ptr(), sym.row_idx())
-        .expect("a wire's matrix has node blocks");
+    }
+}
+
+/// Time (µs) to factor, and to solve with, the block-tridiagonal LU of
+/// [`newton_parts`] (the sum read from M and K where each block is
+/// loaded, as a modified-Newton refresh does; each solve as an iteration
+/// of the impact scene's solver; kept in single precision, as modified
+/// Newton keeps it).
+pub fn block_lu_us(model: &Model) -> (f64, f64) {
+    use ancf_core::linalg::block_tridiagonal::Precision;
+    let (mass, k, mut lu) = newton_parts(model);
+    let sum = newton_sum(&mass, &k);
     let factor = time_us(|| {
         lu.factorize_sum(std::hint::black_box(&sum), Precision::Single)
             .expect("a mass-dominated matrix is regular");

@@ -483,6 +483,13 @@ pub fn mass_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
 pub struct ContactForces {
     /// Generalized contact force, full coordinates (N).
     pub force: Vec<f64>,
+    /// The nodes whose rows of `force` this evaluation added to
+    /// (increasing, each once); every other row is zero. A wire touches
+    /// the rods and members over a few elements of its thousand: adding
+    /// the force to the internal force, and clearing it for the next
+    /// evaluation, over these rows only took two passes over the whole
+    /// vector off each force evaluation.
+    pub force_nodes: Vec<usize>,
     /// Summed over rods.
     pub total: crate::forces::contact::ContactSample,
     /// Resultant contact force (normal + friction) the wire puts on each
@@ -536,10 +543,16 @@ impl ContactForces {
         {
             self.deepest = Some((el, dp));
         }
+        self.add_element_force(el, qe);
+    }
+
+    /// `qe` added to element `el`'s rows of the force.
+    fn add_element_force(&mut self, el: usize, qe: &[f64; 24]) {
         let base = NODE_DOFS * el;
         for i in 0..24 {
             self.force[base + i] += qe[i];
         }
+        self.force_nodes.extend([el, el + 1]);
     }
 }
 
@@ -563,7 +576,7 @@ pub fn assemble_contact(
         &[],
         None,
         (jac_q, jac_v, None),
-        Vec::new(),
+        Default::default(),
     )
 }
 
@@ -575,8 +588,10 @@ pub type ContactJacobians<'a> = (
     Option<&'a mut crate::forces::coupling::Coupling>,
 );
 
-/// [`assemble_contact`] whose force vector reuses `force`'s allocation (a
-/// Newton loop hands back the previous iteration's), within the contact
+/// [`assemble_contact`] whose force vector reuses the allocation of
+/// `buffer`, a force and its nonzero nodes (see
+/// [`ContactForces::force_nodes`]; a Newton loop hands back the previous
+/// iteration's, and only those rows are cleared), within the contact
 /// events `events` (per (element, partner) pair, the approach speed in m/s
 /// at which the pair's contact began, 0 = none; empty = no events: contact
 /// damping acts only within an event, see [`crate::solve::dynamics::State`]),
@@ -594,16 +609,25 @@ pub fn assemble_contact_reusing(
     events: &[f64],
     pairs: Option<&[usize]>,
     jacobians: ContactJacobians<'_>,
-    mut force: Vec<f64>,
+    buffer: (Vec<f64>, Vec<usize>),
 ) -> ContactForces {
     let (mut jac_q, mut jac_v, mut coupling) = jacobians;
     if let Some(c) = coupling.as_deref_mut() {
         c.clear();
     }
-    force.clear();
-    force.resize(q.len(), 0.0);
+    let (mut force, mut force_nodes) = buffer;
+    if force.len() == q.len() {
+        for &n in &force_nodes {
+            force[NODE_DOFS * n..NODE_DOFS * (n + 1)].fill(0.0);
+        }
+    } else {
+        force.clear();
+        force.resize(q.len(), 0.0);
+    }
+    force_nodes.clear();
     let mut out = ContactForces {
         force,
+        force_nodes,
         rod_forces: vec![[0.0; 3]; contact.rods.len()],
         member_forces: vec![[0.0; 3]; contact.members.len()],
         touching: if contact.damped {
@@ -659,10 +683,7 @@ pub fn assemble_contact_reusing(
                 out.member_forces[mi][c] -= sample.force[c];
             }
             for part in &beam_out.parts {
-                let base = NODE_DOFS * part.el;
-                for i in 0..24 {
-                    out.force[base + i] += part.q[i];
-                }
+                out.add_element_force(part.el, &part.q);
             }
             if let Some(values) = jac_q.as_deref_mut() {
                 pattern.add_element(values, el, &beam_out.kq);
@@ -730,6 +751,8 @@ pub fn assemble_contact_reusing(
             out.wrote_velocity_jacobian(el);
         }
     }
+    out.force_nodes.sort_unstable();
+    out.force_nodes.dedup();
     out
 }
 

@@ -27,8 +27,8 @@ use super::contact::ContactEvaluator;
 use super::coupling::Coupling;
 use super::damping::kelvin_voigt_force;
 use crate::linalg::pattern::Pattern;
-use crate::model::Model;
 use crate::model::damping::Damping;
+use crate::model::{Model, NODE_DOFS};
 
 /// Where the forces are evaluated.
 #[derive(Clone, Copy, Debug)]
@@ -231,7 +231,9 @@ impl ForceSum {
             } else {
                 None
             };
-            let buffer = self.contact.take().map(|c| c.force).unwrap_or_default();
+            let buffer = (self.contact.take())
+                .map(|c| (c.force, c.force_nodes))
+                .unwrap_or_default();
             let rest;
             let v = match at.v {
                 Some(v) => v,
@@ -252,10 +254,12 @@ impl ForceSum {
                 (kq.as_deref_mut(), kvc, coupling),
                 buffer,
             );
-            self.internal
-                .iter_mut()
-                .zip(&cf.force)
-                .for_each(|(a, b)| *a -= b);
+            // The contact force is zero outside its nodes' rows.
+            for &n in &cf.force_nodes {
+                let rows = NODE_DOFS * n..NODE_DOFS * (n + 1);
+                let (a, b) = (&mut self.internal[rows.clone()], &cf.force[rows]);
+                a.iter_mut().zip(b).for_each(|(a, b)| *a -= b);
+            }
             self.contact = Some(cf);
         }
         let Some(v) = at.v else {
@@ -351,7 +355,7 @@ impl ForceSum {
         let strain = strain_energy(model, q) + model.spring_energy(q);
         let (gravity, loads) = model.external_potential(q);
         let contact = self.evaluator.as_ref().map_or(0.0, |c| {
-            let (events, force) = (&[], Vec::new());
+            let (events, buffer) = (&[], Default::default());
             let cf = assemble_contact_reusing(
                 model,
                 c,
@@ -361,7 +365,7 @@ impl ForceSum {
                 events,
                 pairs,
                 (None, None, None),
-                force,
+                buffer,
             );
             cf.total.energy
         });

@@ -485,10 +485,10 @@ pub struct ContactForces {
     pub force: Vec<f64>,
     /// The nodes whose rows of `force` this evaluation added to
     /// (increasing, each once); every other row is zero. A wire touches
-    /// the rods and members over a few elements of its thousand: adding
-    /// the force to the internal force, and clearing it for the next
-    /// evaluation, over these rows only took two passes over the whole
-    /// vector off each force evaluation.
+    /// the rods and members over a few elements of its thousand, so the
+    /// force is added to the internal force, and cleared for the next
+    /// evaluation, over these rows only: not two passes over the whole
+    /// vector in every force evaluation.
     pub force_nodes: Vec<usize>,
     /// Summed over rods.
     pub total: crate::forces::contact::ContactSample,

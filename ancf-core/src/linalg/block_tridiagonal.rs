@@ -520,8 +520,8 @@ pub(crate) fn invert_transposed<F: Arith>(
         let p = 1.0 / pivot;
         // The negated multipliers −S₍ᵣ,c₎ (Sᵀ's row c before it is
         // cleared), and 1 at r = c, where the pivot row's entry s is kept:
-        // 1 · s + 0. (Tables, not a branch on r: that turned the rows
-        // scalar, and a store into the row before its vector load stalled.)
+        // 1 · s + 0. (Tables, not a branch on r, which turns the rows
+        // scalar, nor a store into the row, which stalls its vector load.)
         let mut neg_f = [0.0; B];
         for (((n, f), k), u) in neg_f
             .iter_mut()

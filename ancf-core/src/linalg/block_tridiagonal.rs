@@ -463,17 +463,6 @@ const UNIT: Block = {
     t
 };
 
-/// The inverse of `s`, written over `inv` ([`invert_transposed`] on sᵀ;
-/// for the separated LU, which eliminates untransposed blocks).
-#[inline(always)]
-pub(crate) fn invert<F: Arith>(s: &Block, inv: &mut Block) -> Result<(), SingularBlock> {
-    let (mut st, mut inv_t) = (ZERO, ZERO);
-    transpose(s, &mut st);
-    invert_transposed::<F>(&st, &mut inv_t)?;
-    transpose(&inv_t, inv);
-    Ok(())
-}
-
 /// (S⁻¹)ᵀ from `st` = Sᵀ, written over `inv_t`: Gauss–Jordan elimination
 /// of S with partial pivoting (rows of S), carried out on Sᵀ, whose rows
 /// are S's columns. Each row operation on S, row r −= S₍ᵣ,c₎ · (pivot row),
@@ -1140,7 +1129,7 @@ mod tests {
         }
     }
 
-    /// [S | I] reduced to [I | S⁻¹], the textbook form of [`invert`].
+    /// [S | I] reduced to [I | S⁻¹], the textbook form of [`invert_transposed`].
     fn invert_augmented(s: &Block) -> Option<Block> {
         let mut m = [[0.0f64; 2 * B]; B];
         for (i, row) in m.iter_mut().enumerate() {
@@ -1202,8 +1191,10 @@ mod tests {
                 }
             }
             let expected = invert_augmented(&s).expect("regular");
-            let mut inv = ZERO;
-            invert::<Fused>(&s, &mut inv).expect("regular");
+            let (mut st, mut inv_t, mut inv) = (ZERO, ZERO, ZERO);
+            transpose(&s, &mut st);
+            invert_transposed::<Fused>(&st, &mut inv_t).expect("regular");
+            transpose(&inv_t, &mut inv);
             // Equal values (a zero's sign may differ: the augmented form
             // scales zeros by negative pivots).
             assert_eq!(inv, expected, "seed {seed}");
@@ -1224,7 +1215,7 @@ mod tests {
         assert!(pivoted > 20, "only {pivoted} matrices needed row swaps");
         let mut singular = ZERO;
         singular[3][3] = 1.0;
-        assert!(invert::<Fused>(&singular, &mut ZERO.clone()).is_err());
+        assert!(invert_transposed::<Fused>(&singular, &mut ZERO.clone()).is_err());
     }
 
     #[test]

@@ -38,8 +38,8 @@
 //! sizes alone, so results do not depend on the thread count.
 
 use crate::linalg::block_tridiagonal::{
-    B, Block, BlockTridiagonalLu, SingularBlock, TWIST_MIN_NODES, ZERO, invert, load_block,
-    matvec_t, product, store_block, sub_product, transpose,
+    B, Block, BlockTridiagonalLu, SingularBlock, TWIST_MIN_NODES, ZERO, invert_transposed,
+    load_block, matvec_t, product, store_block, sub_product, transpose,
 };
 use crate::linalg::coupled::CoupledBlock;
 use crate::linalg::parallel::run_tasks;
@@ -281,9 +281,12 @@ fn eliminate_segment<F: Arith>(
                 far_row = negated(&t);
             }
         }
-        invert::<F>(&s, &mut inverse)?;
+        // The inverse's transpose is what the node keeps; the inverse
+        // itself serves the products below.
         let node = &mut factors[k - offset];
-        transpose(&inverse, &mut node.inverse_t);
+        transpose(&s, &mut t);
+        invert_transposed::<F>(&t, &mut node.inverse_t)?;
+        transpose(&node.inverse_t, &mut inverse);
         if two_sided {
             product::<F>(&far_row, &inverse, &mut far_gain);
             transpose(&far_gain, &mut node.far_gain_t);

@@ -229,6 +229,7 @@ impl Integrator {
         clear_velocity_jacobian(&mut kv, self.kv_written.clone());
         let mut scratch = StepInfo::default();
         let (s, a1, h) = (&origin.state, &origin.a1, origin.h);
+        self.find_contact_candidates(s);
         self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut scratch);
         let factored = self.factor_newton_matrix(&kq, &kv, origin.clone());
         (self.kq, self.kv) = (kq, kv);
@@ -504,6 +505,22 @@ impl Integrator {
         }
     }
 
+    /// Find the contact candidates of the step from `s` (see
+    /// `contact_candidates`), unless they are already those of `s`: once a
+    /// step, before its residuals, which use them: the comparison reads
+    /// two whole coordinate vectors, which is not work for every iteration.
+    fn find_contact_candidates(&mut self, s: &State) {
+        let Some(c) = self.forces.contact_evaluator() else {
+            return;
+        };
+        let w = &mut self.work;
+        if !same_bits(&w.contact_pairs_at, &s.q) {
+            let margin = CANDIDATE_MARGIN * c.wire_radius;
+            contact_candidates(&self.model, c, &s.q, margin, &mut w.contact_pairs);
+            w.contact_pairs_at.clone_from(&s.q);
+        }
+    }
+
     /// Residual R(a₁) on the unknowns at the generalized-α midpoint, and its
     /// scale; when `jac` is given, also −∂Q/∂q (elastic and contact) into
     /// `jac.0` and −∂Q_c/∂v (friction) into `jac.1`.
@@ -538,11 +555,11 @@ impl Integrator {
         // iterate that moved farther than their margin visits all pairs.
         let pairs = match self.forces.contact_evaluator() {
             Some(c) => {
+                debug_assert!(
+                    same_bits(&w.contact_pairs_at, &s.q),
+                    "contact candidates of another state: `find_contact_candidates` first"
+                );
                 let margin = CANDIDATE_MARGIN * c.wire_radius;
-                if !same_bits(&w.contact_pairs_at, &s.q) {
-                    contact_candidates(model, c, &s.q, margin, &mut w.contact_pairs);
-                    w.contact_pairs_at.clone_from(&s.q);
-                }
                 (centerline_shift(model, &s.q, qm) <= margin).then_some(&w.contact_pairs[..])
             }
             None => None,
@@ -620,6 +637,7 @@ impl Integrator {
         let model = Arc::clone(&self.model);
         let model = &*model;
         // Predictor (see `predict`); `base` is the last accepted iterate.
+        self.find_contact_candidates(s);
         let mut a1 = predict(model, s, h, self.settings.spectral_radius);
         let mut base_a1 = a1.clone();
         let mut base_rn = f64::INFINITY;

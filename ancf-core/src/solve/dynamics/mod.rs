@@ -38,7 +38,7 @@ use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
 use vectors::{clear_velocity_jacobian, midpoint, norm, sum_of_squares};
-use workspace::{CANDIDATE_MARGIN, Workspace, same_bits};
+use workspace::{CANDIDATE_MARGIN, Workspace};
 
 /// Modified Newton refreshes a kept matrix whose iteration reduced the
 /// residual by less than this factor. A refresh (Jacobian and
@@ -461,14 +461,13 @@ impl Integrator {
             // step can also create energy away from any rod (a released end
             // whipping with 5 cm elements at h = 1 ms gained 6e13 J within 47
             // steps once the check was skipped outside contact).
-            // The step's contact candidates hold at its end too when the
-            // centerline moved less than their margin (the energy then has
-            // the same bits as over every pair, at a fraction of the
-            // broad phase: it ran over all pairs twice a step).
-            let w = &self.work;
-            let candidates = same_bits(&w.contact_pairs_at, &s.q)
-                && centerline_shift(&self.model, &s.q, &next.q) <= CANDIDATE_MARGIN * c.wire_radius;
-            let e1 = self.energies_visiting(&next, candidates.then_some(&w.contact_pairs[..]));
+            // The contact candidates hold at the step's end too when the
+            // centerline lies within their margin of where they were found
+            // (the energy then has the same bits as over every pair, at a
+            // fraction of the broad phase).
+            let candidates = self.candidates_hold(&next.q);
+            let pairs = candidates.then_some(&self.work.contact_pairs[..]);
+            let e1 = self.energies_visiting(&next, pairs);
             let scale = self.energy_scale.max(e1.in_play());
             let gain = (e1.total() + e1.dissipated) - self.energy_start;
             if !gain.is_finite() {
@@ -505,20 +504,39 @@ impl Integrator {
         }
     }
 
-    /// Find the contact candidates of the step from `s` (see
-    /// `contact_candidates`), unless they are already those of `s`: once a
-    /// step, before its residuals, which use them: the comparison reads
-    /// two whole coordinate vectors, which is not work for every iteration.
+    /// Find the contact candidates for the step from `s` (see
+    /// `contact_candidates`) unless those found earlier still hold there
+    /// with half their margin to spare: once a step, before its residuals.
+    /// A candidate set serves every configuration whose centerline lies
+    /// within its margin of where it was found, so a wire that moves
+    /// millimetres a step runs the broad phase (every element against
+    /// every partner) once in many steps, not once a step.
     fn find_contact_candidates(&mut self, s: &State) {
         let Some(c) = self.forces.contact_evaluator() else {
             return;
         };
+        let margin = CANDIDATE_MARGIN * c.wire_radius;
         let w = &mut self.work;
-        if !same_bits(&w.contact_pairs_at, &s.q) {
-            let margin = CANDIDATE_MARGIN * c.wire_radius;
+        let found_for_this_model = w.contact_pairs_at.len() == s.q.len();
+        if !(found_for_this_model
+            && centerline_shift(&self.model, &w.contact_pairs_at, &s.q) <= 0.5 * margin)
+        {
             contact_candidates(&self.model, c, &s.q, margin, &mut w.contact_pairs);
             w.contact_pairs_at.clone_from(&s.q);
         }
+    }
+
+    /// Whether the contact candidates hold at `q` (full coordinates): its
+    /// centerline lies within their margin of where they were found. Every
+    /// pair that can touch there is then among them, and visiting only
+    /// them gives the same bits as visiting every pair.
+    fn candidates_hold(&self, q: &[f64]) -> bool {
+        let Some(c) = self.forces.contact_evaluator() else {
+            return false;
+        };
+        let at = &self.work.contact_pairs_at;
+        at.len() == q.len()
+            && centerline_shift(&self.model, at, q) <= CANDIDATE_MARGIN * c.wire_radius
     }
 
     /// Residual R(a₁) on the unknowns at the generalized-α midpoint, and its
@@ -555,12 +573,10 @@ impl Integrator {
         // iterate that moved farther than their margin visits all pairs.
         let pairs = match self.forces.contact_evaluator() {
             Some(c) => {
-                debug_assert!(
-                    same_bits(&w.contact_pairs_at, &s.q),
-                    "contact candidates of another state: `find_contact_candidates` first"
-                );
                 let margin = CANDIDATE_MARGIN * c.wire_radius;
-                (centerline_shift(model, &s.q, qm) <= margin).then_some(&w.contact_pairs[..])
+                let at = &w.contact_pairs_at;
+                let hold = at.len() == qm.len() && centerline_shift(model, at, qm) <= margin;
+                hold.then_some(&w.contact_pairs[..])
             }
             None => None,
         };

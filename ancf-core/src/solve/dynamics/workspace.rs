@@ -7,9 +7,10 @@ pub(super) struct Workspace {
     pub(super) vm: Vec<f64>,
     pub(super) am: Vec<f64>,
     pub(super) ma: Vec<f64>,
-    /// The (element, rod) pairs the broad phase lets through at the step's
-    /// start with [`CANDIDATE_MARGIN`] wire radii more reach, and the start
-    /// coordinates they were found at (see `contact_candidates`).
+    /// The (element, partner) pairs the broad phase lets through with
+    /// [`CANDIDATE_MARGIN`] wire radii more reach, and the coordinates they
+    /// were found at (see `contact_candidates`); kept over the steps while
+    /// the centerline stays within that margin.
     pub(super) contact_pairs: Vec<usize>,
     pub(super) contact_pairs_at: Vec<f64>,
     /// The pairs within reach of an adaptive step (see
@@ -17,22 +18,10 @@ pub(super) struct Workspace {
     pub(super) reach_pairs: Vec<usize>,
 }
 
-/// Whether two vectors are equal bit for bit: integer compares, eight at a
-/// time without an exit inside (so they vectorize; `==` on f64 branches on
-/// NaN at every entry, `all` on every entry).
-pub(super) fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len()
-        && a.chunks(8).zip(b.chunks(8)).all(|(x, y)| {
-            x.iter()
-                .zip(y)
-                .fold(true, |same, (x, y)| same & (x.to_bits() == y.to_bits()))
-        })
-}
-
-/// How far (wire radii) the centerline may move within a step before its
-/// Newton iterations stop trusting the step's candidate contact pairs and
-/// run the whole broad phase: a step moves a falling wire by millimetres,
-/// a wire radius is centimetres.
+/// How far (wire radii) the centerline may move from where the candidate
+/// contact pairs were found before the Newton iterations stop trusting
+/// them and visit every pair: a step moves a falling wire by millimetres,
+/// a wire radius is centimetres, so one candidate set serves many steps.
 pub(super) const CANDIDATE_MARGIN: f64 = 4.0;
 
 impl Workspace {

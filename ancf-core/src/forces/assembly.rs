@@ -910,15 +910,14 @@ pub fn centerline_shift(model: &Model, a: &[f64], b: &[f64]) -> f64 {
     // The largest squares, one root each at the end: the root is
     // monotonic and correctly rounded, so this is the largest root, bit
     // for bit, without a root per node.
+    // Node by node as fixed-size arrays, so that no index is checked.
+    let n = NODE_DOFS * model.n_nodes();
+    let (a, _) = a[..n].as_chunks::<NODE_DOFS>();
+    let (b, _) = b[..n].as_chunks::<NODE_DOFS>();
     let (mut dr2, mut drx2) = (0.0f64, 0.0f64);
-    for n in 0..model.n_nodes() {
-        let base = NODE_DOFS * n;
+    for (a, b) in a.iter().zip(b) {
         let d2 = |k: usize| {
-            let v = [
-                b[base + k] - a[base + k],
-                b[base + k + 1] - a[base + k + 1],
-                b[base + k + 2] - a[base + k + 2],
-            ];
+            let v = [b[k] - a[k], b[k + 1] - a[k + 1], b[k + 2] - a[k + 2]];
             v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
         };
         dr2 = dr2.max(d2(0));

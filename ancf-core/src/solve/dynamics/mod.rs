@@ -230,7 +230,8 @@ impl Integrator {
         let mut scratch = StepInfo::default();
         let (s, a1, h) = (&origin.state, &origin.a1, origin.h);
         self.find_contact_candidates(s);
-        self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut scratch);
+        let mut r = Vec::new();
+        self.residual(s, h, a1, Some((&mut kq, &mut kv)), &mut r, &mut scratch);
         let factored = self.factor_newton_matrix(&kq, &kv, origin.clone());
         (self.kq, self.kv) = (kq, kv);
         factored
@@ -539,17 +540,19 @@ impl Integrator {
             && centerline_shift(&self.model, at, q) <= CANDIDATE_MARGIN * c.wire_radius
     }
 
-    /// Residual R(a₁) on the unknowns at the generalized-α midpoint, and its
-    /// scale; when `jac` is given, also −∂Q/∂q (elastic and contact) into
-    /// `jac.0` and −∂Q_c/∂v (friction) into `jac.1`.
+    /// Residual R(a₁) on the unknowns at the generalized-α midpoint, written
+    /// over `r`, and its scale (returned); when `jac` is given, also −∂Q/∂q
+    /// (elastic and contact) into `jac.0` and −∂Q_c/∂v (friction) into
+    /// `jac.1`. The caller keeps `r`, so that no iteration allocates it.
     fn residual(
         &mut self,
         s: &State,
         h: f64,
         a1: &[f64],
         jac: Option<(&mut [f64], &mut [f64])>,
+        r: &mut Vec<f64>,
         info: &mut StepInfo,
-    ) -> (Vec<f64>, f64) {
+    ) -> f64 {
         let params = self.params;
         let model = Arc::clone(&self.model);
         let model = &*model;
@@ -608,7 +611,7 @@ impl Integrator {
         // R, ‖M a‖ and ‖Q‖ on the unknowns, run of free coordinates after
         // run (unknowns are numbered in coordinate order, `Model::dof_map`):
         // contiguous slices, so the loops vectorize.
-        let mut r = Vec::with_capacity(model.n_unknowns);
+        r.clear();
         let (mut ma2, mut q2) = (0.0, 0.0);
         for run in model.free_coordinates() {
             let (ma, q, ext) = (&ma[run.clone()], &q[run.clone()], &ext[run.clone()]);
@@ -625,7 +628,7 @@ impl Integrator {
             info.damping_power = power;
         }
         self.work = w;
-        (r, scale)
+        scale
     }
 
     /// One generalized-α step of size h without cutting: damped Newton on
@@ -657,7 +660,9 @@ impl Integrator {
         let mut a1 = predict(model, s, h, self.settings.spectral_radius);
         let mut base_a1 = a1.clone();
         let mut base_rn = f64::INFINITY;
-        let mut da: Vec<f64> = Vec::new();
+        // The residual and the Newton direction: two buffers that trade
+        // places at every iteration.
+        let (mut r, mut da) = (Vec::new(), Vec::new());
         let mut alpha = 1.0;
         // Whether the factorization was computed at `base_a1` in this step.
         let mut fresh = false;
@@ -685,11 +690,12 @@ impl Integrator {
             if k_with_residual {
                 clear_velocity_jacobian(kv, self.kv_written.clone());
             }
-            let (r, scale) = self.residual(
+            let scale = self.residual(
                 s,
                 h,
                 &a1,
                 k_with_residual.then_some((&mut *kq, &mut *kv)),
+                &mut r,
                 info,
             );
             evaluations += 1;
@@ -768,7 +774,9 @@ impl Integrator {
                     // Full Newton: the Jacobian at this (accepted) iterate.
                     clear_velocity_jacobian(kv, self.kv_written.clone());
                     let mut scratch = StepInfo::default();
-                    self.residual(s, h, &a1, Some((&mut *kq, &mut *kv)), &mut scratch);
+                    let mut same_r = Vec::new();
+                    let jac = Some((&mut *kq, &mut *kv));
+                    self.residual(s, h, &a1, jac, &mut same_r, &mut scratch);
                 }
                 let origin = FactorizationOrigin {
                     state: s.clone(),
@@ -784,7 +792,7 @@ impl Integrator {
             }
             base_a1.copy_from_slice(&a1);
             base_rn = rn;
-            da = r;
+            std::mem::swap(&mut da, &mut r);
             let started = std::time::Instant::now();
             self.solver.solve_in_place(&mut da);
             info.solve_seconds += started.elapsed().as_secs_f64();

@@ -466,8 +466,8 @@ impl Integrator {
             // centerline lies within their margin of where they were found
             // (the energy then has the same bits as over every pair, at a
             // fraction of the broad phase).
-            let candidates = self.candidates_hold(&next.q);
-            let pairs = candidates.then_some(&self.work.contact_pairs[..]);
+            let margin = CANDIDATE_MARGIN * c.wire_radius;
+            let pairs = self.work.candidates_at(&self.model, &next.q, margin);
             let e1 = self.energies_visiting(&next, pairs);
             let scale = self.energy_scale.max(e1.in_play());
             let gain = (e1.total() + e1.dissipated) - self.energy_start;
@@ -518,26 +518,10 @@ impl Integrator {
         };
         let margin = CANDIDATE_MARGIN * c.wire_radius;
         let w = &mut self.work;
-        let found_for_this_model = w.contact_pairs_at.len() == s.q.len();
-        if !(found_for_this_model
-            && centerline_shift(&self.model, &w.contact_pairs_at, &s.q) <= 0.5 * margin)
-        {
+        if w.candidates_at(&self.model, &s.q, 0.5 * margin).is_none() {
             contact_candidates(&self.model, c, &s.q, margin, &mut w.contact_pairs);
             w.contact_pairs_at.clone_from(&s.q);
         }
-    }
-
-    /// Whether the contact candidates hold at `q` (full coordinates): its
-    /// centerline lies within their margin of where they were found. Every
-    /// pair that can touch there is then among them, and visiting only
-    /// them gives the same bits as visiting every pair.
-    fn candidates_hold(&self, q: &[f64]) -> bool {
-        let Some(c) = self.forces.contact_evaluator() else {
-            return false;
-        };
-        let at = &self.work.contact_pairs_at;
-        at.len() == q.len()
-            && centerline_shift(&self.model, at, q) <= CANDIDATE_MARGIN * c.wire_radius
     }
 
     /// Residual R(a₁) on the unknowns at the generalized-α midpoint, written
@@ -572,17 +556,11 @@ impl Integrator {
             Some((kq, kv)) => (Some(kq), Some(kv)),
             None => (None, None),
         };
-        // The step's candidate contact pairs, found once at its start; an
-        // iterate that moved farther than their margin visits all pairs.
-        let pairs = match self.forces.contact_evaluator() {
-            Some(c) => {
-                let margin = CANDIDATE_MARGIN * c.wire_radius;
-                let at = &w.contact_pairs_at;
-                let hold = at.len() == qm.len() && centerline_shift(model, at, qm) <= margin;
-                hold.then_some(&w.contact_pairs[..])
-            }
-            None => None,
-        };
+        // The contact candidates (see `find_contact_candidates`); an
+        // iterate that moved farther than their margin from where they
+        // were found visits all pairs.
+        let pairs = (self.forces.contact_evaluator())
+            .and_then(|c| w.candidates_at(model, qm, CANDIDATE_MARGIN * c.wire_radius));
         let at = At {
             q: qm,
             v: Some(vm),
@@ -661,8 +639,9 @@ impl Integrator {
         let mut base_a1 = a1.clone();
         let mut base_rn = f64::INFINITY;
         // The residual and the Newton direction: two buffers that trade
-        // places at every iteration.
-        let (mut r, mut da) = (Vec::new(), Vec::new());
+        // places at every iteration. (Full Newton evaluates the Jacobian
+        // with a residual of its own, into a third.)
+        let (mut r, mut da, mut jacobian_r) = (Vec::new(), Vec::new(), Vec::new());
         let mut alpha = 1.0;
         // Whether the factorization was computed at `base_a1` in this step.
         let mut fresh = false;
@@ -774,9 +753,8 @@ impl Integrator {
                     // Full Newton: the Jacobian at this (accepted) iterate.
                     clear_velocity_jacobian(kv, self.kv_written.clone());
                     let mut scratch = StepInfo::default();
-                    let mut same_r = Vec::new();
                     let jac = Some((&mut *kq, &mut *kv));
-                    self.residual(s, h, &a1, jac, &mut same_r, &mut scratch);
+                    self.residual(s, h, &a1, jac, &mut jacobian_r, &mut scratch);
                 }
                 let origin = FactorizationOrigin {
                     state: s.clone(),

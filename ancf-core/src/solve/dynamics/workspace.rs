@@ -1,5 +1,8 @@
 //! The residual's vectors, allocated once per integrator.
 
+use crate::forces::assembly::centerline_shift;
+use crate::model::Model;
+
 /// The residual's midpoint vectors (full coordinates), allocated once.
 #[derive(Default)]
 pub(super) struct Workspace {
@@ -25,6 +28,17 @@ pub(super) struct Workspace {
 pub(super) const CANDIDATE_MARGIN: f64 = 4.0;
 
 impl Workspace {
+    /// The contact candidates if they hold at `q` (full coordinates): its
+    /// centerline lies within `reach` (m) of where they were found
+    /// ([`centerline_shift`]). With `reach` up to their margin, every pair
+    /// that can touch at `q` is among them, and visiting only them gives
+    /// the same bits as visiting every pair.
+    pub(super) fn candidates_at(&self, model: &Model, q: &[f64], reach: f64) -> Option<&[usize]> {
+        let at = &self.contact_pairs_at;
+        let hold = at.len() == q.len() && centerline_shift(model, at, q) <= reach;
+        hold.then_some(&self.contact_pairs[..])
+    }
+
     pub(super) fn new(n: usize) -> Self {
         Workspace {
             qm: vec![0.0; n],

@@ -487,15 +487,21 @@ pub struct BenchReport {
     /// The same run's limit ratio: wall time per step over one force
     /// evaluation plus one solve (summary.json `performance`).
     pub impact_limit_ratio: f64,
+    /// The part of it the Newton method's own work takes (summary.json
+    /// `performance.newton_ratio`): the ratio with every other cost removed.
+    pub impact_newton_ratio: f64,
     /// scenes/span_break_frame.toml's limit ratio up to 0.85 s (its three
     /// first impacts), one thread.
     pub span_break_limit_ratio: f64,
+    /// Its Newton ratio.
+    pub span_break_newton_ratio: f64,
     pub threads_available: usize,
 }
 
 /// A shipped scene run to `end_time` (s; its own when `None`) without
-/// output but its summary: (simulated s per wall s, limit ratio).
-fn scene_performance(path: &str, end_time: Option<f64>) -> Result<(f64, f64), String> {
+/// output but its summary: (simulated s per wall s, limit ratio, Newton
+/// ratio).
+fn scene_performance(path: &str, end_time: Option<f64>) -> Result<(f64, f64, f64), String> {
     let mut scene = Scene::load(std::path::Path::new(path))
         .map_err(|e| format!("{path} (run from the repository root): {e}"))?;
     if let (Some(end), Analysis::Dynamic { settings, .. }) = (end_time, &mut scene.analysis) {
@@ -516,8 +522,11 @@ fn scene_performance(path: &str, end_time: Option<f64>) -> Result<(f64, f64), St
     )?;
     let wall = t.elapsed().as_secs_f64();
     let _ = std::fs::remove_dir_all(&dir);
-    let ratio = s.performance.as_ref().map_or(f64::NAN, |p| p.limit_ratio);
-    Ok((s.time / wall, ratio))
+    let (ratio, newton) = s
+        .performance
+        .as_ref()
+        .map_or((f64::NAN, f64::NAN), |p| (p.limit_ratio, p.newton_ratio));
+    Ok((s.time / wall, ratio, newton))
 }
 
 /// Run every measurement. `quick` trims the largest meshes (for tests).
@@ -608,9 +617,9 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
     let parallel_speedup_256_mooney_rivlin = paired(3, &cover_step);
     // The impact whole (0.05 s with --quick); the span break to 0.85 s,
     // past its three first impacts (0.02 s with --quick: the plumbing).
-    let (impact_realtime_factor, impact_limit_ratio) = single
+    let (impact_realtime_factor, impact_limit_ratio, impact_newton_ratio) = single
         .install(|| scene_performance("scenes/wire_rod_impact.toml", quick.then_some(0.05)))?;
-    let (_, span_break_limit_ratio) = single.install(|| {
+    let (_, span_break_limit_ratio, span_break_newton_ratio) = single.install(|| {
         scene_performance(
             "scenes/span_break_frame.toml",
             Some(if quick { 0.02 } else { 0.85 }),
@@ -652,7 +661,9 @@ pub fn run(quick: bool) -> Result<BenchReport, String> {
         parallel_speedup_256_mooney_rivlin,
         impact_realtime_factor,
         impact_limit_ratio,
+        impact_newton_ratio,
         span_break_limit_ratio,
+        span_break_newton_ratio,
         threads_available: std::thread::available_parallelism().map_or(1, |n| n.get()),
     })
 }
@@ -729,12 +740,13 @@ pub fn table(r: &BenchReport) -> String {
         r.impact_realtime_factor
     );
     s += &format!(
-        "Impact scene limit ratio (wall time per step / one force evaluation + one solve): {:.2}\n",
-        r.impact_limit_ratio
+        "Impact scene limit ratio (wall time per step / one force evaluation + one solve): {:.2} \
+         (the Newton method's own work: {:.2})\n",
+        r.impact_limit_ratio, r.impact_newton_ratio
     );
     s += &format!(
-        "Span-break scene limit ratio (to 0.85 s, its first impacts): {:.2}\n",
-        r.span_break_limit_ratio
+        "Span-break scene limit ratio (to 0.85 s, its first impacts): {:.2} (Newton: {:.2})\n",
+        r.span_break_limit_ratio, r.span_break_newton_ratio
     );
     s
 }

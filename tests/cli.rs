@@ -136,6 +136,23 @@ fn dynamic_run_writes_summary_timeseries_and_plot() {
     let ratio = us("step_us") / (us("force_us") + us("solve_us"));
     assert!((us("limit_ratio") - ratio).abs() < 1e-9 * ratio, "{p}");
     assert!(us("iterations_per_step") >= 1.0, "{p}");
+    // The Newton method's own work: every evaluation, solve, Jacobian and
+    // factorization at its mean time, a part of the whole step.
+    let per_step = |k: &str| summary[k].as_f64().unwrap() / 50.0;
+    assert!(
+        us("jacobian_us") > 0.0 && us("factorization_us") > 0.0,
+        "{p}"
+    );
+    assert!(us("evaluations_per_step") >= 1.0, "{p}");
+    let newton = us("evaluations_per_step") * us("force_us")
+        + us("iterations_per_step") * us("solve_us")
+        + per_step("factorizations") * (us("jacobian_us") + us("factorization_us"));
+    let newton_ratio = newton / (us("force_us") + us("solve_us"));
+    assert!(
+        (us("newton_ratio") - newton_ratio).abs() < 1e-9 * newton_ratio,
+        "{p}"
+    );
+    assert!(us("newton_ratio") < us("limit_ratio"), "{p}");
     assert!(!String::from_utf8_lossy(&out.stderr).contains("note:"));
     assert_eq!(summary["tip"]["position"].as_array().unwrap().len(), 3);
     assert_eq!(summary["tip"]["displacement"].as_array().unwrap().len(), 3);
@@ -376,7 +393,9 @@ fn bench_json_has_the_documented_keys() {
         "parallel_speedup_256",
         "impact_realtime_factor",
         "impact_limit_ratio",
+        "impact_newton_ratio",
         "span_break_limit_ratio",
+        "span_break_newton_ratio",
     ] {
         assert!(
             v[key].as_f64().is_some_and(|x| x > 0.0 && x.is_finite()),

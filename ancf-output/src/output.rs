@@ -126,8 +126,28 @@ pub struct PerformanceSummary {
     pub solve_us: f64,
     /// step_us / (force_us + solve_us).
     pub limit_ratio: f64,
+    /// The part of `limit_ratio` the Newton method's own work takes: the
+    /// run's force evaluations, solves, Jacobians and factorizations per
+    /// step, at their measured times, over force_us + solve_us. What the
+    /// ratio would be with every other cost (residual bookkeeping, M a,
+    /// the energy guard, the contact search, copies) removed; lowering it
+    /// takes fewer iterations or refreshes, not less overhead.
+    #[serde(default)]
+    pub newton_ratio: f64,
     /// Newton iterations per accepted step (rejected attempts' included).
     pub iterations_per_step: f64,
+    /// Force evaluations without a Jacobian per accepted step (a step that
+    /// converges with its kept matrix makes one more than its iterations:
+    /// the last shows convergence).
+    #[serde(default)]
+    pub evaluations_per_step: f64,
+    /// One force evaluation with the Jacobian (µs, the mean; 0 when the
+    /// process formed none, as a run resumed with its kept matrix may).
+    #[serde(default)]
+    pub jacobian_us: f64,
+    /// One factorization of the Newton matrix (µs, the mean; 0 when none).
+    #[serde(default)]
+    pub factorization_us: f64,
     /// Newton matrix factorizations and rejected step attempts.
     pub factorizations: usize,
     pub rejected: usize,

@@ -209,6 +209,8 @@ pub struct Cost {
     rejected: usize,
     force: (f64, usize),
     solve: (f64, usize),
+    jacobian: (f64, usize),
+    factorization: (f64, usize),
 }
 
 impl Cost {
@@ -222,23 +224,36 @@ impl Cost {
         self.force.1 += info.force_evaluations;
         self.solve.0 += info.solve_seconds;
         self.solve.1 += info.solves;
+        self.jacobian.0 += info.jacobian_seconds;
+        self.jacobian.1 += info.jacobian_evaluations;
+        self.factorization.0 += info.factorization_seconds;
+        self.factorization.1 += info.factorizations;
     }
 
     /// summary.json's `performance` (`None` before a step with a solve).
     pub fn summary(&self) -> Option<crate::output::PerformanceSummary> {
         (self.steps > 0 && self.force.1 > 0 && self.solve.1 > 0).then(|| {
-            let us = |(t, n): (f64, usize)| 1e6 * t / n as f64;
+            let us = |(t, n): (f64, usize)| if n > 0 { 1e6 * t / n as f64 } else { 0.0 };
             let (step_us, force_us, solve_us) = (
                 us((self.stepping, self.steps)),
                 us(self.force),
                 us(self.solve),
             );
+            // The Newton method's own work per step: every force evaluation,
+            // solve, Jacobian and factorization it made, at their times.
+            let newton_us = 1e6
+                * (self.force.0 + self.solve.0 + self.jacobian.0 + self.factorization.0)
+                / self.steps as f64;
             crate::output::PerformanceSummary {
                 step_us,
                 force_us,
                 solve_us,
                 limit_ratio: step_us / (force_us + solve_us),
+                newton_ratio: newton_us / (force_us + solve_us),
                 iterations_per_step: self.iterations as f64 / self.steps as f64,
+                evaluations_per_step: self.force.1 as f64 / self.steps as f64,
+                jacobian_us: us(self.jacobian),
+                factorization_us: us(self.factorization),
                 factorizations: self.factorizations,
                 rejected: self.rejected,
             }

@@ -567,14 +567,19 @@ impl Integrator {
             events: &s.contact_events,
             pairs,
         };
-        let timed = kq.is_none().then(std::time::Instant::now);
+        let with_jacobian = kq.is_some();
+        let started = std::time::Instant::now();
         let velocity_jacobian = kv.is_some() && ForceSum::velocity_dependent(model);
         self.forces.evaluate(model, at, kq, kv);
         if velocity_jacobian {
             self.kv_written = self.forces.velocity_jacobian_slots(model);
         }
-        if let Some(started) = timed {
-            info.force_seconds += started.elapsed().as_secs_f64();
+        let seconds = started.elapsed().as_secs_f64();
+        if with_jacobian {
+            info.jacobian_seconds += seconds;
+            info.jacobian_evaluations += 1;
+        } else {
+            info.force_seconds += seconds;
             info.force_evaluations += 1;
         }
         if let Some(cf) = self.forces.contact() {
@@ -755,6 +760,8 @@ impl Integrator {
                     let mut scratch = StepInfo::default();
                     let jac = Some((&mut *kq, &mut *kv));
                     self.residual(s, h, &a1, jac, &mut jacobian_r, &mut scratch);
+                    info.jacobian_seconds += scratch.jacobian_seconds;
+                    info.jacobian_evaluations += scratch.jacobian_evaluations;
                 }
                 let origin = FactorizationOrigin {
                     state: s.clone(),
@@ -762,7 +769,9 @@ impl Integrator {
                     h,
                     precision,
                 };
+                let started = std::time::Instant::now();
                 self.factor_newton_matrix(kq, kv, origin)?;
+                info.factorization_seconds += started.elapsed().as_secs_f64();
                 info.factorizations += 1;
                 fresh = true;
             } else {

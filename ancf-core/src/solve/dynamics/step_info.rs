@@ -67,6 +67,14 @@ pub struct StepInfo {
     pub solve_seconds: f64,
     /// Their number.
     pub solves: usize,
+    /// Wall time (s) of the step's force evaluations with the Jacobian
+    /// (a refresh's, or each full-Newton iteration's).
+    pub jacobian_seconds: f64,
+    /// Their number.
+    pub jacobian_evaluations: usize,
+    /// Wall time (s) of the step's factorizations of the Newton matrix
+    /// (counted in `factorizations`).
+    pub factorization_seconds: f64,
 }
 
 impl StepInfo {
@@ -78,7 +86,7 @@ impl StepInfo {
     }
 
     /// Add `other`'s work (iterations, factorizations, rejections, timed
-    /// forces and solves) to this step's.
+    /// forces, Jacobians, factorizations and solves) to this step's.
     pub fn add_work(&mut self, other: &StepInfo) {
         self.iterations += other.iterations;
         self.factorizations += other.factorizations;
@@ -88,5 +96,8 @@ impl StepInfo {
         self.force_evaluations += other.force_evaluations;
         self.solve_seconds += other.solve_seconds;
         self.solves += other.solves;
+        self.jacobian_seconds += other.jacobian_seconds;
+        self.jacobian_evaluations += other.jacobian_evaluations;
+        self.factorization_seconds += other.factorization_seconds;
     }
 }

@@ -609,15 +609,16 @@ fn one_run_per_output_folder() {
 }
 
 /// A run without rods guards its energy too: the pendulum with Newton
-/// stopped far from convergence (tolerance 0.3) gains energy, and its
-/// summary says so in `warnings` and the message; the scene as shipped
-/// does not.
+/// stopped far from convergence (tolerance 0.3) at 20 ms steps gains
+/// energy (about 5 J at every tolerance from 0.1 to 0.5; at 10 ms steps
+/// the sign of the change depends on the tolerance), and its summary says
+/// so in `warnings` and the message; the scene as shipped does not.
 #[test]
 fn a_run_that_gains_energy_says_so() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pendulum.toml");
     let text = std::fs::read_to_string(&scene).unwrap();
     let loose = text
-        .replace("time_step = 1e-3 ", "time_step = 1e-2 ")
+        .replace("time_step = 1e-3 ", "time_step = 2e-2 ")
         .replace(
             "spectral_radius = 1.0 ",
             "spectral_radius = 1.0\ntolerance = 0.3 ",

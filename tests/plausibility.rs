@@ -138,7 +138,10 @@ fn a_coarse_step_fails_under_strict() {
 }
 
 /// Many step cuts and no warning before the run: the run completes and
-/// writes its outputs, and `--strict` makes its exit code 3.
+/// writes its outputs, and `--strict` makes its exit code 3. Newton is held
+/// to 7 iterations at tolerance 1e-10, which cuts about 550 steps; with 6
+/// it cuts over 1000, and whether it then reaches the end depends on the
+/// Newton path.
 #[test]
 fn many_step_cuts_fail_under_strict() {
     let dir = tmp("cuts");
@@ -146,7 +149,7 @@ fn many_step_cuts_fail_under_strict() {
         t.replace("end_time = 1.0", "end_time = 0.4")
             .replace("elements = 64", "elements = 8")
             .replace("time_step = 1e-4", "time_step = 5e-4")
-            .replace("tolerance = 1e-4", "tolerance = 1e-10\nmax_iterations = 6")
+            .replace("tolerance = 1e-4", "tolerance = 1e-10\nmax_iterations = 7")
     });
     assert!(ancf(&["check", "--strict"], &scene).status.success());
     let out = dir.join("out");

@@ -123,6 +123,41 @@ fn zero_energy_and_force_under_rigid_motion() {
     }
 }
 
+/// The force and the tangent turn with the element: Q(R q) = T Q(q) and
+/// K(R q) = T K(q) Tᵀ, T rotating each of its eight vectors by R. Modified
+/// Newton's kept matrix relies on this when it turns with the nodes.
+#[test]
+fn force_and_tangent_turn_with_a_rigid_rotation() {
+    let mut rng = Rng::new(11);
+    for (name, section) in cases() {
+        let el = element(section, L, 3);
+        let e = deformed(&mut rng, L, 0.1);
+        let r = rotation([0.9, -0.4, 1.3]);
+        let (q, k, u) = force_jacobian(&el, &e);
+        let (qr, kr, ur) = force_jacobian(&el, &rigid_motion(&e, &r, [0.2, 0.5, -0.3]));
+        // T x for a 24-vector, and T M Tᵀ entry (i, j).
+        let t = |i: usize, j: usize| if i / 3 == j / 3 { r[i % 3][j % 3] } else { 0.0 };
+        let kn = k.iter().map(|v| v * v).sum::<f64>().sqrt();
+        for i in 0..24 {
+            let tq: f64 = (0..24).map(|j| t(i, j) * q[j]).sum();
+            assert!((qr[i] - tq).abs() < 1e-12 * kn * L, "{name}: Q row {i}");
+            for j in 0..24 {
+                let tkt: f64 = (0..24)
+                    .flat_map(|a| (0..24).map(move |b| (a, b)))
+                    .filter(|&(a, b)| a / 3 == i / 3 && b / 3 == j / 3)
+                    .map(|(a, b)| t(i, a) * k[a * 24 + b] * t(j, b))
+                    .sum();
+                assert!(
+                    (kr[i * 24 + j] - tkt).abs() < 1e-12 * kn,
+                    "{name}: K ({i}, {j}) {} against {tkt}",
+                    kr[i * 24 + j]
+                );
+            }
+        }
+        assert!((ur - u).abs() < 1e-12 * kn * L * L, "{name}: energy");
+    }
+}
+
 #[test]
 fn generated_kernel_equals_generic_kernel() {
     let mut rng = Rng::new(3);

@@ -270,10 +270,12 @@ fn predictor_is_exact_for_constant_and_stiff_parts() {
 
 /// Broyden's updates of the kept matrix change where modified Newton goes,
 /// not where it ends: the swinging pendulum's tip agrees with plain
-/// modified Newton to the tolerance, with fewer refactorizations (the
-/// swing turns the geometric stiffness the kept matrix was formed with).
+/// modified Newton to the tolerance, in fewer iterations. Both keep the
+/// first step's matrix for the whole swing: it is turned with the nodes
+/// (unturned, the swing turned the geometric stiffness the matrix was
+/// formed with, and plain modified Newton formed it 76 times).
 #[test]
-fn broyden_updates_keep_the_answer_and_save_refactorizations() {
+fn broyden_updates_keep_the_answer_in_fewer_iterations() {
     let model = pendulum(8);
     let h = 4e-3;
     let swing = |broyden: bool| {
@@ -298,9 +300,10 @@ fn broyden_updates_keep_the_answer_and_save_refactorizations() {
         .map(|i| (tip[i] - tip_b[i]).abs())
         .fold(0.0, f64::max);
     assert!(d < 1e-8, "the tips differ by {d:e} m");
+    assert!(its_b < its, "Broyden {its_b} iterations against {its}");
     assert!(
-        facs_b < facs,
-        "Broyden {facs_b} factorizations against {facs}"
+        facs <= 2 && facs_b <= 2,
+        "{facs} and {facs_b} factorizations"
     );
 }
 

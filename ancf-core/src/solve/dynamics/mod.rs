@@ -8,6 +8,7 @@ mod alpha;
 mod broyden;
 mod energies;
 mod error;
+mod kept_rotation;
 mod predictor;
 mod settings;
 mod state;
@@ -34,6 +35,7 @@ use crate::math::simd::path;
 use crate::model::Model;
 use crate::solve::reactions::support_forces;
 use broyden::Broyden;
+use kept_rotation::KeptRotation;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
@@ -105,6 +107,9 @@ pub struct Integrator {
     work: Workspace,
     /// The current step's Newton directions, for Broyden's updates.
     broyden: Broyden,
+    /// The nodes' frames where the kept matrix was formed, by which modified
+    /// Newton turns it to the current iterate (see [`kept_rotation`]).
+    rotation: KeptRotation,
     /// Each support's force on the body in the last
     /// [`Integrator::initial_state`] (N).
     initial_reactions: Vec<[f64; 3]>,
@@ -149,6 +154,7 @@ impl Integrator {
             coupled_blocks: Vec::new(),
             work: Workspace::new(model.reference.len()),
             broyden: Broyden::default(),
+            rotation: KeptRotation::new(&model),
             initial_reactions: Vec::new(),
             forces,
         })
@@ -277,6 +283,9 @@ impl Integrator {
             })?;
         self.factored_for = Some(h);
         self.factored_at = Some(origin);
+        // Every caller evaluated the Jacobian just before: the workspace
+        // holds its midpoint coordinates.
+        self.rotation.form(&self.work.qm);
         Ok(())
     }
 
@@ -650,6 +659,9 @@ impl Integrator {
         let mut alpha = 1.0;
         // Whether the factorization was computed at `base_a1` in this step.
         let mut fresh = false;
+        // Whether the kept matrix was formed before this step (and turned
+        // to it, at its first iteration): one rotation serves the step.
+        let mut kept_turned = None;
         let mut evaluations = 0;
         let max_evaluations = 4 * self.settings.max_iterations;
         let mut iterations = 0;
@@ -780,10 +792,25 @@ impl Integrator {
             base_a1.copy_from_slice(&a1);
             base_rn = rn;
             std::mem::swap(&mut da, &mut r);
+            // A matrix kept from an earlier step, turned with the nodes to
+            // the midpoint of this step's first iterate (the last residual's)
+            // for all of the step: the rotations change little between
+            // iterates, and one matrix per step is what Broyden's updates
+            // assume. A matrix formed in this step is not turned.
+            if need_k {
+                kept_turned = Some(false);
+            }
+            let turned = *kept_turned.get_or_insert_with(|| self.rotation.turn(&self.work.qm));
+            if turned {
+                self.rotation.to_formed(&mut da);
+            }
             let started = std::time::Instant::now();
             self.solver.solve_in_place(&mut da);
             info.solve_seconds += started.elapsed().as_secs_f64();
             info.solves += 1;
+            if turned {
+                self.rotation.to_current(&mut da);
+            }
             if self.settings.broyden {
                 // The update assumes the matrix and the full steps since it
                 // was formed: a refactorization or a shortened step restarts it.

@@ -1,0 +1,348 @@
+//! Modified Newton's kept matrix turned with the nodes.
+//!
+//! The elastic energy does not change when a body turns rigidly, so its
+//! Hessian turns with it: K(R q) = T K(q) Tᵀ, with T rotating each node's
+//! four vectors (r, r_x, r_y, r_z) by R, and the mass matrix (m ⊗ I₃)
+//! commutes with T. So the whole Newton matrix A = (1 − α_m) M + c_k K
+//! turns too, and since T is orthogonal, (T A Tᵀ)⁻¹ = T A⁻¹ Tᵀ: a kept
+//! factorization serves a turned configuration through two rotations of
+//! the vectors it solves for, at the cost of a vector pass each.
+//!
+//! A wire does not turn rigidly, but where it swings and whips its
+//! elements mostly turn: the axial stiffness EA/l, tens of times the
+//! inertia term of a 0.1 ms step, then points the wrong way in a kept
+//! matrix after a step or two, and the iterations contract slowly
+//! (BENCHMARKS.md, "why the kept matrix goes stale"). Turning each node's
+//! part of the kept matrix by that node's own rotation since the matrix
+//! was formed — the per-node "stiffness warping" of Müller et al., *Stable
+//! real-time deformations*, SCA 2002, applied here to a factorization —
+//! keeps that direction right: on the span break it removes most of the
+//! refreshes. It is exact for one rotation of all nodes; where two
+//! neighbouring nodes turned differently, their coupling blocks (the mass's
+//! too) are turned by both, an error of the size of that difference,
+//! which the refresh of a slowly contracting matrix bounds as before.
+//!
+//! A node's rotation is the one that takes its frame where the matrix was
+//! formed to its frame now. A frame is the chord between the node's two
+//! neighbours on its beam (its one neighbour at a beam's end) and the part
+//! of r_y normal to it, made orthonormal (Gram–Schmidt), and their cross
+//! product. The chord rather than r_x: the unresolved axial and bending
+//! modes of short elements make a node's gradient jitter from step to
+//! step, and turning the kept matrix by that jitter spoils it (a 1024-
+//! element pendulum took 4 iterations a step instead of 3 with r_x; the
+//! chord over two elements keeps 3). A vector of a node that the model
+//! holds in part (a roller) stays unturned: T is then still orthogonal on
+//! the unknowns.
+
+use crate::model::{Model, NODE_DOFS};
+
+/// A rotation or an orthonormal frame: `m[i]` is its i-th column (a
+/// frame's i-th unit vector).
+type Columns = [[f64; 3]; 3];
+
+/// The frames where the kept matrix was formed, the rotations to the
+/// current iterate, and where the turned vectors lie among the unknowns.
+#[derive(Clone, Debug, Default)]
+pub(super) struct KeptRotation {
+    /// Each node's frame where the kept matrix was formed (empty before
+    /// the first factorization).
+    formed: Vec<Columns>,
+    /// Each node's rotation from there to the last iterate `turn` saw.
+    now: Vec<Columns>,
+    /// Each node's two neighbours on its beam, whose chord gives its frame
+    /// (itself for a missing one, at a beam's end).
+    neighbours: Vec<(usize, usize)>,
+    /// The turned vectors, node by node: (node, its first turned vector's
+    /// first unknown, how many vectors follow it among the unknowns). A
+    /// vector is turned when its three coordinates are all unknowns.
+    runs: Vec<(usize, usize, usize)>,
+}
+
+impl KeptRotation {
+    pub(super) fn new(model: &Model) -> Self {
+        let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+        for c in (0..model.dof_map.len()).step_by(3) {
+            let [Some(u), Some(_), Some(_)] = model.dof_map[c..c + 3] else {
+                continue;
+            };
+            let node = c / NODE_DOFS;
+            match runs.last_mut() {
+                Some((n, first, count)) if *n == node && *first + 3 * *count == u => *count += 1,
+                _ => runs.push((node, u, 1)),
+            }
+        }
+        let nodes = model.dof_map.len() / NODE_DOFS;
+        let on_beam = |el: usize| el + 1 < nodes && !model.is_gap(el);
+        let neighbours = (0..nodes)
+            .map(|k| {
+                let before = if k > 0 && on_beam(k - 1) { k - 1 } else { k };
+                let after = if on_beam(k) { k + 1 } else { k };
+                (before, after)
+            })
+            .collect();
+        KeptRotation {
+            formed: Vec::new(),
+            now: Vec::new(),
+            neighbours,
+            runs,
+        }
+    }
+
+    /// Record the nodes' frames at `q` (full coordinates), where the kept
+    /// matrix was formed. Not checkpointed: a resumed run forms its matrix
+    /// again where the checkpoint says, and these frames with it.
+    pub(super) fn form(&mut self, q: &[f64]) {
+        let nodes = q.as_chunks::<NODE_DOFS>().0;
+        self.formed.clear();
+        let neighbours = &self.neighbours;
+        self.formed
+            .extend((0..nodes.len()).map(|k| frame(nodes, k, neighbours[k])));
+    }
+
+    /// Each node's rotation from where the kept matrix was formed to `q`;
+    /// false (and nothing to turn) before a matrix was formed.
+    pub(super) fn turn(&mut self, q: &[f64]) -> bool {
+        if self.formed.is_empty() {
+            return false;
+        }
+        let nodes = q.as_chunks::<NODE_DOFS>().0;
+        self.now.clear();
+        let neighbours = &self.neighbours;
+        self.now
+            .extend(self.formed.iter().enumerate().map(|(node, formed)| {
+                // R = E_now E_formedᵀ: column j is Σ_k E_now[k] E_formed[k][j].
+                let now = frame(nodes, node, neighbours[node]);
+                std::array::from_fn(|j| {
+                    std::array::from_fn(|i| (0..3).map(|k| now[k][i] * formed[k][j]).sum())
+                })
+            }));
+        true
+    }
+
+    /// x ← Tᵀ x: the unknowns' vectors turned back to where the kept matrix
+    /// was formed.
+    pub(super) fn to_formed(&self, x: &mut [f64]) {
+        for &(node, first, count) in &self.runs {
+            let r = &self.now[node];
+            // Rᵀ's rows are R's columns.
+            let rt = [r[0], r[1], r[2]];
+            for v in x[first..first + 3 * count].as_chunks_mut::<3>().0 {
+                *v = turn_by(&rt, *v);
+            }
+        }
+    }
+
+    /// x ← T x: the inverse of [`KeptRotation::to_formed`].
+    pub(super) fn to_current(&self, x: &mut [f64]) {
+        for &(node, first, count) in &self.runs {
+            let r = &self.now[node];
+            let rows = std::array::from_fn(|i| [r[0][i], r[1][i], r[2][i]]);
+            for v in x[first..first + 3 * count].as_chunks_mut::<3>().0 {
+                *v = turn_by(&rows, *v);
+            }
+        }
+    }
+}
+
+/// The matrix with rows `rows` times v.
+#[inline(always)]
+fn turn_by(rows: &Columns, v: [f64; 3]) -> [f64; 3] {
+    rows.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
+}
+
+/// Node k's orthonormal frame: the chord from its neighbour `before` to
+/// `after` and its r_y (the identity when they are parallel, zero or not
+/// finite, or the node has no neighbour: no rotation is then taken).
+fn frame(nodes: &[[f64; NODE_DOFS]], k: usize, (before, after): (usize, usize)) -> Columns {
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (a, b) = (&nodes[before], &nodes[after]);
+    let chord = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let ry = [nodes[k][6], nodes[k][7], nodes[k][8]];
+    let lx = dot(chord, chord).sqrt();
+    let e1 = chord.map(|x| x * (1.0 / lx));
+    let p = dot(ry, e1);
+    let y = [ry[0] - p * e1[0], ry[1] - p * e1[1], ry[2] - p * e1[2]];
+    let ly = dot(y, y).sqrt();
+    let e2 = y.map(|x| x * (1.0 / ly));
+    let e3 = [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ];
+    let f = [e1, e2, e3];
+    if f.as_flattened().iter().all(|x| x.is_finite()) && ly > 1e-12 * lx {
+        f
+    } else {
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rotation about `axis` (unit) by `angle`, as columns.
+    fn rotation(axis: [f64; 3], angle: f64) -> Columns {
+        let (s, c) = angle.sin_cos();
+        let [x, y, z] = axis;
+        let m = [
+            [
+                c + x * x * (1.0 - c),
+                x * y * (1.0 - c) - z * s,
+                x * z * (1.0 - c) + y * s,
+            ],
+            [
+                y * x * (1.0 - c) + z * s,
+                c + y * y * (1.0 - c),
+                y * z * (1.0 - c) - x * s,
+            ],
+            [
+                z * x * (1.0 - c) - y * s,
+                z * y * (1.0 - c) + x * s,
+                c + z * z * (1.0 - c),
+            ],
+        ];
+        // Rows above; columns here.
+        std::array::from_fn(|j| std::array::from_fn(|i| m[i][j]))
+    }
+
+    fn apply(r: &Columns, v: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|i| (0..3).map(|k| r[k][i] * v[k]).sum())
+    }
+
+    /// Two nodes of a slightly stretched, sheared and bent element.
+    fn nodes() -> [[f64; NODE_DOFS]; 2] {
+        [
+            [
+                0.3, -0.2, 1.0, 1.01, 0.02, -0.01, 0.03, 0.98, 0.01, 0.0, -0.02, 1.0,
+            ],
+            [
+                0.8, -0.15, 1.02, 0.99, 0.05, 0.02, -0.02, 1.01, 0.03, 0.01, 0.0, 0.99,
+            ],
+        ]
+    }
+
+    /// Each vector of `node` turned by `r`, the position also moved by `t`.
+    fn moved(node: &[f64; NODE_DOFS], r: &Columns, t: [f64; 3]) -> [f64; NODE_DOFS] {
+        let mut out = [0.0; NODE_DOFS];
+        for v in 0..4 {
+            let x = apply(r, [node[3 * v], node[3 * v + 1], node[3 * v + 2]]);
+            out[3 * v..3 * v + 3].copy_from_slice(&x);
+        }
+        for i in 0..3 {
+            out[i] += t[i];
+        }
+        out
+    }
+
+    const IDENTITY: Columns = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+    #[test]
+    fn rigidly_moved_nodes_give_their_rotation() {
+        let r = rotation([1.0 / 3f64.sqrt(); 3], 0.7);
+        let a = nodes();
+        let b = a.map(|n| moved(&n, &r, [2.0, -1.0, 0.5]));
+        let mut k = KeptRotation {
+            formed: Vec::new(),
+            now: Vec::new(),
+            neighbours: vec![(0, 1), (0, 1)],
+            runs: vec![(0, 0, 4), (1, 12, 4)],
+        };
+        k.form(a.as_flattened());
+        assert!(k.turn(b.as_flattened()));
+        for now in &k.now {
+            for (got, want) in now.as_flattened().iter().zip(r.as_flattened()) {
+                assert!((got - want).abs() < 1e-14, "{now:?} against {r:?}");
+            }
+        }
+        // Tᵀ takes the moved nodes' vectors back, T turns them again (the
+        // positions' translation aside).
+        let mut x = b.as_flattened().to_vec();
+        for n in 0..2 {
+            for i in 0..3 {
+                x[NODE_DOFS * n + i] -= [2.0, -1.0, 0.5][i];
+            }
+        }
+        let moved_back = x.clone();
+        k.to_formed(&mut x);
+        for (got, want) in x.iter().zip(a.as_flattened()) {
+            assert!((got - want).abs() < 1e-14);
+        }
+        k.to_current(&mut x);
+        for (got, want) in x.iter().zip(&moved_back) {
+            assert!((got - want).abs() < 1e-14);
+        }
+    }
+
+    /// The reason for the rotation: a kept matrix turned by T solves the
+    /// turned system exactly, (T A Tᵀ)⁻¹ b = T A⁻¹ Tᵀ b, for any A.
+    #[test]
+    fn turning_the_solve_solves_the_turned_matrix() {
+        let r = rotation([0.0, 0.6, 0.8], -1.1);
+        let n = NODE_DOFS;
+        // A symmetric positive definite A on one node.
+        let a: Vec<f64> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k / n, k % n);
+                let off = 0.1 / (1.0 + (i + 2 * j) as f64) + 0.1 / (1.0 + (j + 2 * i) as f64);
+                if i == j { 4.0 + i as f64 } else { off }
+            })
+            .collect();
+        let t: Vec<f64> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k / n, k % n);
+                if i / 3 == j / 3 { r[j % 3][i % 3] } else { 0.0 }
+            })
+            .collect();
+        let mul = |x: &[f64], y: &[f64], tx: bool, ty: bool| -> Vec<f64> {
+            (0..n * n)
+                .map(|k| {
+                    let (i, j) = (k / n, k % n);
+                    (0..n)
+                        .map(|l| {
+                            let a = if tx { x[l * n + i] } else { x[i * n + l] };
+                            let b = if ty { y[j * n + l] } else { y[l * n + j] };
+                            a * b
+                        })
+                        .sum()
+                })
+                .collect()
+        };
+        let turned = mul(&mul(&t, &a, false, false), &t, false, true);
+        let solve = |m: &[f64], b: &[f64]| -> Vec<f64> {
+            let m = nalgebra::DMatrix::from_row_slice(n, n, m);
+            let b = nalgebra::DVector::from_column_slice(b);
+            m.lu().solve(&b).unwrap().as_slice().to_vec()
+        };
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let direct = solve(&turned, &b);
+        let k = KeptRotation {
+            formed: vec![IDENTITY],
+            now: vec![r],
+            neighbours: vec![(0, 0)],
+            runs: vec![(0, 0, 4)],
+        };
+        let mut x = b.clone();
+        k.to_formed(&mut x);
+        let mut x = solve(&a, &x);
+        k.to_current(&mut x);
+        for (got, want) in x.iter().zip(&direct) {
+            assert!(
+                (got - want).abs() < 1e-13 * want.abs().max(1.0),
+                "{x:?} against {direct:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_node_without_neighbours_or_with_r_y_along_its_chord_takes_no_rotation() {
+        let n = nodes();
+        assert_eq!(frame(&n, 0, (0, 0)), IDENTITY);
+        let mut p = n;
+        // r_y of node 0 along the chord from node 0 to node 1.
+        let chord: [f64; 3] = std::array::from_fn(|i| 2.0 * (n[1][i] - n[0][i]));
+        p[0][6..9].copy_from_slice(&chord);
+        assert_eq!(frame(&p, 0, (0, 1)), IDENTITY);
+        assert_ne!(frame(&n, 0, (0, 1)), IDENTITY);
+    }
+}

@@ -34,11 +34,15 @@
 //! holds in part (a roller) stays unturned: T is then still orthogonal on
 //! the unknowns.
 
+use crate::math::vec3::{cross, dot, norm, sub};
 use crate::model::{Model, NODE_DOFS};
 
 /// A rotation or an orthonormal frame: `m[i]` is its i-th column (a
 /// frame's i-th unit vector).
 type Columns = [[f64; 3]; 3];
+
+/// No rotation (and the frame of a node that has none).
+const IDENTITY: Columns = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 /// The frames where the kept matrix was formed, the rotations to the
 /// current iterate, and where the turned vectors lie among the unknowns.
@@ -147,33 +151,27 @@ impl KeptRotation {
 /// The matrix with rows `rows` times v.
 #[inline(always)]
 fn turn_by(rows: &Columns, v: [f64; 3]) -> [f64; 3] {
-    rows.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
+    rows.map(|row| dot(row, v))
 }
 
 /// Node k's orthonormal frame: the chord from its neighbour `before` to
 /// `after` and its r_y (the identity when they are parallel, zero or not
 /// finite, or the node has no neighbour: no rotation is then taken).
 fn frame(nodes: &[[f64; NODE_DOFS]], k: usize, (before, after): (usize, usize)) -> Columns {
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let (a, b) = (&nodes[before], &nodes[after]);
-    let chord = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let ry = [nodes[k][6], nodes[k][7], nodes[k][8]];
-    let lx = dot(chord, chord).sqrt();
+    let vector = |n: &[f64; NODE_DOFS], at: usize| [n[at], n[at + 1], n[at + 2]];
+    let chord = sub(vector(&nodes[after], 0), vector(&nodes[before], 0));
+    let ry = vector(&nodes[k], 6);
+    let lx = norm(chord);
     let e1 = chord.map(|x| x * (1.0 / lx));
     let p = dot(ry, e1);
     let y = [ry[0] - p * e1[0], ry[1] - p * e1[1], ry[2] - p * e1[2]];
-    let ly = dot(y, y).sqrt();
+    let ly = norm(y);
     let e2 = y.map(|x| x * (1.0 / ly));
-    let e3 = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    let f = [e1, e2, e3];
+    let f = [e1, e2, cross(e1, e2)];
     if f.as_flattened().iter().all(|x| x.is_finite()) && ly > 1e-12 * lx {
         f
     } else {
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        IDENTITY
     }
 }
 
@@ -234,8 +232,6 @@ mod tests {
         }
         out
     }
-
-    const IDENTITY: Columns = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
     #[test]
     fn rigidly_moved_nodes_give_their_rotation() {

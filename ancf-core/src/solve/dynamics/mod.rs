@@ -284,8 +284,10 @@ impl Integrator {
         self.factored_for = Some(h);
         self.factored_at = Some(origin);
         // Every caller evaluated the Jacobian just before: the workspace
-        // holds its midpoint coordinates.
-        self.rotation.form(&self.work.qm);
+        // holds its midpoint coordinates. Only a kept matrix is turned.
+        if self.settings.newton == NewtonKind::Modified {
+            self.rotation.form(&self.work.qm);
+        }
         Ok(())
     }
 

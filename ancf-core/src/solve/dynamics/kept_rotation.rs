@@ -34,7 +34,8 @@
 //! holds in part (a roller) stays unturned: T is then still orthogonal on
 //! the unknowns.
 
-use crate::math::vec3::{cross, dot, norm, sub};
+use crate::math::simd::{Arith, path};
+use crate::math::vec3::dot;
 use crate::model::{Model, NODE_DOFS};
 
 /// A rotation or an orthonormal frame: `m[i]` is its i-th column (a
@@ -98,9 +99,8 @@ impl KeptRotation {
     pub(super) fn form(&mut self, q: &[f64]) {
         let nodes = q.as_chunks::<NODE_DOFS>().0;
         self.formed.clear();
-        let neighbours = &self.neighbours;
-        self.formed
-            .extend((0..nodes.len()).map(|k| frame(nodes, k, neighbours[k])));
+        self.formed.resize(nodes.len(), IDENTITY);
+        frames_on(path(), nodes, &self.neighbours, None, &mut self.formed);
     }
 
     /// Each node's rotation from where the kept matrix was formed to `q`;
@@ -111,15 +111,9 @@ impl KeptRotation {
         }
         let nodes = q.as_chunks::<NODE_DOFS>().0;
         self.now.clear();
-        let neighbours = &self.neighbours;
-        self.now
-            .extend(self.formed.iter().enumerate().map(|(node, formed)| {
-                // R = E_now E_formedᵀ: column j is Σ_k E_now[k] E_formed[k][j].
-                let now = frame(nodes, node, neighbours[node]);
-                std::array::from_fn(|j| {
-                    std::array::from_fn(|i| (0..3).map(|k| now[k][i] * formed[k][j]).sum())
-                })
-            }));
+        self.now.resize(nodes.len(), IDENTITY);
+        let formed = Some(&self.formed[..]);
+        frames_on(path(), nodes, &self.neighbours, formed, &mut self.now);
         true
     }
 
@@ -154,25 +148,113 @@ fn turn_by(rows: &Columns, v: [f64; 3]) -> [f64; 3] {
     rows.map(|row| dot(row, v))
 }
 
-/// Node k's orthonormal frame: the chord from its neighbour `before` to
-/// `after` and its r_y (the identity when they are parallel, zero or not
-/// finite, or the node has no neighbour: no rotation is then taken).
-fn frame(nodes: &[[f64; NODE_DOFS]], k: usize, (before, after): (usize, usize)) -> Columns {
-    let vector = |n: &[f64; NODE_DOFS], at: usize| [n[at], n[at + 1], n[at + 2]];
-    let chord = sub(vector(&nodes[after], 0), vector(&nodes[before], 0));
-    let ry = vector(&nodes[k], 6);
-    let lx = norm(chord);
-    let e1 = chord.map(|x| x * (1.0 / lx));
-    let p = dot(ry, e1);
-    let y = [ry[0] - p * e1[0], ry[1] - p * e1[1], ry[2] - p * e1[2]];
-    let ly = norm(y);
-    let e2 = y.map(|x| x * (1.0 / ly));
-    let f = [e1, e2, cross(e1, e2)];
-    if f.as_flattened().iter().all(|x| x.is_finite()) && ly > 1e-12 * lx {
-        f
-    } else {
-        IDENTITY
+crate::simd_dispatch! {
+    fn frames_on(
+        nodes: &[[f64; NODE_DOFS]],
+        neighbours: &[(usize, usize)],
+        formed: Option<&[Columns]>,
+        out: &mut [Columns],
+    ) = frames;
+}
+
+/// Every node's frame (see [`frame_lanes`]), four nodes at a time; with
+/// `formed`, the rotation R = E Eₒᵀ from each node's frame Eₒ there to
+/// its frame E here instead.
+// `F` unused: `simd_dispatch!` instantiates the loop per path.
+#[allow(clippy::extra_unused_type_parameters)]
+#[inline(always)]
+fn frames<F: Arith>(
+    nodes: &[[f64; NODE_DOFS]],
+    neighbours: &[(usize, usize)],
+    formed: Option<&[Columns]>,
+    out: &mut [Columns],
+) {
+    let rotation = |now: &Columns, formed: &Columns| -> Columns {
+        // Column j is Σₖ E[k] Eₒ[k][j].
+        std::array::from_fn(|j| {
+            std::array::from_fn(|i| {
+                now[0][i] * formed[0][j] + now[1][i] * formed[1][j] + now[2][i] * formed[2][j]
+            })
+        })
+    };
+    let (chunks, rest) = out.as_chunks_mut::<4>();
+    for (c, out) in chunks.iter_mut().enumerate() {
+        let ks: [usize; 4] = std::array::from_fn(|l| 4 * c + l);
+        let f = frame_lanes(nodes, ks, neighbours);
+        *out = match formed {
+            Some(formed) => std::array::from_fn(|l| rotation(&f[l], &formed[ks[l]])),
+            None => f,
+        };
     }
+    let done = 4 * chunks.len();
+    for (l, out) in rest.iter_mut().enumerate() {
+        let k = done + l;
+        let [f] = frame_lanes(nodes, [k], neighbours);
+        *out = match formed {
+            Some(formed) => rotation(&f, &formed[k]),
+            None => f,
+        };
+    }
+}
+
+/// Node k's frame (see [`frame_lanes`]), for the tests.
+#[cfg(test)]
+fn frame(nodes: &[[f64; NODE_DOFS]], k: usize, neighbours: (usize, usize)) -> Columns {
+    let mut all = vec![(k, k); nodes.len()];
+    all[k] = neighbours;
+    frame_lanes(nodes, [k], &all)[0]
+}
+
+/// Three coordinates of L nodes, one lane per node.
+type Lanes<const L: usize> = [[f64; L]; 3];
+
+/// Lanes with coordinate c of lane l from `f(c, l)`.
+#[inline(always)]
+fn lanes<const L: usize>(f: impl Fn(usize, usize) -> f64) -> Lanes<L> {
+    std::array::from_fn(|c| std::array::from_fn(|l| f(c, l)))
+}
+
+/// a · b lane by lane.
+#[inline(always)]
+fn dot_lanes<const L: usize>(a: &Lanes<L>, b: &Lanes<L>) -> [f64; L] {
+    std::array::from_fn(|l| a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l])
+}
+
+/// The orthonormal frames of nodes `ks`, one lane per node (the same
+/// operations in every lane, which the vector units run side by side):
+/// node k's chord from its neighbour `before` to `after`, the part of its
+/// r_y normal to it, and their cross product — the identity when chord
+/// and r_y are parallel, zero or not finite, or the node has no
+/// neighbour: no rotation is then taken.
+#[inline(always)]
+fn frame_lanes<const L: usize>(
+    nodes: &[[f64; NODE_DOFS]],
+    ks: [usize; L],
+    neighbours: &[(usize, usize)],
+) -> [Columns; L] {
+    let chord: Lanes<L> = lanes(|c, l| {
+        let (before, after) = neighbours[ks[l]];
+        nodes[after][c] - nodes[before][c]
+    });
+    let ry: Lanes<L> = lanes(|c, l| nodes[ks[l]][6 + c]);
+    let lx = dot_lanes(&chord, &chord).map(f64::sqrt);
+    let e1: Lanes<L> = lanes(|c, l| chord[c][l] * (1.0 / lx[l]));
+    let p = dot_lanes(&ry, &e1);
+    let y: Lanes<L> = lanes(|c, l| ry[c][l] - p[l] * e1[c][l]);
+    let ly = dot_lanes(&y, &y).map(f64::sqrt);
+    let e2: Lanes<L> = lanes(|c, l| y[c][l] * (1.0 / ly[l]));
+    let e3: Lanes<L> = lanes(|c, l| {
+        let (a, b) = ((c + 1) % 3, (c + 2) % 3);
+        e1[a][l] * e2[b][l] - e1[b][l] * e2[a][l]
+    });
+    std::array::from_fn(|l| {
+        let f = [e1, e2, e3].map(|e| [e[0][l], e[1][l], e[2][l]]);
+        if f.as_flattened().iter().all(|x| x.is_finite()) && ly[l] > 1e-12 * lx[l] {
+            f
+        } else {
+            IDENTITY
+        }
+    })
 }
 
 #[cfg(test)]
@@ -327,6 +409,44 @@ mod tests {
                 (got - want).abs() < 1e-13 * want.abs().max(1.0),
                 "{x:?} against {direct:?}"
             );
+        }
+    }
+
+    /// Four nodes a lane apart give each node's own frame and rotation,
+    /// bit for bit, on every path this CPU has (the lanes only run side
+    /// by side what one node at a time computes).
+    #[test]
+    fn frames_in_lanes_equal_frames_one_by_one() {
+        let nodes: Vec<[f64; NODE_DOFS]> = (0..9)
+            .map(|k| {
+                std::array::from_fn(|i| {
+                    ((k * NODE_DOFS + i) as f64 * 0.731).sin() + (i % 4 == 0) as u8 as f64
+                })
+            })
+            .collect();
+        let neighbours: Vec<(usize, usize)> = (0..9)
+            .map(|k: usize| (k.saturating_sub(1), (k + 1).min(8)))
+            .collect();
+        let formed: Vec<Columns> = (0..9)
+            .map(|k| rotation([0.0, 0.6, 0.8], 0.1 * k as f64))
+            .collect();
+        for path in crate::math::simd::SimdPath::ALL
+            .into_iter()
+            .filter(|p| p.supported())
+        {
+            let mut frames = vec![IDENTITY; 9];
+            frames_on(path, &nodes, &neighbours, None, &mut frames);
+            let mut turned = vec![IDENTITY; 9];
+            frames_on(path, &nodes, &neighbours, Some(&formed), &mut turned);
+            for k in 0..9 {
+                let f = frame(&nodes, k, neighbours[k]);
+                assert_ne!(f, IDENTITY);
+                assert_eq!(frames[k], f, "{} node {k}", path.name());
+                let r: Columns = std::array::from_fn(|j| {
+                    std::array::from_fn(|i| (0..3).map(|m| f[m][i] * formed[k][m][j]).sum())
+                });
+                assert_eq!(turned[k], r, "{} node {k}", path.name());
+            }
         }
     }
 

@@ -129,9 +129,9 @@ impl KeptRotation {
         self.turn_vectors(x, |r| std::array::from_fn(|i| [r[0][i], r[1][i], r[2][i]]));
     }
 
-    /// Each turned vector of x times the matrix whose rows `rows` gives
-    /// for its node's rotation; from [`PARALLEL_MIN_UNKNOWNS`] on, in two
-    /// halves on two threads (the same bits: vector by vector).
+    /// Every turned vector of x times a matrix of its node's rotation (the
+    /// rows that `rows` makes of it); from [`PARALLEL_MIN_UNKNOWNS`] on, in
+    /// two halves on two threads (the same bits: vector by vector).
     fn turn_vectors(&self, x: &mut [f64], rows: impl Fn(&Columns) -> Columns + Sync) {
         let turn = |runs: &[(usize, usize, usize)], x: &mut [f64], offset: usize| {
             for &(node, first, count) in runs {
@@ -430,9 +430,9 @@ mod tests {
         }
     }
 
-    /// Four nodes a lane apart give each node's own frame and rotation,
-    /// bit for bit, on every path this CPU has (the lanes only run side
-    /// by side what one node at a time computes).
+    /// Frames formed four nodes at a time, one per lane, are each node's
+    /// own frame and rotation bit for bit, on every path this CPU has (the
+    /// lanes only run side by side what one node at a time computes).
     #[test]
     fn frames_in_lanes_equal_frames_one_by_one() {
         let nodes: Vec<[f64; NODE_DOFS]> = (0..9)

@@ -142,11 +142,11 @@ impl KeptRotation {
                 }
             }
         };
-        let half = self.runs.len() / 2;
-        if x.len() < PARALLEL_MIN_UNKNOWNS || rayon::current_num_threads() == 1 {
+        let serial = x.len() < PARALLEL_MIN_UNKNOWNS || self.runs.len() < 2;
+        if serial || rayon::current_num_threads() == 1 {
             return turn(&self.runs, x, 0);
         }
-        let (low, high) = self.runs.split_at(half);
+        let (low, high) = self.runs.split_at(self.runs.len() / 2);
         let offset = high[0].1;
         let (x_low, x_high) = x.split_at_mut(offset);
         run_tasks(

@@ -57,19 +57,39 @@ pub struct StrainRecord {
     pub max_stretch_time: f64,
 }
 
-/// (E₀, the fibre strain's bound per layer) at ξ of element coordinates
-/// `e` of length `l` (m) in `section`; also |a| (for the stretch).
+/// The centerline's gradient a = r_x at ξ = 0, ½ and 1 of element
+/// coordinates `e` of length `l` (m): Σ e_i ∂s_i/∂x with the shape
+/// gradients' values there written out (at the ends a node's own r_x), so
+/// that the three points take no division; the same sums, in the same
+/// order, as over [`crate::element::shape_gradients`] (its other terms
+/// are zeros).
+fn centerline_gradients(e: &ElementVector, l: f64) -> [[f64; 3]; 3] {
+    // (−6ξ + 6ξ²)/l and 1 − 4ξ + 3ξ² = −2ξ + 3ξ² = −¼ at ξ = ½.
+    let d1 = -1.5 / l;
+    let middle = std::array::from_fn(|k| {
+        ((e[k] * d1 + e[3 + k] * -0.25) + e[12 + k] * -d1) + e[15 + k] * -0.25
+    });
+    let node = |i: usize| std::array::from_fn(|k| e[3 * i + k]);
+    [node(1), middle, node(5)]
+}
+
+/// The x-derivatives b of r_y and c of r_z, constant in an element of
+/// coordinates `e` and length `l` (m).
+fn section_gradients(e: &ElementVector, l: f64) -> ([f64; 3], [f64; 3]) {
+    let b = std::array::from_fn(|k| (e[18 + k] - e[6 + k]) / l);
+    let c = std::array::from_fn(|k| (e[21 + k] - e[9 + k]) / l);
+    (b, c)
+}
+
+/// (E₀, the fibre strain's bound per layer) at a point of centerline
+/// gradient `a` in an element of section gradients `b`, `c` and
+/// `section`; also |a| (for the stretch).
 fn point_strains(
-    e: &ElementVector,
-    xi: f64,
-    l: f64,
+    a: [f64; 3],
+    (b, c): ([f64; 3], [f64; 3]),
     section: &Section,
     layers: &mut [f64],
 ) -> (f64, f64) {
-    let g = crate::element::shape_gradients(xi, 0.0, 0.0, l);
-    let a: [f64; 3] = std::array::from_fn(|k| (0..8).map(|i| e[3 * i + k] * g[i][0]).sum());
-    let b: [f64; 3] = std::array::from_fn(|k| (e[18 + k] - e[6 + k]) / l);
-    let c: [f64; 3] = std::array::from_fn(|k| (e[21 + k] - e[9 + k]) / l);
     let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
     let aa = dot(a, a);
     let e0 = 0.5 * (aa - 1.0);
@@ -157,8 +177,10 @@ impl StrainRecord {
             let e = model.element_coordinates(q, el);
             let at0 = model.node_arc(el) - start;
             let mut stretch = [0.0; 3];
-            for (j, xi) in [0.0, 0.5, 1.0].into_iter().enumerate() {
-                let (axial, a) = point_strains(&e, xi, l, section, &mut fibres[..n_layers]);
+            let bc = section_gradients(&e, l);
+            let gradients = centerline_gradients(&e, l);
+            for (j, (xi, a)) in [0.0, 0.5, 1.0].into_iter().zip(gradients).enumerate() {
+                let (axial, a) = point_strains(a, bc, section, &mut fibres[..n_layers]);
                 let at = at0 + xi * l;
                 self.axial.visit(axial, t, at);
                 for (record, &f) in self.layers.iter_mut().zip(&fibres[..n_layers]) {
@@ -181,6 +203,24 @@ mod tests {
     use super::*;
     use crate::material::Material;
     use crate::model::WireBuilder;
+
+    /// The written-out gradients are the shape-gradient sums, value for
+    /// value, on elements of unrelated coordinates and lengths.
+    #[test]
+    fn centerline_gradients_are_the_shape_gradient_sums() {
+        for seed in 1..50u32 {
+            let x = |i: u32| ((seed * 7919 + i * 104_729) % 1000) as f64 / 137.0 - 3.5;
+            let e: ElementVector = std::array::from_fn(|i| x(i as u32));
+            let l = 0.013 + 0.37 * x(99).abs();
+            let written = centerline_gradients(&e, l);
+            for (xi, a) in [0.0, 0.5, 1.0].into_iter().zip(written) {
+                let g = crate::element::shape_gradients(xi, 0.0, 0.0, l);
+                let sum: [f64; 3] =
+                    std::array::from_fn(|k| (0..8).map(|i| e[3 * i + k] * g[i][0]).sum());
+                assert_eq!(a, sum, "ξ = {xi}, l = {l}");
+            }
+        }
+    }
 
     fn wire() -> Model {
         WireBuilder::new(2.0, 4)

@@ -1254,6 +1254,22 @@ impl Model {
         }
     }
 
+    /// `full` ← `base` + `scale · x` on the coordinates not held (x over the
+    /// unknowns), the held ones of `full` left as they are: a
+    /// [`Model::scatter_add`] onto a copy of `base` without the copy, with
+    /// its bits, where `full` already holds `base`'s held coordinates.
+    pub fn scatter_add_to(&self, base: &[f64], x: &[f64], scale: f64, full: &mut [f64]) {
+        let mut x = x;
+        for run in self.free_coordinates() {
+            let (part, rest) = x.split_at(run.len());
+            x = rest;
+            let (base, full) = (&base[run.clone()], &mut full[run.clone()]);
+            for ((f, b), x) in full.iter_mut().zip(base).zip(part) {
+                *f = b + scale * x;
+            }
+        }
+    }
+
     /// The coordinates not held, as runs of consecutive coordinates in
     /// order. Unknowns are numbered in coordinate order, so a vector over
     /// the unknowns holds the runs one after another: loops over the runs

@@ -39,7 +39,7 @@ use kept_rotation::KeptRotation;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
-use vectors::{clear_velocity_jacobian, midpoint, norm, sum_of_squares};
+use vectors::{balance, clear_velocity_jacobian, midpoint, norm};
 use workspace::{CANDIDATE_MARGIN, Workspace};
 
 /// Modified Newton refreshes a kept matrix whose iteration reduced the
@@ -605,14 +605,7 @@ impl Integrator {
         // R, ‖M a‖ and ‖Q‖ on the unknowns, run of free coordinates after
         // run (unknowns are numbered in coordinate order, `Model::dof_map`):
         // contiguous slices, so the loops vectorize.
-        r.clear();
-        let (mut ma2, mut q2) = (0.0, 0.0);
-        for run in model.free_coordinates() {
-            let (ma, q, ext) = (&ma[run.clone()], &q[run.clone()], &ext[run.clone()]);
-            r.extend(ma.iter().zip(q).zip(ext).map(|((ma, q), ext)| ma + q - ext));
-            ma2 += sum_of_squares(ma);
-            q2 += sum_of_squares(q);
-        }
+        let (ma2, q2) = balance(model.free_coordinates(), [ma, q, ext], r);
         let scale = ma2.sqrt().max(self.ext_norm).max(q2.sqrt());
         // The supports' forces: the same balance on the held coordinates
         // of each supported node's position (damping acts on unknowns only).
@@ -751,8 +744,7 @@ impl Integrator {
                 }
                 if alpha > 1.0 / 64.0 {
                     alpha *= 0.5;
-                    a1.copy_from_slice(&base_a1);
-                    model.scatter_add(&da, -alpha, &mut a1);
+                    model.scatter_add_to(&base_a1, &da, -alpha, &mut a1);
                     continue;
                 }
                 // Backtracking exhausted: take the short step and go on.
@@ -791,7 +783,9 @@ impl Integrator {
             } else {
                 fresh = self.settings.newton == NewtonKind::Full;
             }
-            base_a1.copy_from_slice(&a1);
+            // `base_a1` takes the accepted iterate; `a1` (the same held
+            // coordinates) is written over with the next one below.
+            std::mem::swap(&mut base_a1, &mut a1);
             base_rn = rn;
             std::mem::swap(&mut da, &mut r);
             // A matrix kept from an earlier step, turned with the nodes to
@@ -822,7 +816,7 @@ impl Integrator {
                 self.broyden.direct(&mut da);
             }
             alpha = 1.0;
-            model.scatter_add(&da, -1.0, &mut a1);
+            model.scatter_add_to(&base_a1, &da, -1.0, &mut a1);
             iterations += 1;
             info.iterations += 1;
         }

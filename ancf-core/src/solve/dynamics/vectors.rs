@@ -71,6 +71,54 @@ fn midpoint_with<F: Arith>(
     }
 }
 
+/// The residual M a + Q − F on the free coordinates `runs` (unknowns are
+/// numbered run after run), written over `r`, with ‖M a‖² and ‖Q‖² over
+/// the same entries: one pass instead of a pass for R and one per norm.
+/// Each run's squares are summed as [`sum_of_squares`] sums that run's
+/// slice (four partial sums from the run's start, the tail apart), so the
+/// sums have the bits of the separate passes.
+pub(super) fn balance(
+    runs: &[Range<usize>],
+    [ma, q, ext]: [&[f64]; 3],
+    r: &mut Vec<f64>,
+) -> (f64, f64) {
+    let unknowns = runs.iter().map(|run| run.len()).sum();
+    r.resize(unknowns, 0.0);
+    let (mut ma2, mut q2) = (0.0, 0.0);
+    let mut out = &mut r[..];
+    for run in runs {
+        let (head, rest) = out.split_at_mut(run.len());
+        out = rest;
+        let (ma, q, ext) = (&ma[run.clone()], &q[run.clone()], &ext[run.clone()]);
+        let (mut sm, mut sq) = ([0.0f64; 4], [0.0f64; 4]);
+        let (r4, ma4, q4, ext4) = (
+            head.chunks_exact_mut(4),
+            ma.chunks_exact(4),
+            q.chunks_exact(4),
+            ext.chunks_exact(4),
+        );
+        let tails = (ma4.remainder(), q4.remainder(), ext4.remainder());
+        let chunks = r4.zip(ma4).zip(q4).zip(ext4);
+        for (((r, ma), q), ext) in chunks {
+            for k in 0..4 {
+                r[k] = ma[k] + q[k] - ext[k];
+                sm[k] += ma[k] * ma[k];
+                sq[k] += q[k] * q[k];
+            }
+        }
+        let (mut tm, mut tq) = (0.0, 0.0);
+        let r_tail = head.chunks_exact_mut(4).into_remainder();
+        for (((r, &ma), &q), &ext) in r_tail.iter_mut().zip(tails.0).zip(tails.1).zip(tails.2) {
+            *r = ma + q - ext;
+            tm += ma * ma;
+            tq += q * q;
+        }
+        ma2 += (sm[0] + sm[1]) + (sm[2] + sm[3]) + tm;
+        q2 += (sq[0] + sq[1]) + (sq[2] + sq[3]) + tq;
+    }
+    (ma2, q2)
+}
+
 /// Zero −∂Q/∂v where the last evaluation may have written it (`written`,
 /// value slots; −∂Q/∂q is written over by `assemble`): with friction or
 /// contact damping alone, the few elements in contact, not the 3.5 MB of a

@@ -104,6 +104,10 @@ pub struct ForceSum {
     /// evaluation with velocities; empty without damping.
     damping: Vec<f64>,
     damping_power: f64,
+    /// The force vector and its nonzero nodes that the contact energy's
+    /// evaluation ([`ForceSum::potentials_visiting`], once a step) reuses,
+    /// instead of allocating and clearing a whole force vector each time.
+    energy_buffer: std::sync::Mutex<(Vec<f64>, Vec<usize>)>,
 }
 
 impl ForceSum {
@@ -140,6 +144,7 @@ impl ForceSum {
             coupling: Coupling::default(),
             damping: Vec::new(),
             damping_power: 0.0,
+            energy_buffer: Default::default(),
         }
     }
 
@@ -355,7 +360,8 @@ impl ForceSum {
         let strain = strain_energy(model, q) + model.spring_energy(q);
         let (gravity, loads) = model.external_potential(q);
         let contact = self.evaluator.as_ref().map_or(0.0, |c| {
-            let (events, buffer) = (&[], Default::default());
+            let mut kept = self.energy_buffer.lock().unwrap_or_else(|p| p.into_inner());
+            let (events, buffer) = (&[], std::mem::take(&mut *kept));
             let cf = assemble_contact_reusing(
                 model,
                 c,
@@ -367,7 +373,9 @@ impl ForceSum {
                 (None, None, None),
                 buffer,
             );
-            cf.total.energy
+            let energy = cf.total.energy;
+            *kept = (cf.force, cf.force_nodes);
+            energy
         });
         Potentials {
             strain,

@@ -40,7 +40,7 @@ use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
 use vectors::{balance, clear_velocity_jacobian, midpoint, norm};
-use workspace::{CANDIDATE_MARGIN, Workspace};
+use workspace::{CANDIDATE_MARGIN, NewtonVectors, Workspace};
 
 /// Modified Newton refreshes a kept matrix whose iteration reduced the
 /// residual by less than this factor. A refresh (Jacobian and
@@ -105,6 +105,7 @@ pub struct Integrator {
     /// the pattern; empty without them).
     coupled_blocks: Vec<crate::linalg::coupled::CoupledBlock>,
     work: Workspace,
+    newton_vectors: NewtonVectors,
     /// The current step's Newton directions, for Broyden's updates.
     broyden: Broyden,
     /// The nodes' frames where the kept matrix was formed, by which modified
@@ -153,6 +154,7 @@ impl Integrator {
             kv_written: 0..0,
             coupled_blocks: Vec::new(),
             work: Workspace::new(model.reference.len()),
+            newton_vectors: NewtonVectors::default(),
             broyden: Broyden::default(),
             rotation: KeptRotation::new(&model),
             initial_reactions: Vec::new(),
@@ -626,8 +628,9 @@ impl Integrator {
     /// 1.075e3 N for 25 iterations at h = 8e-6 s).
     fn try_step(&mut self, s: &State, h: f64, info: &mut StepInfo) -> Result<State, StepError> {
         let (mut kq, mut kv) = (std::mem::take(&mut self.kq), std::mem::take(&mut self.kv));
-        let result = self.newton(s, h, &mut kq, &mut kv, info);
-        (self.kq, self.kv) = (kq, kv);
+        let mut vectors = std::mem::take(&mut self.newton_vectors);
+        let result = self.newton(s, h, &mut kq, &mut kv, &mut vectors, info);
+        (self.kq, self.kv, self.newton_vectors) = (kq, kv, vectors);
         result
     }
 
@@ -638,6 +641,7 @@ impl Integrator {
         h: f64,
         kq: &mut [f64],
         kv: &mut [f64],
+        vectors: &mut NewtonVectors,
         info: &mut StepInfo,
     ) -> Result<State, StepError> {
         let model = Arc::clone(&self.model);
@@ -645,12 +649,14 @@ impl Integrator {
         // Predictor (see `predict`); `base` is the last accepted iterate.
         self.find_contact_candidates(s);
         let mut a1 = predict(model, s, h, self.settings.spectral_radius);
-        let mut base_a1 = a1.clone();
+        let NewtonVectors {
+            r,
+            da,
+            jacobian_r,
+            base_a1,
+        } = vectors;
+        base_a1.clone_from(&a1);
         let mut base_rn = f64::INFINITY;
-        // The residual and the Newton direction: two buffers that trade
-        // places at every iteration. (Full Newton evaluates the Jacobian
-        // with a residual of its own, into a third.)
-        let (mut r, mut da, mut jacobian_r) = (Vec::new(), Vec::new(), Vec::new());
         let mut alpha = 1.0;
         // Whether the factorization was computed at `base_a1` in this step.
         let mut fresh = false;
@@ -686,15 +692,15 @@ impl Integrator {
                 h,
                 &a1,
                 k_with_residual.then_some((&mut *kq, &mut *kv)),
-                &mut r,
+                r,
                 info,
             );
             evaluations += 1;
-            let rn = norm(&r);
+            let rn = norm(r);
             if iterations > 0
                 && rn.is_finite()
                 && (rn <= self.settings.tolerance * scale
-                    || crate::solve::at_roundoff(&r, &self.roundoff))
+                    || crate::solve::at_roundoff(r, &self.roundoff))
             {
                 if self.settings.newton == NewtonKind::Modified && iterations > 6 {
                     self.factored_for = None;
@@ -737,14 +743,14 @@ impl Integrator {
                     // Stale modified-Newton matrix (or a rounded one):
                     // refresh it at the last accepted iterate.
                     self.factored_for = None;
-                    a1.copy_from_slice(&base_a1);
+                    a1.copy_from_slice(base_a1);
                     alpha = 1.0;
                     base_rn = f64::INFINITY;
                     continue;
                 }
                 if alpha > 1.0 / 64.0 {
                     alpha *= 0.5;
-                    model.scatter_add_to(&base_a1, &da, -alpha, &mut a1);
+                    model.scatter_add_to(base_a1, da, -alpha, &mut a1);
                     continue;
                 }
                 // Backtracking exhausted: take the short step and go on.
@@ -765,7 +771,7 @@ impl Integrator {
                     clear_velocity_jacobian(kv, self.kv_written.clone());
                     let mut scratch = StepInfo::default();
                     let jac = Some((&mut *kq, &mut *kv));
-                    self.residual(s, h, &a1, jac, &mut jacobian_r, &mut scratch);
+                    self.residual(s, h, &a1, jac, jacobian_r, &mut scratch);
                     info.jacobian_seconds += scratch.jacobian_seconds;
                     info.jacobian_evaluations += scratch.jacobian_evaluations;
                 }
@@ -785,9 +791,9 @@ impl Integrator {
             }
             // `base_a1` takes the accepted iterate; `a1` (the same held
             // coordinates) is written over with the next one below.
-            std::mem::swap(&mut base_a1, &mut a1);
+            std::mem::swap(base_a1, &mut a1);
             base_rn = rn;
-            std::mem::swap(&mut da, &mut r);
+            std::mem::swap(da, r);
             // A matrix kept from an earlier step, turned with the nodes to
             // the midpoint of this step's first iterate (the last residual's)
             // for all of the step: the rotations change little between
@@ -798,14 +804,14 @@ impl Integrator {
             }
             let turned = *kept_turned.get_or_insert_with(|| self.rotation.turn(&self.work.qm));
             if turned {
-                self.rotation.to_formed(&mut da);
+                self.rotation.to_formed(da);
             }
             let started = std::time::Instant::now();
-            self.solver.solve_in_place(&mut da);
+            self.solver.solve_in_place(da);
             info.solve_seconds += started.elapsed().as_secs_f64();
             info.solves += 1;
             if turned {
-                self.rotation.to_current(&mut da);
+                self.rotation.to_current(da);
             }
             if self.settings.broyden {
                 // The update assumes the matrix and the full steps since it
@@ -813,10 +819,10 @@ impl Integrator {
                 if need_k || alpha != 1.0 {
                     self.broyden.restart();
                 }
-                self.broyden.direct(&mut da);
+                self.broyden.direct(da);
             }
             alpha = 1.0;
-            model.scatter_add_to(&base_a1, &da, -1.0, &mut a1);
+            model.scatter_add_to(base_a1, da, -1.0, &mut a1);
             iterations += 1;
             info.iterations += 1;
         }

@@ -21,6 +21,18 @@ pub(super) struct Workspace {
     pub(super) reach_pairs: Vec<usize>,
 }
 
+/// A Newton step's vectors, kept over the steps so that no step allocates
+/// (and clears) them: the residual and the Newton direction (unknowns),
+/// which trade places at every iteration, full Newton's residual for its
+/// Jacobian, and the last accepted iterate a₁ (full coordinates).
+#[derive(Default)]
+pub(super) struct NewtonVectors {
+    pub(super) r: Vec<f64>,
+    pub(super) da: Vec<f64>,
+    pub(super) jacobian_r: Vec<f64>,
+    pub(super) base_a1: Vec<f64>,
+}
+
 /// How far (wire radii) the centerline may move from where the candidate
 /// contact pairs were found before the Newton iterations stop trusting
 /// them and visit every pair: a step moves a falling wire by millimetres,

@@ -367,7 +367,10 @@ fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {
     std::fs::write(out.join("contact_point.csv"), s)
 }
 
-/// Keep the header and the rows of a CSV whose first column is ≤ `t`.
+/// Keep the header and the rows of a CSV whose first column is ≤ `t`. The
+/// kept rows go to a temporary file that then replaces the CSV, so that a
+/// run killed while it resumes still finds every row its checkpoint names
+/// (a rewrite in place would leave the file empty or cut for a moment).
 fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {} to continue it: {e}", path.display()))?;
@@ -381,6 +384,8 @@ fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
             times.extend(time.filter(|_| i > 0));
         }
     }
-    std::fs::write(path, kept).map_err(|e| io_err(path, e))?;
+    let tmp = path.with_extension("csv.tmp");
+    std::fs::write(&tmp, kept).map_err(|e| io_err(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| io_err(path, e))?;
     Ok(times)
 }

@@ -389,3 +389,28 @@ fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
     std::fs::rename(&tmp, path).map_err(|e| io_err(path, e))?;
     Ok(times)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The header and the rows up to t stay, later rows go, the kept rows'
+    /// times come back, and no temporary file is left beside the CSV.
+    #[test]
+    fn truncate_csv_keeps_the_rows_up_to_t_and_leaves_no_temporary() {
+        let dir = std::env::temp_dir().join(format!("ancf-truncate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("timeseries.csv");
+        std::fs::write(
+            &path,
+            "time,x\n0.0,1\n0.1,2\n0.2,3\n0.30000000000000004,4\n",
+        )
+        .unwrap();
+        let times = truncate_csv(&path, 0.2).unwrap();
+        assert_eq!(times, vec![0.0, 0.1, 0.2]);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, "time,x\n0.0,1\n0.1,2\n0.2,3\n");
+        assert!(!path.with_extension("csv.tmp").exists());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

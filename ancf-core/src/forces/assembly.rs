@@ -5,7 +5,6 @@
 
 use crate::element::ElementVector;
 use crate::linalg::pattern::Pattern;
-use crate::math::simd::Arith;
 use crate::model::{Model, NODE_DOFS};
 use std::ops::Range;
 
@@ -908,46 +907,23 @@ pub fn centerline_shift(model: &Model, a: &[f64], b: &[f64]) -> f64 {
         .iter()
         .map(|g| g.integration.length)
         .fold(0.0, f64::max);
+    // The largest squares, one root each at the end: the root is
+    // monotonic and correctly rounded, so this is the largest root, bit
+    // for bit, without a root per node.
+    // Node by node as fixed-size arrays, so that no index is checked.
     let n = NODE_DOFS * model.n_nodes();
     let (a, _) = a[..n].as_chunks::<NODE_DOFS>();
     let (b, _) = b[..n].as_chunks::<NODE_DOFS>();
-    let [dr2, drx2] = largest_moves(crate::math::simd::path(), a, b);
+    let (mut dr2, mut drx2) = (0.0f64, 0.0f64);
+    for (a, b) in a.iter().zip(b) {
+        let d2 = |k: usize| {
+            let v = [b[k] - a[k], b[k + 1] - a[k + 1], b[k + 2] - a[k + 2]];
+            v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+        };
+        dr2 = dr2.max(d2(0));
+        drx2 = drx2.max(d2(3));
+    }
     dr2.sqrt() + 8.0 / 27.0 * l * drx2.sqrt()
-}
-
-crate::simd_dispatch! {
-    fn largest_moves(a: &[[f64; NODE_DOFS]], b: &[[f64; NODE_DOFS]]) -> [f64; 2] = largest_moves_with;
-}
-
-/// The largest |Δr|² and |Δr_x|² over the nodes from `a` to `b`: the
-/// largest squares, one root each at the end (the root is monotonic and
-/// correctly rounded, so this is the largest root, bit for bit, without a
-/// root per node). Four nodes a round, one per lane, so that the loop
-/// vectorizes; the largest of exact squares is the same in any order.
-// `F` unused: `simd_dispatch!` instantiates the loop per path.
-#[allow(clippy::extra_unused_type_parameters)]
-#[inline(always)]
-fn largest_moves_with<F: Arith>(a: &[[f64; NODE_DOFS]], b: &[[f64; NODE_DOFS]]) -> [f64; 2] {
-    #[inline(always)]
-    fn d2(a: &[f64; NODE_DOFS], b: &[f64; NODE_DOFS], k: usize) -> f64 {
-        let v = [b[k] - a[k], b[k + 1] - a[k + 1], b[k + 2] - a[k + 2]];
-        v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-    }
-    let (mut dr2, mut drx2) = ([0.0f64; 4], [0.0f64; 4]);
-    let (a4, a_rest) = a.as_chunks::<4>();
-    let (b4, b_rest) = b.as_chunks::<4>();
-    for (a, b) in a4.iter().zip(b4) {
-        for l in 0..4 {
-            dr2[l] = dr2[l].max(d2(&a[l], &b[l], 0));
-            drx2[l] = drx2[l].max(d2(&a[l], &b[l], 3));
-        }
-    }
-    for (a, b) in a_rest.iter().zip(b_rest) {
-        dr2[0] = dr2[0].max(d2(a, b, 0));
-        drx2[0] = drx2[0].max(d2(a, b, 3));
-    }
-    let largest = |m: [f64; 4]| m[0].max(m[1]).max(m[2].max(m[3]));
-    [largest(dr2), largest(drx2)]
 }
 
 #[cfg(test)]
@@ -957,40 +933,6 @@ mod tests {
     use crate::material::{Material, MaterialModel};
     use crate::model::{Support, SupportKind};
     use crate::section::Section;
-
-    /// The nodes' largest moves in lanes are those of one node after the
-    /// other, bit for bit, on every path this CPU has (node counts with
-    /// and without a tail of fewer than four).
-    #[test]
-    fn largest_moves_in_lanes_equal_one_node_at_a_time() {
-        use crate::math::simd::SimdPath;
-        for nodes in [1, 3, 4, 9, 17] {
-            let x = |i: usize, s: usize| ((i * 7919 + s * 104_729) % 1013) as f64 / 97.0 - 5.0;
-            let a: Vec<[f64; NODE_DOFS]> = (0..nodes)
-                .map(|n| std::array::from_fn(|k| x(12 * n + k, 1)))
-                .collect();
-            let b: Vec<[f64; NODE_DOFS]> = (0..nodes)
-                .map(|n| std::array::from_fn(|k| x(12 * n + k, 2)))
-                .collect();
-            let (mut dr2, mut drx2) = (0.0f64, 0.0f64);
-            for (a, b) in a.iter().zip(&b) {
-                let d2 = |k: usize| {
-                    let v = [b[k] - a[k], b[k + 1] - a[k + 1], b[k + 2] - a[k + 2]];
-                    v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-                };
-                dr2 = dr2.max(d2(0));
-                drx2 = drx2.max(d2(3));
-            }
-            for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
-                let got = largest_moves(path, &a, &b);
-                assert_eq!(
-                    got.map(f64::to_bits),
-                    [dr2, drx2].map(f64::to_bits),
-                    "{path:?}, {nodes} nodes"
-                );
-            }
-        }
-    }
 
     /// A straight wire of `n` elements of `length` (m) along x, clamped at
     /// node 0 (eliminated rows and columns at the first element).

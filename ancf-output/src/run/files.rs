@@ -191,9 +191,7 @@ impl Files {
             .unwrap_or_default();
         let text = serde_json::to_string(&Checkpoint::new(scene.source.clone(), p.clone())?)
             .map_err(|e| format!("checkpoint: {e}"))?;
-        let tmp = dir.join("checkpoint.json.tmp");
-        std::fs::write(&tmp, text).map_err(|e| io_err(dir, e))?;
-        std::fs::rename(&tmp, dir.join("checkpoint.json")).map_err(|e| io_err(dir, e))
+        replace_file(&dir.join("checkpoint.json"), &text).map_err(|e| io_err(dir, e))
     }
 
     /// The end of a dynamic run: VTK's collection, rod_forces.csv (and
@@ -367,10 +365,10 @@ fn write_contact_point(out: &Path, h: &History) -> std::io::Result<()> {
     std::fs::write(out.join("contact_point.csv"), s)
 }
 
-/// Keep the header and the rows of a CSV whose first column is ≤ `t`. The
-/// kept rows go to a temporary file that then replaces the CSV, so that a
-/// run killed while it resumes still finds every row its checkpoint names
-/// (a rewrite in place would leave the file empty or cut for a moment).
+/// Keep the header and the rows of a CSV whose first column is ≤ `t`,
+/// through [`replace_file`]: a run killed while it resumes still finds
+/// every row its checkpoint names (a rewrite in place would leave the file
+/// empty or cut for a moment).
 fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {} to continue it: {e}", path.display()))?;
@@ -384,10 +382,17 @@ fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
             times.extend(time.filter(|_| i > 0));
         }
     }
-    let tmp = path.with_extension("csv.tmp");
-    std::fs::write(&tmp, kept).map_err(|e| io_err(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| io_err(path, e))?;
+    replace_file(path, &kept).map_err(|e| io_err(path, e))?;
     Ok(times)
+}
+
+/// Write `contents` to `path` through `path` + `.tmp` and a rename: a run
+/// killed meanwhile leaves the old file whole, never an empty or cut one.
+fn replace_file(path: &Path, contents: &str) -> std::io::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    std::fs::write(&tmp, contents)?;
+    std::fs::rename(&tmp, path)
 }
 
 #[cfg(test)]
@@ -410,7 +415,7 @@ mod tests {
         assert_eq!(times, vec![0.0, 0.1, 0.2]);
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text, "time,x\n0.0,1\n0.1,2\n0.2,3\n");
-        assert!(!path.with_extension("csv.tmp").exists());
+        assert!(!dir.join("timeseries.csv.tmp").exists());
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

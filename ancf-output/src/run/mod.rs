@@ -124,6 +124,7 @@ pub fn run_in_memory(scene: &Scene) -> RunRecord {
 pub const OWNED_OUTPUTS: &[&str] = &[
     "summary.json",
     "timeseries.csv",
+    "timeseries.csv.tmp",
     "final_nodes.csv",
     "rod_forces.csv",
     "member_forces.csv",

@@ -5,6 +5,7 @@
 
 use super::Progress;
 use super::history::History;
+use super::plots::PlotJob;
 use crate::output::{Summary, TimeSeries, write_final_nodes};
 use crate::vtk::VtkWriter;
 use ancf_core::forces::contact::ContactSample;
@@ -194,9 +195,10 @@ impl Files {
         replace_file(&dir.join("checkpoint.json"), &text).map_err(|e| io_err(dir, e))
     }
 
-    /// The end of a dynamic run: VTK's collection, rod_forces.csv (and
-    /// rod_forces.png), member_forces.csv (and member_loads.png),
-    /// supports.csv, the plots, contact_point.csv.
+    /// The end of a dynamic run: VTK's collection, supports.csv,
+    /// rod_forces.csv, member_forces.csv, contact_point.csv, then the plots
+    /// (rod_forces.png, member_loads.png and the run's own), drawn at once
+    /// on threads of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn finish(
         &mut self,
@@ -215,26 +217,28 @@ impl Files {
         if !supports.loads.is_empty() {
             write_supports(dir, supports).map_err(|e| io_err(dir, e))?;
         }
+        let mut plots: Vec<PlotJob<'_>> = Vec::new();
         if let Some(cs) = &summary.contact
             && !cs.rods.is_empty()
         {
             write_rod_forces(dir, loads, filtered).map_err(|e| io_err(dir, e))?;
-            if scene.output.plots {
-                super::plots::plot_rod_forces(dir, loads, filtered, &cs.rods)?;
-            }
+            plots.push(Box::new(|| {
+                super::plots::plot_rod_forces(dir, loads, filtered, &cs.rods)
+            }));
         }
         if !members.0.is_empty() {
             let names: Vec<&str> = summary.beams.iter().map(|b| b.name.as_str()).collect();
             write_member_forces(dir, &names, members.0, members.1).map_err(|e| io_err(dir, e))?;
-            if scene.output.plots {
-                super::plots::plot_member_loads(dir, members.0, members.1, &summary.beams)?;
-            }
-        }
-        if scene.output.plots {
-            super::plots::plot_dynamic(dir, &scene.model, history)?;
+            plots.push(Box::new(|| {
+                super::plots::plot_member_loads(dir, members.0, members.1, &summary.beams)
+            }));
         }
         if !history.contact_point.is_empty() {
             write_contact_point(dir, history).map_err(|e| io_err(dir, e))?;
+        }
+        if scene.output.plots {
+            plots.extend(super::plots::dynamic_plots(dir, &scene.model, history));
+            super::plots::draw(plots)?;
         }
         Ok(())
     }

@@ -9,9 +9,46 @@ use ancf_core::model::Model;
 use ancf_core::solve::dynamics::Energies;
 use std::path::Path;
 
+/// A plot still to be drawn: it writes its PNG when called.
+pub type PlotJob<'a> = Box<dyn FnOnce() -> Result<(), String> + Send + 'a>;
+
+/// Draws `jobs` at once, one thread each (the calling thread takes the
+/// first), and returns the first error. Each plot is drawn supersampled and
+/// encoded on its own for tens of ms; in turn they were a seventh of the
+/// 64-element impact's run.
+pub fn draw(mut jobs: Vec<PlotJob<'_>>) -> Result<(), String> {
+    if jobs.is_empty() {
+        return Ok(());
+    }
+    let first = jobs.remove(0);
+    std::thread::scope(|scope| {
+        let others: Vec<_> = jobs.into_iter().map(|job| scope.spawn(job)).collect();
+        let mut result = first();
+        for handle in others {
+            let r = handle
+                .join()
+                .unwrap_or_else(|_| Err("a plot panicked".to_string()));
+            result = result.and(r);
+        }
+        result
+    })
+}
+
 /// `energy.png`, `configurations.png` and (with a contact point)
-/// `contact_point.png`.
-pub fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String> {
+/// `contact_point.png`, as jobs for [`draw`].
+pub fn dynamic_plots<'a>(out: &'a Path, model: &'a Model, h: &'a History) -> Vec<PlotJob<'a>> {
+    let mut jobs: Vec<PlotJob<'a>> = vec![
+        Box::new(move || plot_energy(out, model, h)),
+        Box::new(move || plot_configurations(out, model, h)),
+    ];
+    if !h.contact_point.is_empty() {
+        jobs.push(Box::new(move || plot_contact_point(out, h)));
+    }
+    jobs
+}
+
+/// `energy.png`: the energies and their total.
+fn plot_energy(out: &Path, model: &Model, h: &History) -> Result<(), String> {
     let pick = |f: fn(&Energies) -> f64| {
         h.time
             .iter()
@@ -66,7 +103,13 @@ pub fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String
         "time t (s)",
         "energy (J)",
         &series,
-    )?;
+    )
+}
+
+/// `configurations.png`: the wire's shapes, with the rods and frame
+/// members across the plane seen end-on.
+fn plot_configurations(out: &Path, model: &Model, h: &History) -> Result<(), String> {
+    let contact = model.contact();
     let mut rods: Vec<(f64, f64, f64)> = contact
         .map(|c| {
             c.rods
@@ -85,64 +128,65 @@ pub fn plot_dynamic(out: &Path, model: &Model, h: &History) -> Result<(), String
             rods.push((mid(0), mid(2), radius));
         }
     }
-    configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)?;
-    if !h.contact_point.is_empty() {
-        let col = |i: usize| {
-            h.contact_point
-                .iter()
-                .map(|r| (r[0], r[i]))
-                .collect::<Vec<_>>()
-        };
-        panels_plot(
-            &out.join("contact_point.png"),
-            2,
-            2,
-            (560, 420),
-            &[
-                Panel {
-                    title: "First contact point: vertical displacement",
-                    x_label: "t (s)",
-                    y_label: "Δz (m)",
-                    series: vec![Series {
-                        label: "Δz",
-                        points: col(1),
-                    }],
-                    ..Default::default()
-                },
-                Panel {
-                    title: "Normal strain E_xx",
-                    x_label: "t (s)",
-                    y_label: "E_xx (-)",
-                    series: vec![Series {
-                        label: "E_xx",
-                        points: col(2),
-                    }],
-                    ..Default::default()
-                },
-                Panel {
-                    title: "Normal strain E_yy",
-                    x_label: "t (s)",
-                    y_label: "E_yy (-)",
-                    series: vec![Series {
-                        label: "E_yy",
-                        points: col(3),
-                    }],
-                    ..Default::default()
-                },
-                Panel {
-                    title: "Normal strain E_zz",
-                    x_label: "t (s)",
-                    y_label: "E_zz (-)",
-                    series: vec![Series {
-                        label: "E_zz",
-                        points: col(4),
-                    }],
-                    ..Default::default()
-                },
-            ],
-        )?;
-    }
-    Ok(())
+    configurations_plot(&out.join("configurations.png"), &h.shapes, &rods)
+}
+
+/// `contact_point.png`: the first contact point's displacement and strains.
+fn plot_contact_point(out: &Path, h: &History) -> Result<(), String> {
+    let col = |i: usize| {
+        h.contact_point
+            .iter()
+            .map(|r| (r[0], r[i]))
+            .collect::<Vec<_>>()
+    };
+    panels_plot(
+        &out.join("contact_point.png"),
+        2,
+        2,
+        (560, 420),
+        &[
+            Panel {
+                title: "First contact point: vertical displacement",
+                x_label: "t (s)",
+                y_label: "Δz (m)",
+                series: vec![Series {
+                    label: "Δz",
+                    points: col(1),
+                }],
+                ..Default::default()
+            },
+            Panel {
+                title: "Normal strain E_xx",
+                x_label: "t (s)",
+                y_label: "E_xx (-)",
+                series: vec![Series {
+                    label: "E_xx",
+                    points: col(2),
+                }],
+                ..Default::default()
+            },
+            Panel {
+                title: "Normal strain E_yy",
+                x_label: "t (s)",
+                y_label: "E_yy (-)",
+                series: vec![Series {
+                    label: "E_yy",
+                    points: col(3),
+                }],
+                ..Default::default()
+            },
+            Panel {
+                title: "Normal strain E_zz",
+                x_label: "t (s)",
+                y_label: "E_zz (-)",
+                series: vec![Series {
+                    label: "E_zz",
+                    points: col(4),
+                }],
+                ..Default::default()
+            },
+        ],
+    )
 }
 
 /// `rod_forces.png`: per rod, the raw and the filtered force with both peaks marked.
@@ -256,4 +300,34 @@ fn plot_forces(
         return Ok(());
     }
     panels_plot(path, panels.len(), 1, (960, 480), &panels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn every_job_runs_and_the_first_error_is_returned() {
+        let ran = AtomicUsize::new(0);
+        let job = |fail: Option<&'static str>| -> PlotJob<'_> {
+            let ran = &ran;
+            Box::new(move || {
+                ran.fetch_add(1, Ordering::SeqCst);
+                fail.map_or(Ok(()), |m| Err(m.to_string()))
+            })
+        };
+        assert_eq!(draw(Vec::new()), Ok(()));
+        assert_eq!(draw(vec![job(None), job(None), job(None)]), Ok(()));
+        assert_eq!(ran.swap(0, Ordering::SeqCst), 3);
+        let r = draw(vec![job(None), job(Some("second")), job(Some("third"))]);
+        assert_eq!(r, Err("second".to_string()));
+        assert_eq!(ran.load(Ordering::SeqCst), 3);
+    }
+
+    #[test]
+    fn a_panicking_plot_is_an_error() {
+        let jobs: Vec<PlotJob<'_>> = vec![Box::new(|| Ok(())), Box::new(|| panic!("no font"))];
+        assert_eq!(draw(jobs), Err("a plot panicked".to_string()));
+    }
 }

@@ -36,31 +36,45 @@ fn save_png(
     register_font();
     let s = SUPERSAMPLE;
     let (w, h) = (size.0 * s, size.1 * s);
-    let mut big = vec![0u8; (w * h * 3) as usize];
+    // White from the start: what `fill(&WHITE)` would paint, without a
+    // pass over the whole supersampled area.
+    let mut big = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut big, (w, h)).into_drawing_area();
-        root.fill(&WHITE)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
         draw(&root, s)?;
         root.present()
             .map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    let mut small = vec![0u8; (size.0 * size.1 * 3) as usize];
-    for y in 0..size.1 {
-        for x in 0..size.0 {
-            for c in 0..3 {
-                let mut sum = 0u32;
-                for dy in 0..s {
-                    for dx in 0..s {
-                        sum += big[(((y * s + dy) * w + x * s + dx) * 3 + c) as usize] as u32;
-                    }
-                }
-                small[((y * size.0 + x) * 3 + c) as usize] = ((sum + s * s / 2) / (s * s)) as u8;
-            }
-        }
-    }
+    let small = average_down(&big, size, s);
     image::save_buffer(path, &small, size.0, size.1, image::ColorType::Rgb8)
         .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The mean of each `s` × `s` block of the RGB image `big` (`s` times
+/// `size`), rounded: `size`'s pixels. Row by row, so that the big image is
+/// read once in order.
+fn average_down(big: &[u8], size: (u32, u32), s: u32) -> Vec<u8> {
+    let (width, s) = (size.0 as usize, s as usize);
+    let big_row = 3 * width * s;
+    let n = (s * s) as u32;
+    let mut small = vec![0u8; 3 * width * size.1 as usize];
+    let mut sums = vec![0u32; 3 * width];
+    for (y, out) in small.chunks_exact_mut(3 * width).enumerate() {
+        sums.fill(0);
+        for row in big[y * s * big_row..][..s * big_row].chunks_exact(big_row) {
+            for (sum, block) in sums.chunks_exact_mut(3).zip(row.chunks_exact(3 * s)) {
+                for pixel in block.chunks_exact(3) {
+                    for c in 0..3 {
+                        sum[c] += u32::from(pixel[c]);
+                    }
+                }
+            }
+        }
+        for (o, sum) in out.iter_mut().zip(&sums) {
+            *o = ((sum + n / 2) / n) as u8;
+        }
+    }
+    small
 }
 
 /// One curve: a label and (x, y) points.
@@ -554,4 +568,42 @@ pub fn pareto_plot(
         draw_legend(&mut chart, s as f64, 15.0, SeriesLabelPosition::LowerLeft).map_err(e)?;
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each small pixel's channel is the rounded mean of its s × s block,
+    /// written out one sum at a time.
+    #[test]
+    fn averaging_down_is_the_rounded_block_mean() {
+        let (size, s) = ((7u32, 5u32), 3u32);
+        let (w, h) = (size.0 * s, size.1 * s);
+        let mut x = 12345u32;
+        let big: Vec<u8> = (0..w * h * 3)
+            .map(|_| {
+                x = x.wrapping_mul(1_103_515_245).wrapping_add(12345);
+                (x >> 16) as u8
+            })
+            .collect();
+        let small = average_down(&big, size, s);
+        assert_eq!(small.len(), (size.0 * size.1 * 3) as usize);
+        for y in 0..size.1 {
+            for x in 0..size.0 {
+                for c in 0..3 {
+                    let mut sum = 0u32;
+                    for dy in 0..s {
+                        for dx in 0..s {
+                            sum +=
+                                u32::from(big[(((y * s + dy) * w + x * s + dx) * 3 + c) as usize]);
+                        }
+                    }
+                    let mean = (sum + s * s / 2) / (s * s);
+                    assert_eq!(u32::from(small[((y * size.0 + x) * 3 + c) as usize]), mean);
+                }
+            }
+        }
+        assert_eq!(average_down(&[255; 27], (1, 1), 3), vec![255, 255, 255]);
+    }
 }

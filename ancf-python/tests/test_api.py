@@ -320,7 +320,14 @@ def test_ctrl_c_stops_a_run_at_its_last_completed_step():
     import signal
     import threading
 
-    text = IMPACT.read_text().replace("elements = 64", "elements = 16")
+    # Long enough (seconds even at 16 elements) to be running when the
+    # signal comes.
+    text = (
+        IMPACT.read_text()
+        .replace("elements = 64", "elements = 16")
+        .replace("end_time = 1.0", "end_time = 10.0")
+    )
+    assert "end_time = 10.0" in text
     sim = ancf.Simulation(ancf.Scene.from_toml(text))
     timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()

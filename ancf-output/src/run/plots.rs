@@ -8,58 +8,24 @@ use ancf_core::math::vec3::norm;
 use ancf_core::model::Model;
 use ancf_core::solve::dynamics::Energies;
 use std::path::Path;
-use std::sync::Mutex;
 
 /// A plot still to be drawn: it writes its PNG when called.
 pub type PlotJob<'a> = Box<dyn FnOnce() -> Result<(), String> + Send + 'a>;
 
-/// Draws `jobs` at once, one thread each (the calling thread takes the
-/// first), and returns the first error in their order. Each plot is drawn
-/// supersampled and encoded on its own for tens of ms: drawn in turn, a
-/// run's plots are a seventh of a small run such as the 64-element impact.
-/// A plot whose thread cannot be started is drawn by the calling thread;
-/// a plot that panics is an error, not the end of the run.
+/// Draws `jobs` at once on rayon's threads and returns the first error in
+/// their order. Each plot is drawn supersampled and encoded on its own for
+/// tens of ms, a noticeable part of a small run; a plot that panics is an
+/// error, not the end of the run.
 pub fn draw(jobs: Vec<PlotJob<'_>>) -> Result<(), String> {
-    let slots: Vec<Mutex<Option<PlotJob<'_>>>> =
-        jobs.into_iter().map(|job| Mutex::new(Some(job))).collect();
-    // Whoever takes a job first draws it.
-    let run = |slot: &Mutex<Option<PlotJob<'_>>>| {
-        let job = lock(slot).take();
-        job.map_or(Ok(()), |job| {
+    use rayon::prelude::*;
+    let results: Vec<Result<(), String>> = jobs
+        .into_par_iter()
+        .map(|job| {
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
                 .unwrap_or_else(|_| Err("a plot panicked".to_string()))
         })
-    };
-    let Some((first, others)) = slots.split_first() else {
-        return Ok(());
-    };
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = others
-            .iter()
-            .map(|slot| {
-                std::thread::Builder::new()
-                    .name("plot".to_string())
-                    .spawn_scoped(scope, move || run(slot))
-                    .ok()
-            })
-            .collect();
-        let mut result = run(first);
-        for (slot, handle) in others.iter().zip(handles) {
-            let r = match handle {
-                Some(h) => h
-                    .join()
-                    .unwrap_or_else(|_| Err("a plot panicked".to_string())),
-                None => run(slot),
-            };
-            result = result.and(r);
-        }
-        result
-    })
-}
-
-/// Locks `m`, also after a panic elsewhere (every write is one assignment).
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+        .collect();
+    results.into_iter().collect()
 }
 
 /// `energy.png`, `configurations.png` and (with a contact point)

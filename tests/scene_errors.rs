@@ -479,3 +479,40 @@ fn contact_laws_are_validated_naming_the_field() {
         "{got} vs {expected}"
     );
 }
+
+/// A missing key is named by its full field, the table it belongs to
+/// included; a missing table by its own name.
+#[test]
+fn missing_keys_are_named_with_their_table() {
+    let wire = BASE
+        .split("[wire]")
+        .nth(1)
+        .and_then(|rest| rest.split("[[support]]").next())
+        .unwrap();
+    let cases = [
+        (format!("[wire]{wire}"), String::new(), "wire"),
+        ("length = 1.0\n".to_string(), String::new(), "wire.length"),
+        (
+            "kind = \"dynamic\"\n".to_string(),
+            String::new(),
+            "analysis.kind",
+        ),
+        (
+            "{ material = \"core\", outer_radius = 0.01 }".to_string(),
+            "{ material = \"core\" }".to_string(),
+            "wire.layers.outer_radius",
+        ),
+        (
+            "name = \"cover\"\n".to_string(),
+            String::new(),
+            "material[1].name",
+        ),
+    ];
+    for (from, to, field) in cases {
+        assert!(BASE.contains(&from), "the base scene has no `{from}`");
+        let err = Scene::from_toml(&BASE.replacen(&from, &to, 1))
+            .err()
+            .unwrap_or_else(|| panic!("{field} missing: accepted"));
+        assert_eq!(err.field, field, "{}", err.message);
+    }
+}

@@ -243,7 +243,7 @@ fn located(path: &Path, text: &str, e: &toml::de::Error) -> SweepError {
     match e.span() {
         Some(span) => {
             let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-            let field = ancf_core::scene::field_at(text, span.start);
+            let field = ancf_core::scene::error_field(text, e);
             let field = if field.is_empty() {
                 String::new()
             } else {
@@ -459,6 +459,23 @@ mod tests {
             &params(text),
             SlurmSpec::default(),
         )
+    }
+
+    /// A key missing from the sweep file is named, at the file or in its
+    /// table.
+    #[test]
+    fn a_missing_key_is_named() {
+        let message = |text: &str| {
+            let e = toml::from_str::<SweepSpec>(text).unwrap_err();
+            located(Path::new("s.toml"), text, &e).0
+        };
+        let no_scene = message("mode = \"grid\"\n[parameters]\n\"wire.length\" = [1.0]\n");
+        assert!(no_scene.starts_with("s.toml:1: scene: "), "{no_scene}");
+        let no_parameters = message("scene = \"a.toml\"\n");
+        assert!(
+            no_parameters.starts_with("s.toml:1: parameters: "),
+            "{no_parameters}"
+        );
     }
 
     #[test]

@@ -188,11 +188,35 @@ impl SceneFile {
     /// Parse TOML text (syntax, types and unknown keys; no validation).
     pub fn from_toml(text: &str) -> Result<SceneFile, SceneError> {
         toml::from_str(text).map_err(|e| SceneError {
-            field: e
-                .span()
-                .map_or_else(String::new, |span| field_at(text, span.start)),
+            field: error_field(text, &e),
             message: e.to_string().trim_end().to_string(),
         })
+    }
+}
+
+/// The key a "missing field `key`" parse error names.
+fn missing_field(message: &str) -> Option<&str> {
+    message
+        .strip_prefix("missing field `")?
+        .split('`')
+        .next()
+        .filter(|key| !key.is_empty())
+}
+
+/// The dotted field a TOML parse error of `text` is about (empty when the
+/// error has no place). A missing key is reported at the table that lacks
+/// it (an empty span at the start: the file itself), so its name is joined
+/// to that table's.
+pub fn error_field(text: &str, e: &toml::de::Error) -> String {
+    let Some(span) = e.span() else {
+        return String::new();
+    };
+    let at = field_at(text, span.start);
+    match missing_field(e.message()) {
+        Some(key) if span.is_empty() && span.start == 0 => key.to_string(),
+        Some(key) if !at.is_empty() => format!("{at}.{key}"),
+        Some(key) => key.to_string(),
+        None => at,
     }
 }
 

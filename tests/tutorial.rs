@@ -116,7 +116,9 @@ fn every_command_of_the_tutorial_runs_and_says_what_it_shows() {
     assert!(close(&rail["filtered_peak_force"], 159.0, 1.0), "{rail}");
     assert!(close(&rail["peak_force"], 662.0, 1.0), "{rail}");
     assert!(close(&rail["impulse"], 8.03, 0.01), "{rail}");
-    assert!(s["supports"][0]["ratio_to_static"].is_number());
+    // Started at rest, not in equilibrium: no static load to compare with.
+    assert!(s["supports"][0]["filtered_peak_force"].as_f64().unwrap() > 0.0);
+    assert!(s["supports"][0].get("ratio_to_static").is_none());
     for layer in s["strains"][0]["layers"].as_array().unwrap() {
         assert!(layer["max_strain"].as_f64().unwrap() < 0.01, "{layer}");
     }

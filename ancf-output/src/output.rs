@@ -86,7 +86,8 @@ pub struct SupportSummary {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filtered_peak_force: Option<f64>,
     /// … and the peak over the static force's magnitude, `peak_force /
-    /// |static_force|` (absent when the static force is zero) …
+    /// |static_force|` (absent when the static force is zero, and when the
+    /// run does not start from a static equilibrium) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ratio_to_static: Option<f64>,
     /// … and the same for the filtered peak.

@@ -696,6 +696,7 @@ impl Simulation {
         ancf_output::run::supports::dynamic_supports(
             &self.scene.model,
             self.sim.initial_support_forces(),
+            self.scene.starts_from_equilibrium(),
             loads,
             &filtered,
         )

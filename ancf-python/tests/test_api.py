@@ -420,6 +420,12 @@ def test_support_loads_after_a_break_match_the_cli(tmp_path):
     table = np.genfromtxt(tmp_path / "out" / "supports.csv", delimiter=",", names=True)
     assert table.dtype.names == ("time", "s0_fx", "s0_fy", "s0_fz", "s1_fx", "s1_fy", "s1_fz")
     assert np.allclose(table["s0_fz"], left["force"][:, 2], rtol=1e-9, atol=0.0)
+    # Started at rest in the unloaded shape, t = 0 holds no static load: no ratios.
+    scene["analysis"]["initial"] = "reference"
+    sim = ancf.Simulation(ancf.Scene.from_dict(scene))
+    sim.run()
+    assert sim.supports[0]["peak_force"] > 0.0
+    assert "ratio_to_static" not in sim.supports[0]
 
 
 def test_a_wire_on_springs_equals_its_scene():

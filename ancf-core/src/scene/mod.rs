@@ -274,6 +274,19 @@ impl Scene {
         Ok(scene)
     }
 
+    /// Whether a dynamic run starts from the static equilibrium
+    /// (`initial = "static"`), where the supports' forces at t = 0 are
+    /// static loads to compare peaks with.
+    pub fn starts_from_equilibrium(&self) -> bool {
+        matches!(
+            self.analysis,
+            Analysis::Dynamic {
+                initial_static: true,
+                ..
+            }
+        )
+    }
+
     /// The rods whose line-law contact `analysis.time_step` does not
     /// resolve ([`Model::unresolved_contacts`]); none for a static analysis
     /// or adaptive steps (which stay below the limit near a rod).

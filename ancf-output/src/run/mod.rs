@@ -733,8 +733,13 @@ fn run_dynamic(
         loads: sim.support_loads(),
     };
     let support_filtered: Vec<Filtered> = supports.loads.iter().map(|h| h.filtered(cfc)).collect();
-    summary.supports =
-        supports::dynamic_supports(model, supports.initial, supports.loads, &support_filtered);
+    summary.supports = supports::dynamic_supports(
+        model,
+        supports.initial,
+        scene.starts_from_equilibrium(),
+        supports.loads,
+        &support_filtered,
+    );
     let member_filtered: Vec<Filtered> =
         sim.member_loads().iter().map(|h| h.filtered(cfc)).collect();
     if let Some(f) = files.as_mut() {

@@ -35,9 +35,14 @@ fn beam_and_node(model: &Model, n: usize) -> (String, usize) {
 /// A dynamic run's supports: `initial` is each support's force at t = 0
 /// (`Simulation::initial_support_forces`; missing entries count as zero),
 /// `loads` and `filtered` their histories and CFC-filtered magnitudes.
+/// The peaks are compared with the force at t = 0 only when the run starts
+/// from the static equilibrium (`from_equilibrium`): a run that starts at
+/// rest in the unloaded shape has, at t = 0, only the share of gravity the
+/// mass coupling leaves to the supports, no static load to compare with.
 pub fn dynamic_supports(
     model: &Model,
     initial: &[[f64; 3]],
+    from_equilibrium: bool,
     loads: &[LoadHistory],
     filtered: &[Filtered],
 ) -> Vec<SupportSummary> {
@@ -51,7 +56,7 @@ pub fn dynamic_supports(
             let static_force = initial.get(i).copied().unwrap_or([0.0; 3]);
             let load = h.summary(f);
             let reference = norm(static_force);
-            let ratio = |peak: f64| (reference > 0.0).then(|| peak / reference);
+            let ratio = |peak: f64| (from_equilibrium && reference > 0.0).then(|| peak / reference);
             let (beam, node) = beam_and_node(model, s.node);
             SupportSummary {
                 beam,

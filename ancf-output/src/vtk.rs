@@ -11,7 +11,8 @@
 //! stays bounded. [`VtkWriter::sync`] waits until every queued frame is on
 //! disk (before a checkpoint names them); dropping the writer does too.
 //!
-//! A hand-written writer (≈ 150 lines of XML with base64 binary arrays)
+//! A hand-written writer (≈ 150 lines of XML with zlib-compressed base64
+//! binary arrays)
 //! instead of vtkio: vtkio 0.6 pulls nom 3, quick-xml 0.22 and syn 1 with
 //! future-incompatibility warnings (CRATES.md), for a format this small.
 
@@ -47,21 +48,46 @@ pub struct VtkWriter {
     worker: Option<std::thread::JoinHandle<std::io::Result<()>>>,
 }
 
-/// One `DataArray` in VTK's inline binary form: base64 of a UInt32 byte
-/// count followed by the little-endian values, as one stream (what
-/// vtkXMLWriter writes uncompressed). Floats formatted as text would cost
-/// as much as the simulation.
+/// Bytes per zlib block of a compressed array (vtkXMLWriter's default).
+const BLOCK: usize = 1 << 15;
+
+/// One `DataArray` in VTK's inline binary form, compressed as
+/// vtkXMLWriter compresses it (`compressor="vtkZLibDataCompressor"`): the
+/// little-endian values in blocks of [`BLOCK`] bytes, each zlib-deflated
+/// on its own, after a header of UInt32s — the number of blocks, the block
+/// size, the size of a last partial block (0 if none) and each block's
+/// compressed size. Header and blocks are base64-encoded separately.
+/// Fastest compression: the impact's and the span break's frames shrink
+/// to a quarter of the uncompressed base64 (their floats and the
+/// repeated connectivity compress 3×), in less time than writing the
+/// difference. Floats formatted as text would cost as much as the
+/// simulation.
 fn data_array(out: &mut String, vtk_type: &str, name: &str, components: usize, bytes: &[u8]) {
     use base64::Engine as _;
+    use std::io::Write as _;
     let _ = writeln!(
         out,
         "        <DataArray type=\"{vtk_type}\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"binary\">"
     );
-    let mut raw = Vec::with_capacity(4 + bytes.len());
-    raw.extend_from_slice(&(bytes.len() as u32).to_le_bytes());
-    raw.extend_from_slice(bytes);
+    let blocks: Vec<Vec<u8>> = bytes
+        .chunks(BLOCK)
+        .map(|block| {
+            let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
+            z.write_all(block).expect("writing into memory");
+            z.finish().expect("writing into memory")
+        })
+        .collect();
+    let mut header = vec![
+        blocks.len() as u32,
+        BLOCK as u32,
+        (bytes.len() % BLOCK) as u32,
+    ];
+    header.extend(blocks.iter().map(|b| b.len() as u32));
+    let header: Vec<u8> = header.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let b64 = base64::engine::general_purpose::STANDARD;
     out.push_str("          ");
-    base64::engine::general_purpose::STANDARD.encode_string(&raw, out);
+    b64.encode_string(&header, out);
+    b64.encode_string(blocks.concat(), out);
     out.push('\n');
     let _ = writeln!(out, "        </DataArray>");
 }
@@ -89,7 +115,7 @@ fn write_vtu(
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
         s,
-        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt32\">"
+        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt32\" compressor=\"vtkZLibDataCompressor\">"
     );
     let _ = writeln!(s, "  <UnstructuredGrid>");
     let _ = writeln!(
@@ -377,28 +403,57 @@ mod tests {
     use super::*;
     use base64::Engine as _;
 
-    /// The inline binary array decodes to a UInt32 byte count followed by
-    /// the values, bit for bit (the layout VTK's XML reader expects; the
-    /// files read back with VTK 9's vtkXMLUnstructuredGridReader).
+    /// The inline binary array decodes to VTK's compression header — block
+    /// count, block size, last partial block, compressed sizes — and its
+    /// zlib blocks inflate to the values, bit for bit (the layout VTK's XML
+    /// reader expects), over one block and over several with a partial
+    /// last one and with none.
     #[test]
-    fn binary_data_array_round_trips() {
-        let values = [1.5, -2.25e-30, 3.0e38, 0.1];
-        let mut xml = String::new();
-        data_array(&mut xml, "Float32", "x", 2, &f32_bytes(&values));
-        assert!(
-            xml.contains("type=\"Float32\" Name=\"x\" NumberOfComponents=\"2\" format=\"binary\"")
-        );
-        let encoded = xml.lines().nth(1).unwrap().trim();
-        let raw = base64::engine::general_purpose::STANDARD
-            .decode(encoded)
-            .unwrap();
-        let count = u32::from_le_bytes(raw[..4].try_into().unwrap()) as usize;
-        assert_eq!(count, 4 * values.len());
-        let back: Vec<f32> = raw[4..]
-            .chunks(4)
-            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
-            .collect();
-        let expected: Vec<f32> = values.iter().map(|v| *v as f32).collect();
-        assert_eq!(back, expected);
+    fn compressed_data_array_round_trips() {
+        use std::io::Read as _;
+        let b64 = base64::engine::general_purpose::STANDARD;
+        for n in [4, 3 * BLOCK / 4 + 5, 2 * BLOCK / 4] {
+            let values: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin() * 1e3).collect();
+            let mut xml = String::new();
+            data_array(&mut xml, "Float32", "x", 2, &f32_bytes(&values));
+            assert!(xml.contains(
+                "type=\"Float32\" Name=\"x\" NumberOfComponents=\"2\" format=\"binary\""
+            ));
+            let encoded = xml.lines().nth(1).unwrap().trim();
+            let bytes = 4 * n;
+            let blocks = bytes.div_ceil(BLOCK);
+            // The header on its own: 3 + blocks UInt32s, base64-padded.
+            let header_chars = (4 * (3 + blocks)).div_ceil(3) * 4;
+            let header = b64.decode(&encoded[..header_chars]).unwrap();
+            let word = |k: usize| u32::from_le_bytes(header[4 * k..4 * k + 4].try_into().unwrap());
+            assert_eq!(word(0) as usize, blocks);
+            assert_eq!(word(1) as usize, BLOCK);
+            assert_eq!(word(2) as usize, bytes % BLOCK);
+            let data = b64.decode(&encoded[header_chars..]).unwrap();
+            let mut raw = Vec::new();
+            let mut at = 0;
+            for k in 0..blocks {
+                let size = word(3 + k) as usize;
+                let mut block = Vec::new();
+                flate2::read::ZlibDecoder::new(&data[at..at + size])
+                    .read_to_end(&mut block)
+                    .unwrap();
+                let full = if k + 1 < blocks || bytes % BLOCK == 0 {
+                    BLOCK
+                } else {
+                    bytes % BLOCK
+                };
+                assert_eq!(block.len(), full, "block {k} of {blocks}");
+                raw.extend(block);
+                at += size;
+            }
+            assert_eq!(at, data.len());
+            let back: Vec<f32> = raw
+                .chunks(4)
+                .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+                .collect();
+            let expected: Vec<f32> = values.iter().map(|v| *v as f32).collect();
+            assert_eq!(back, expected);
+        }
     }
 }

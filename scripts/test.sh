@@ -8,7 +8,7 @@ cargo test --release --workspace
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 python3 -m venv "$tmp/venv"
-"$tmp/venv/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<2" "numpy>=1.21" pytest
+"$tmp/venv/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<2" "numpy>=1.21" pytest meshio
 # One abi3 wheel (any CPython ≥ 3.9), built in the workspace's build
 # directory so that ancf-core is compiled once, then installed from it.
 CARGO_TARGET_DIR="$PWD/target" "$tmp/venv/bin/maturin" build --release --quiet \

@@ -276,11 +276,20 @@ fn impact_snapshot(since: f64, h: f64) -> bool {
     })
 }
 
-/// How a dynamic run steps, for its summary's message: `N steps of h s`,
-/// or the adaptive steps' tolerance and longest step.
+/// How a dynamic run steps, for its summary's message: `N steps of h s`
+/// (and the last one's length when `end_time` is no multiple of h: the run
+/// ends on it), or the adaptive steps' tolerance and longest step.
 pub fn stepping(settings: &DynamicSettings, n_steps: usize) -> String {
     match &settings.step_control {
-        None => format!("{n_steps} steps of {} s", settings.time_step),
+        None => {
+            let h = settings.time_step;
+            let last = settings.end_time - n_steps.saturating_sub(1) as f64 * h;
+            if n_steps > 1 && (last - h).abs() > 1e-6 * h {
+                format!("{n_steps} steps of {h} s, the last {last:.3e} s")
+            } else {
+                format!("{n_steps} steps of {h} s")
+            }
+        }
         Some(c) => format!(
             "adaptive steps (error tolerance {:e} m per step, at most {:e} s)",
             c.tolerance, c.max_step
@@ -797,4 +806,25 @@ fn static_contact(model: &Model, cf: &ContactForces) -> Option<ContactSummary> {
         max_penetration: cf.total.max_penetration,
         rods,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The message names the steps' length, and the last step's when the
+    /// end time is no multiple of it.
+    #[test]
+    fn stepping_names_a_short_last_step() {
+        let settings = |end_time: f64| DynamicSettings {
+            time_step: 1e-4,
+            end_time,
+            ..Default::default()
+        };
+        assert_eq!(stepping(&settings(1.0), 10_000), "10000 steps of 0.0001 s");
+        assert_eq!(
+            stepping(&settings(0.00105), 11),
+            "11 steps of 0.0001 s, the last 5.000e-5 s"
+        );
+    }
 }

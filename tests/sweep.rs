@@ -155,7 +155,16 @@ fn a_grid_runs_every_variant_and_tabulates_its_summary() {
         (row_dz - dz).abs() <= 1e-9 * dz.abs().max(1.0),
         "{row_dz} vs {dz}"
     );
+    // The pin's load is a column of its own, the variant's summary's.
+    let pin = summary(&own)["supports"][0]["filtered_peak_force"]
+        .as_f64()
+        .unwrap();
+    let row_pin: f64 = rows[3][column(&header, "support0_filtered_peak_force")]
+        .parse()
+        .unwrap();
+    assert!((row_pin - pin).abs() <= 1e-9 * pin, "{row_pin} vs {pin}");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("| support 0 (wire node 0): filtered peak force (N) | 4 |"));
     assert!(report.contains("plots/wire_length.png") && out.join("plots/wire_length.png").exists());
     // The spread over the variants: the tip displacement's min and max are
     // those of results.csv's column (report.md rounds to 4 decimals).
@@ -529,5 +538,106 @@ fn a_sweep_is_extended_in_place() {
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert!(stderr.contains("the base scene changed"), "{stderr}");
     assert_eq!(summary_of("v001"), before);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A wire dropped across a frame member (a tube, fixed at one end and
+/// hinged at the other): results.csv has the member's contact loads and
+/// internal loads and each support's load, each the variant's own
+/// summary's, and report.md tabulates them over the variants.
+#[test]
+fn a_frame_sweep_reports_member_and_support_loads() {
+    let dir = tmp("frame");
+    std::fs::write(
+        dir.join("frame.toml"),
+        r#"
+[analysis]
+kind = "dynamic"
+end_time = 0.22
+time_step = 1e-4
+spectral_radius = 0.8
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+[[material]]
+name = "cu"
+model = "st-venant-kirchhoff"
+density = 8900.0
+youngs_modulus = 110e9
+bending_factor = 0.1
+[[material]]
+name = "steel"
+model = "st-venant-kirchhoff"
+density = 7850.0
+youngs_modulus = 210e9
+poisson_ratio = 0.3
+[wire]
+length = 2.0
+elements = 20
+origin = [-1.0, 0.0, 0.2]
+layers = [ { material = "cu", outer_radius = 0.01 } ]
+[[beam]]
+name = "bar"
+length = 2.0
+elements = 8
+origin = [0.0, -1.0, 0.0]
+direction = [0.0, 1.0, 0.0]
+layers = [ { material = "steel", inner_radius = 0.02, outer_radius = 0.025 } ]
+contact_law = "line"
+contact_stiffness = 5e8
+friction = 0.3
+[[support]]
+beam = "bar"
+node = 0
+kind = "fixed"
+[[support]]
+beam = "bar"
+node = "last"
+kind = "hinge"
+[output]
+every = 100
+vtk = false
+plots = false
+"#,
+    )
+    .unwrap();
+    let sweep = dir.join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        "scene = \"frame.toml\"\n[parameters]\n\"wire.length\" = [2.0, 2.1]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    assert!(sweep_cmd(&sweep, &out, &[]).status().unwrap().success());
+    let (header, rows) = results(&out);
+    for (k, row) in rows.iter().enumerate() {
+        let s = summary(&out.join(format!("runs/v{k:03}")));
+        let bar = &s["beams"][0];
+        for (col, value) in [
+            (
+                "bar_first_impact_filtered_peak",
+                &bar["first_impact_filtered_peak"],
+            ),
+            ("bar_max_bending_moment", &bar["max_bending_moment"]),
+            ("bar_max_von_mises", &bar["max_von_mises"]),
+            (
+                "support0_filtered_peak_force",
+                &s["supports"][0]["filtered_peak_force"],
+            ),
+            ("support1_peak_force", &s["supports"][1]["peak_force"]),
+        ] {
+            let want = value.as_f64().unwrap();
+            assert!(want > 0.0, "{col}: {want}");
+            let got: f64 = row[column(&header, col)].parse().unwrap();
+            assert!((got - want).abs() <= 1e-9 * want, "{col}: {got} vs {want}");
+        }
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for quantity in [
+        "| bar: first impact, filtered peak (N) | 2 |",
+        "| bar: max von Mises stress (Pa) | 2 |",
+        "| support 1 (bar node 8): filtered peak force (N) | 2 |",
+    ] {
+        assert!(report.contains(quantity), "report.md lacks {quantity}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }

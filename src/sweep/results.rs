@@ -21,6 +21,43 @@ pub const ROD_COLUMNS: [&str; 8] = [
     "first_impact_impulse",
 ];
 
+/// Design numbers of one frame member besides its contact's
+/// [`ROD_COLUMNS`] (summary.json `beams[i]`): N m and Pa.
+pub const MEMBER_COLUMNS: [&str; 4] = [
+    "max_bending_moment",
+    "max_von_mises",
+    "first_impact_max_bending_moment",
+    "first_impact_max_von_mises",
+];
+
+/// Design numbers of one support (summary.json `supports[i]`): the force
+/// it exerts, raw and CFC-filtered (N), and the filtered peak over the
+/// static force (absent unless the run starts from its equilibrium).
+pub const SUPPORT_COLUMNS: [&str; 3] = [
+    "peak_force",
+    "filtered_peak_force",
+    "filtered_ratio_to_static",
+];
+
+/// One frame member's numbers in a variant.
+#[derive(Clone, Debug)]
+pub struct MemberRow {
+    pub name: String,
+    /// Its contact with the wire: [`ROD_COLUMNS`].
+    pub contact: [Option<f64>; ROD_COLUMNS.len()],
+    /// Its internal loads: [`MEMBER_COLUMNS`].
+    pub loads: [Option<f64>; MEMBER_COLUMNS.len()],
+}
+
+/// One support's numbers in a variant.
+#[derive(Clone, Debug)]
+pub struct SupportRow {
+    /// What it holds: `wire node 0`, `tube0 node 16`.
+    pub label: String,
+    /// [`SUPPORT_COLUMNS`].
+    pub loads: [Option<f64>; SUPPORT_COLUMNS.len()],
+}
+
 /// One variant as results.csv has it.
 #[derive(Clone, Debug)]
 pub struct Row {
@@ -33,6 +70,10 @@ pub struct Row {
     pub wall_time_s: Option<f64>,
     /// Per rod: [`ROD_COLUMNS`].
     pub rods: Vec<[Option<f64>; ROD_COLUMNS.len()]>,
+    /// Per frame member, in the scene's order.
+    pub members: Vec<MemberRow>,
+    /// Per support, in the scene's order.
+    pub supports: Vec<SupportRow>,
     /// Tip displacement components and length, m.
     pub tip: Option<[f64; 4]>,
     pub max_drift: Option<f64>,
@@ -83,6 +124,8 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             message,
             wall_time_s: None,
             rods: Vec::new(),
+            members: Vec::new(),
+            supports: Vec::new(),
             tip: None,
             max_drift: None,
             step_cuts: None,
@@ -104,6 +147,35 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
                 .collect()
         })
         .unwrap_or_default();
+    let members = s["beams"]
+        .as_array()
+        .map(|beams| {
+            beams
+                .iter()
+                .map(|b| MemberRow {
+                    name: b["name"].as_str().unwrap_or("").to_string(),
+                    contact: ROD_COLUMNS.map(|k| number(&b[k])),
+                    loads: MEMBER_COLUMNS.map(|k| number(&b[k])),
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let supports = s["supports"]
+        .as_array()
+        .map(|supports| {
+            supports
+                .iter()
+                .map(|p| SupportRow {
+                    label: format!(
+                        "{} node {}",
+                        p["beam"].as_str().unwrap_or("wire"),
+                        p["node"].as_u64().unwrap_or(0)
+                    ),
+                    loads: SUPPORT_COLUMNS.map(|k| number(&p[k])),
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     let d = &s["tip"]["displacement"];
     let tip = match (number(&d[0]), number(&d[1]), number(&d[2])) {
         (Some(x), Some(y), Some(z)) => Some([x, y, z, (x * x + y * y + z * z).sqrt()]),
@@ -116,6 +188,8 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         message: s["message"].as_str().unwrap_or("").to_string(),
         wall_time_s: number(&s["wall_time_s"]),
         rods,
+        members,
+        supports,
         tip,
         max_drift: number(&s["energy"]["max_drift"]),
         step_cuts: s["step_cuts"].as_u64(),
@@ -154,14 +228,31 @@ fn opt(v: Option<f64>) -> String {
     v.map_or(String::new(), |x| format!("{x:.9e}"))
 }
 
+/// The members and supports of the variant that has the most of them (a
+/// sweep's variants share them; one that failed early has none), for the
+/// columns.
+fn layout(rows: &[Row]) -> (&[MemberRow], &[SupportRow]) {
+    let members = rows.iter().map(|r| &r.members[..]).max_by_key(|m| m.len());
+    let supports = rows.iter().map(|r| &r.supports[..]).max_by_key(|s| s.len());
+    (members.unwrap_or(&[]), supports.unwrap_or(&[]))
+}
+
 /// results.csv's text.
 pub fn csv(parameters: &[String], rows: &[Row]) -> String {
     let n_rods = rows.iter().map(|r| r.rods.len()).max().unwrap_or(0);
+    let (members, supports) = layout(rows);
     let mut header: Vec<String> = vec!["id".into()];
     header.extend(parameters.iter().cloned());
     header.extend(["status", "message", "wall_time_s"].map(String::from));
     for k in 0..n_rods {
         header.extend(ROD_COLUMNS.iter().map(|c| format!("rod{k}_{c}")));
+    }
+    for m in members {
+        let columns = ROD_COLUMNS.iter().chain(&MEMBER_COLUMNS);
+        header.extend(columns.map(|c| format!("{}_{c}", m.name)));
+    }
+    for k in 0..supports.len() {
+        header.extend(SUPPORT_COLUMNS.iter().map(|c| format!("support{k}_{c}")));
     }
     header.extend(
         [
@@ -189,6 +280,19 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
             match r.rods.get(k) {
                 Some(v) => cells.extend(v.iter().map(|x| opt(*x))),
                 None => cells.extend(ROD_COLUMNS.iter().map(|_| String::new())),
+            }
+        }
+        for k in 0..members.len() {
+            match r.members.get(k) {
+                Some(m) => cells.extend(m.contact.iter().chain(&m.loads).map(|x| opt(*x))),
+                None => cells
+                    .extend((0..ROD_COLUMNS.len() + MEMBER_COLUMNS.len()).map(|_| String::new())),
+            }
+        }
+        for k in 0..supports.len() {
+            match r.supports.get(k) {
+                Some(p) => cells.extend(p.loads.iter().map(|x| opt(*x))),
+                None => cells.extend(SUPPORT_COLUMNS.iter().map(|_| String::new())),
             }
         }
         match r.tip {
@@ -266,9 +370,17 @@ pub fn significant(v: f64) -> String {
     }
 }
 
-/// The design numbers worth a plot: each rod's filtered peak and impulse, over the run and in its first impact,
-/// the tip displacement and the energy drift.
-fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
+/// The design numbers worth a plot: each rod's filtered peak and impulse,
+/// over the run and in its first impact; each frame member's filtered
+/// peak, its first impact's filtered peak and impulse, its largest bending
+/// moment (in the first impact and over the run) and von Mises stress;
+/// each support's filtered peak force (the tower's broken-wire load, a
+/// post's load on its footing); the tip displacement and the energy drift.
+fn design_numbers(
+    n_rods: usize,
+    members: &[MemberRow],
+    supports: &[SupportRow],
+) -> Vec<(String, String, Pick)> {
     let mut out: Vec<(String, String, Pick)> = Vec::new();
     for k in 0..n_rods {
         out.push((
@@ -290,6 +402,58 @@ fn design_numbers(n_rods: usize) -> Vec<(String, String, Pick)> {
             format!("rod {k}: first impact, impulse"),
             "N s".into(),
             Box::new(move |r: &Row| touched(r, k).and_then(|v| v[7])),
+        ));
+    }
+    for (k, m) in members.iter().enumerate() {
+        let name = &m.name;
+        // A member the wire never touched carries no contact load.
+        let contact = move |r: &Row, c: usize| {
+            let m = r.members.get(k)?;
+            m.contact[5].and(m.contact[c])
+        };
+        let load = move |r: &Row, c: usize| r.members.get(k).and_then(|m| m.loads[c]);
+        out.push((
+            format!("{name}: filtered peak force"),
+            "N".into(),
+            Box::new(move |r: &Row| contact(r, 2)),
+        ));
+        out.push((
+            format!("{name}: first impact, filtered peak"),
+            "N".into(),
+            Box::new(move |r: &Row| contact(r, 6)),
+        ));
+        out.push((
+            format!("{name}: first impact, impulse"),
+            "N s".into(),
+            Box::new(move |r: &Row| contact(r, 7)),
+        ));
+        out.push((
+            format!("{name}: first impact, max bending moment"),
+            "N m".into(),
+            Box::new(move |r: &Row| contact(r, 5).and(load(r, 2))),
+        ));
+        out.push((
+            format!("{name}: max bending moment"),
+            "N m".into(),
+            Box::new(move |r: &Row| load(r, 0)),
+        ));
+        out.push((
+            format!("{name}: max von Mises stress"),
+            "Pa".into(),
+            Box::new(move |r: &Row| load(r, 1)),
+        ));
+    }
+    for (k, p) in supports.iter().enumerate() {
+        // A support released at the start holds nothing: no load to design for.
+        out.push((
+            format!("support {k} ({}): filtered peak force", p.label),
+            "N".into(),
+            Box::new(move |r: &Row| {
+                r.supports
+                    .get(k)
+                    .and_then(|p| p.loads[1])
+                    .filter(|f| *f > 0.0)
+            }),
         ));
     }
     out.push((
@@ -398,7 +562,8 @@ Quantiles over the variants, each with its {:.0} % confidence interval \
 /// report.md with a plot per varied parameter.
 fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
     let n_rods = rows.iter().map(|r| r.rods.len()).max().unwrap_or(0);
-    let numbers = design_numbers(n_rods);
+    let (members, supports) = layout(rows);
+    let numbers = design_numbers(n_rods, members, supports);
     let mut md = String::new();
     let _ = writeln!(md, "# Sweep of {}\n", m.scene.display());
     let done = rows.iter().filter(|r| r.status == "completed").count();

@@ -250,4 +250,9 @@ fn refinement_study_gives_each_rods_loads_with_a_band() {
             assert!(value > 0.0 && band.is_finite() && band >= 0.0, "{line}");
         }
     }
+    // The pin's load converges, or says it does not, as the rods' do.
+    assert!(
+        report.contains("| support 0 (wire node 0): filtered peak force (N) | "),
+        "no row for the pin's load"
+    );
 }

@@ -87,6 +87,10 @@ pub struct Outcome {
     pub rods: Vec<RodOutcome>,
     /// The names of `rods`' entries: `rod 0`, …, then the members' names.
     pub partners: Vec<String>,
+    /// Each support's CFC-filtered peak force over the run (N), with what
+    /// it holds (`wire node 0`); `None` for a dynamic run's support that
+    /// held nothing (released at the start) and for static runs.
+    pub supports: Vec<(String, Option<f64>)>,
 }
 
 /// One rod's loads in a run (summary.json's `contact.rods`).
@@ -255,6 +259,14 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
             })
             .collect(),
         partners: loads.iter().map(|(name, ..)| name.clone()).collect(),
+        supports: summary
+            .supports
+            .iter()
+            .map(|p| {
+                let label = format!("{} node {}", p.beam, p.node);
+                (label, p.filtered_peak_force.filter(|f| *f > 0.0))
+            })
+            .collect(),
     }
 }
 

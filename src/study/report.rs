@@ -660,8 +660,9 @@ type Quantity = (String, Box<dyn Fn(&Outcome) -> Option<f64>>);
 /// impulse and the tip at first contact + 0.1 s; with several rods or
 /// members (`partners`, their names), each one's first impact (filtered
 /// peak, impulse) and its whole-run filtered peak, and a member's largest
-/// bending moment and von Mises stress.
-fn quantities(partners: &[String]) -> Vec<Quantity> {
+/// bending moment and von Mises stress; each support's (`supports`: what
+/// each holds) filtered peak force over the run.
+fn quantities(partners: &[String], supports: &[String]) -> Vec<Quantity> {
     let rods = partners.len();
     // Interpolated linearly between the samples around the time (the
     // nearest sample was ambiguous: with samples every 2 steps the time
@@ -711,6 +712,12 @@ fn quantities(partners: &[String]) -> Vec<Quantity> {
                 ));
             }
         }
+    }
+    for (k, label) in supports.iter().enumerate() {
+        q.push((
+            format!("support {k} ({label}): filtered peak force (N)"),
+            Box::new(move |o| o.supports.get(k).and_then(|s| s.1)),
+        ));
     }
     q
 }
@@ -832,8 +839,14 @@ fn convergence_section(md: &mut String, fam: &Family, outcomes: &[Outcome], base
         .max_by_key(|p| p.len())
         .cloned()
         .unwrap_or_default();
+    let supports: Vec<String> = outcomes
+        .iter()
+        .map(|o| &o.supports)
+        .max_by_key(|s| s.len())
+        .map(|s| s.iter().map(|(label, _)| label.clone()).collect())
+        .unwrap_or_default();
     let rods = partners.len();
-    let quantities = quantities(&partners);
+    let quantities = quantities(&partners, &supports);
     // Per quantity: the largest band over the directions, and whether any
     // direction oscillated.
     let mut bands: Vec<(f64, bool)> = vec![(0.0, false); quantities.len()];

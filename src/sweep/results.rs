@@ -90,6 +90,13 @@ fn number(v: &Value) -> Option<f64> {
     v.as_f64()
 }
 
+/// `f` of each entry of the JSON array `v` (none when it is not one).
+fn each<T>(v: &Value, f: impl Fn(&Value) -> T) -> Vec<T> {
+    v.as_array()
+        .map(|a| a.iter().map(f).collect())
+        .unwrap_or_default()
+}
+
 /// The row of variant `id` from its folder.
 fn row(out: &Path, id: &str, values: &[String]) -> Row {
     let dir = run_dir(out, id);
@@ -139,43 +146,22 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
     {
         status = format!("{status} (slurm: {state})");
     }
-    let rods = s["contact"]["rods"]
-        .as_array()
-        .map(|rods| {
-            rods.iter()
-                .map(|r| ROD_COLUMNS.map(|k| number(&r[k])))
-                .collect()
-        })
-        .unwrap_or_default();
-    let members = s["beams"]
-        .as_array()
-        .map(|beams| {
-            beams
-                .iter()
-                .map(|b| MemberRow {
-                    name: b["name"].as_str().unwrap_or("").to_string(),
-                    contact: ROD_COLUMNS.map(|k| number(&b[k])),
-                    loads: MEMBER_COLUMNS.map(|k| number(&b[k])),
-                })
-                .collect()
-        })
-        .unwrap_or_default();
-    let supports = s["supports"]
-        .as_array()
-        .map(|supports| {
-            supports
-                .iter()
-                .map(|p| SupportRow {
-                    label: format!(
-                        "{} node {}",
-                        p["beam"].as_str().unwrap_or("wire"),
-                        p["node"].as_u64().unwrap_or(0)
-                    ),
-                    loads: SUPPORT_COLUMNS.map(|k| number(&p[k])),
-                })
-                .collect()
-        })
-        .unwrap_or_default();
+    let rods = each(&s["contact"]["rods"], |r| {
+        ROD_COLUMNS.map(|k| number(&r[k]))
+    });
+    let members = each(&s["beams"], |b| MemberRow {
+        name: b["name"].as_str().unwrap_or("").to_string(),
+        contact: ROD_COLUMNS.map(|k| number(&b[k])),
+        loads: MEMBER_COLUMNS.map(|k| number(&b[k])),
+    });
+    let supports = each(&s["supports"], |p| SupportRow {
+        label: format!(
+            "{} node {}",
+            p["beam"].as_str().unwrap_or("wire"),
+            p["node"].as_u64().unwrap_or(0)
+        ),
+        loads: SUPPORT_COLUMNS.map(|k| number(&p[k])),
+    });
     let d = &s["tip"]["displacement"];
     let tip = match (number(&d[0]), number(&d[1]), number(&d[2])) {
         (Some(x), Some(y), Some(z)) => Some([x, y, z, (x * x + y * y + z * z).sqrt()]),
@@ -404,44 +390,39 @@ fn design_numbers(
             Box::new(move |r: &Row| touched(r, k).and_then(|v| v[7])),
         ));
     }
+    /// Where a member's design number is read: its contact's
+    /// [`ROD_COLUMNS`] (none when the wire never touched it), its
+    /// [`MEMBER_COLUMNS`], or those only when touched (first-impact loads).
+    #[derive(Clone, Copy)]
+    enum From {
+        Contact(usize),
+        Loads(usize),
+        TouchedLoads(usize),
+    }
     for (k, m) in members.iter().enumerate() {
-        let name = &m.name;
-        // A member the wire never touched carries no contact load.
-        let contact = move |r: &Row, c: usize| {
-            let m = r.members.get(k)?;
-            m.contact[5].and(m.contact[c])
-        };
-        let load = move |r: &Row, c: usize| r.members.get(k).and_then(|m| m.loads[c]);
-        out.push((
-            format!("{name}: filtered peak force"),
-            "N".into(),
-            Box::new(move |r: &Row| contact(r, 2)),
-        ));
-        out.push((
-            format!("{name}: first impact, filtered peak"),
-            "N".into(),
-            Box::new(move |r: &Row| contact(r, 6)),
-        ));
-        out.push((
-            format!("{name}: first impact, impulse"),
-            "N s".into(),
-            Box::new(move |r: &Row| contact(r, 7)),
-        ));
-        out.push((
-            format!("{name}: first impact, max bending moment"),
-            "N m".into(),
-            Box::new(move |r: &Row| contact(r, 5).and(load(r, 2))),
-        ));
-        out.push((
-            format!("{name}: max bending moment"),
-            "N m".into(),
-            Box::new(move |r: &Row| load(r, 0)),
-        ));
-        out.push((
-            format!("{name}: max von Mises stress"),
-            "Pa".into(),
-            Box::new(move |r: &Row| load(r, 1)),
-        ));
+        for (label, unit, from) in [
+            ("filtered peak force", "N", From::Contact(2)),
+            ("first impact, filtered peak", "N", From::Contact(6)),
+            ("first impact, impulse", "N s", From::Contact(7)),
+            (
+                "first impact, max bending moment",
+                "N m",
+                From::TouchedLoads(2),
+            ),
+            ("max bending moment", "N m", From::Loads(0)),
+            ("max von Mises stress", "Pa", From::Loads(1)),
+        ] {
+            let pick = move |r: &Row| {
+                let m = r.members.get(k)?;
+                let touched = m.contact[5].is_some();
+                match from {
+                    From::Contact(c) => m.contact[c].filter(|_| touched),
+                    From::Loads(c) => m.loads[c],
+                    From::TouchedLoads(c) => m.loads[c].filter(|_| touched),
+                }
+            };
+            out.push((format!("{}: {label}", m.name), unit.into(), Box::new(pick)));
+        }
     }
     for (k, p) in supports.iter().enumerate() {
         // A support released at the start holds nothing: no load to design for.

@@ -544,7 +544,8 @@ fn a_sweep_is_extended_in_place() {
 /// A wire dropped across a frame member (a tube, fixed at one end and
 /// hinged at the other): results.csv has the member's contact loads and
 /// internal loads and each support's load, each the variant's own
-/// summary's, and report.md tabulates them over the variants.
+/// summary's, and report.md tabulates them over the variants but for a
+/// support that let go at the start.
 #[test]
 fn a_frame_sweep_reports_member_and_support_loads() {
     let dir = tmp("frame");
@@ -593,6 +594,10 @@ kind = "fixed"
 beam = "bar"
 node = "last"
 kind = "hinge"
+[[support]]
+node = 0
+kind = "pin"
+release_time = 0.0
 [output]
 every = 100
 vtk = false
@@ -639,5 +644,12 @@ plots = false
     ] {
         assert!(report.contains(quantity), "report.md lacks {quantity}");
     }
+    // The wire's pin lets go at once: it holds nothing, and report.md
+    // leaves it out (results.csv keeps its zeros).
+    assert!(!report.contains("support 2"), "{report}");
+    let released: f64 = rows[0][column(&header, "support2_filtered_peak_force")]
+        .parse()
+        .unwrap();
+    assert_eq!(released, 0.0);
     let _ = std::fs::remove_dir_all(dir);
 }

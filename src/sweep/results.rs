@@ -544,7 +544,9 @@ Quantiles over the variants, each with its {:.0} % confidence interval \
 fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
     let n_rods = rows.iter().map(|r| r.rods.len()).max().unwrap_or(0);
     let (members, supports) = layout(rows);
-    let numbers = design_numbers(n_rods, members, supports);
+    // Only the numbers some variant has (a released support holds none).
+    let mut numbers = design_numbers(n_rods, members, supports);
+    numbers.retain(|(_, _, pick)| rows.iter().any(|r| pick(r).is_some()));
     let mut md = String::new();
     let _ = writeln!(md, "# Sweep of {}\n", m.scene.display());
     let done = rows.iter().filter(|r| r.status == "completed").count();

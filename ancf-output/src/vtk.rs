@@ -58,9 +58,8 @@ const BLOCK: usize = 1 << 15;
 /// size, the size of a last partial block (0 if none) and each block's
 /// compressed size. Header and blocks are base64-encoded separately.
 /// Fastest compression: the impact's and the span break's frames shrink
-/// to a quarter of the uncompressed base64 (their floats and the
-/// repeated connectivity compress 3×), in less time than writing the
-/// difference. Floats formatted as text would cost as much as the
+/// to about a third of the uncompressed base64 (BENCHMARKS.md), in less
+/// time than writing the difference. Floats formatted as text would cost as much as the
 /// simulation.
 fn data_array(out: &mut String, vtk_type: &str, name: &str, components: usize, bytes: &[u8]) {
     use base64::Engine as _;

@@ -337,10 +337,16 @@ pub fn collect(out: &Path) -> Result<SweepEnd, String> {
 /// A design number of a row, by name (see [`design_numbers`]).
 type Pick = Box<dyn Fn(&Row) -> Option<f64>>;
 
-/// Rod `k`'s numbers in `row` when the wire touched it: an untouched rod's
-/// zeros are no load, and would only pull the statistics down.
+/// A rod's or member's contact numbers ([`ROD_COLUMNS`]) when the wire
+/// touched it (it has a first contact time): an untouched one's zeros are
+/// no load, and would only pull the statistics down.
+fn when_touched(v: &[Option<f64>; ROD_COLUMNS.len()]) -> Option<&[Option<f64>; ROD_COLUMNS.len()]> {
+    v[5].is_some().then_some(v)
+}
+
+/// Rod `k`'s numbers in `row` when the wire touched it ([`when_touched`]).
 fn touched(row: &Row, k: usize) -> Option<&[Option<f64>; ROD_COLUMNS.len()]> {
-    row.rods.get(k).filter(|v| v[5].is_some())
+    row.rods.get(k).and_then(when_touched)
 }
 
 /// `v` with four significant figures (scientific beyond 1e-3 … 1e6).
@@ -414,11 +420,10 @@ fn design_numbers(
         ] {
             let pick = move |r: &Row| {
                 let m = r.members.get(k)?;
-                let touched = m.contact[5].is_some();
                 match from {
-                    From::Contact(c) => m.contact[c].filter(|_| touched),
+                    From::Contact(c) => when_touched(&m.contact).and_then(|v| v[c]),
                     From::Loads(c) => m.loads[c],
-                    From::TouchedLoads(c) => m.loads[c].filter(|_| touched),
+                    From::TouchedLoads(c) => when_touched(&m.contact).and(m.loads[c]),
                 }
             };
             out.push((format!("{}: {label}", m.name), unit.into(), Box::new(pick)));

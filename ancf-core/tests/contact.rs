@@ -98,32 +98,6 @@ fn normal_force_is_minus_gradient_of_penalty_energy() {
     }
 }
 
-/// Central differences with step `h` of `f` with respect to its first and
-/// its second argument: ∂f/∂e and ∂f/∂v, row-major 24 × 24.
-fn central_differences(
-    f: impl Fn(&[f64; 24], &[f64; 24]) -> [f64; 24],
-    e: &[f64; 24],
-    v: &[f64; 24],
-    h: f64,
-) -> ([f64; 576], [f64; 576]) {
-    let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
-    for j in 0..24 {
-        let (mut ep, mut em) = (*e, *e);
-        ep[j] += h;
-        em[j] -= h;
-        let (qp, qm) = (f(&ep, v), f(&em, v));
-        let (mut vp, mut vm) = (*v, *v);
-        vp[j] += h;
-        vm[j] -= h;
-        let (rp, rm) = (f(e, &vp), f(e, &vm));
-        for i in 0..24 {
-            fq[i * 24 + j] = (qp[i] - qm[i]) / (2.0 * h);
-            fv[i * 24 + j] = (rp[i] - rm[i]) / (2.0 * h);
-        }
-    }
-    (fq, fv)
-}
-
 #[test]
 fn jacobians_match_finite_differences_with_and_without_friction() {
     for (law, mu) in LAWS.iter().flat_map(|l| [(*l, 0.0), (*l, 0.3)]) {
@@ -219,30 +193,6 @@ fn far_elements_are_skipped_by_the_broad_phase() {
     let (q, kq, _, energy) = eval(&c, &e, &v);
     assert_eq!(energy, 0.0);
     assert!(q.iter().chain(kq.iter()).all(|x| *x == 0.0));
-}
-
-/// The Kelvin–Voigt force's Jacobians against central differences.
-#[test]
-fn kelvin_voigt_jacobians_match_finite_differences() {
-    use ancf_core::forces::damping::kelvin_voigt_element;
-    let el = element(two_layer(svk(2e9, 0.3, 0.5), mooney_rivlin(1e3), 3), L, 3);
-    let mut rng = Rng::new(4);
-    let e = deformed(&mut rng, L, 0.1);
-    let v: [f64; 24] = std::array::from_fn(|_| rng.uniform());
-    let eval = |e: &[f64; 24], v: &[f64; 24]| {
-        let (mut q, mut kq, mut kv) = ([0.0; 24], [0.0; 576], [0.0; 576]);
-        let p = kelvin_voigt_element(&el, 1e-3, e, v, &mut q, Some(&mut kq), Some(&mut kv));
-        (q, kq, kv, p)
-    };
-    let (q, kq, kv, power) = eval(&e, &v);
-    let qv: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
-    assert!(
-        (power - qv).abs() < 1e-10 * power.abs() && power > 0.0,
-        "power {power} vs Q·v {qv}"
-    );
-    let (fq, fv) = central_differences(|e, v| eval(e, v).0, &e, &v, 1e-6);
-    assert!(rel(&fq, &kq) < 1e-6, "∂Q/∂q {:e}", rel(&fq, &kq));
-    assert!(rel(&fv, &kv) < 1e-6, "∂Q/∂v {:e}", rel(&fv, &kv));
 }
 
 /// A time step finds its candidate (element, rod) pairs once, at

@@ -186,6 +186,9 @@ macro_rules! unrolled {
     };
 }
 
+// After `unrolled!`, which it uses.
+mod kelvin_voigt;
+
 /// Row of `m_centre` that each strain moment in [`CENTRE`] has (the others: unused).
 const CENTRE_ROW: [usize; 15] = {
     let mut row = [usize::MAX; 15];

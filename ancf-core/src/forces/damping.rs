@@ -11,7 +11,8 @@
 //! The dissipated power Q_d · v ≥ 0 is integrated into the energy balance.
 
 use crate::element::{
-    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, strain_matrix,
+    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
+    strain_matrix,
 };
 use crate::linalg::pattern::Pattern;
 use crate::material::{Law, tensor_from_stress};
@@ -74,9 +75,75 @@ fn kelvin_voigt_point(
 }
 
 /// Kelvin–Voigt force of one element with coordinates `e` and velocities
-/// `v`, over the same points and laws as its elastic force (section points
-/// and, where a layer has one, the centerline).
+/// `v`, over the same laws as its elastic force and as its plan integrates
+/// them: the pre-integrated linear laws in closed form over the section
+/// ([`crate::element::preintegration::PreIntegrated::strain_rate_force`]),
+/// the others point by point.
 pub fn kelvin_voigt_element(
+    ei: &ElementIntegration,
+    c: f64,
+    e: &ElementVector,
+    v: &ElementVector,
+    q: &mut ElementVector,
+    mut kq: Option<&mut ElementMatrix>,
+    mut kv: Option<&mut ElementMatrix>,
+) -> f64 {
+    let (l, plan) = (ei.length, &ei.plan);
+    let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
+    let mut power = 0.0;
+    if let Some(pre) = &plan.preintegrated {
+        power += pre.strain_rate_force(
+            nodes,
+            weights,
+            l,
+            c,
+            e,
+            v,
+            q,
+            kq.as_deref_mut(),
+            kv.as_deref_mut(),
+        );
+    }
+    for (xi, w) in nodes.iter().zip(weights) {
+        let wx = w * l;
+        for group in &plan.groups {
+            for p in &group.points {
+                let g = shape_gradients(*xi, p.y, p.z, l);
+                power += kelvin_voigt_point(
+                    e,
+                    v,
+                    &g,
+                    wx * p.weight,
+                    &group.law,
+                    c,
+                    q,
+                    kq.as_deref_mut(),
+                    kv.as_deref_mut(),
+                );
+            }
+        }
+        for (law, area) in &plan.centerline {
+            let g = shape_gradients(*xi, 0.0, 0.0, l);
+            power += kelvin_voigt_point(
+                e,
+                v,
+                &g,
+                wx * area,
+                law,
+                c,
+                q,
+                kq.as_deref_mut(),
+                kv.as_deref_mut(),
+            );
+        }
+    }
+    power
+}
+
+/// [`kelvin_voigt_element`] point by point over every layer's own section
+/// rule and centerline, as the law is stated: the reference the
+/// pre-integrated path is tested against.
+pub fn kelvin_voigt_points(
     ei: &ElementIntegration,
     c: f64,
     e: &ElementVector,
@@ -110,8 +177,12 @@ pub fn kelvin_voigt_force(
         let e = model.element_coordinates(q, el);
         let ve = model.element_coordinates(v, el);
         let mut qe = [0.0; 24];
-        mq.fill(0.0);
-        mv.fill(0.0);
+        if kq.is_some() {
+            mq.fill(0.0);
+        }
+        if kv.is_some() {
+            mv.fill(0.0);
+        }
         power += kelvin_voigt_element(
             model.element(el),
             c,

@@ -118,6 +118,32 @@ pub fn rel(a: &[f64], b: &[f64]) -> f64 {
     d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
 }
 
+/// Central differences with step `h` of `f` with respect to its first and
+/// its second argument: ∂f/∂e and ∂f/∂v, row-major 24 × 24.
+pub fn central_differences(
+    f: impl Fn(&[f64; 24], &[f64; 24]) -> [f64; 24],
+    e: &[f64; 24],
+    v: &[f64; 24],
+    h: f64,
+) -> ([f64; 576], [f64; 576]) {
+    let (mut fq, mut fv) = ([0.0; 576], [0.0; 576]);
+    for j in 0..24 {
+        let (mut ep, mut em) = (*e, *e);
+        ep[j] += h;
+        em[j] -= h;
+        let (qp, qm) = (f(&ep, v), f(&em, v));
+        let (mut vp, mut vm) = (*v, *v);
+        vp[j] += h;
+        vm[j] -= h;
+        let (rp, rm) = (f(e, &vp), f(e, &vm));
+        for i in 0..24 {
+            fq[i * 24 + j] = (qp[i] - qm[i]) / (2.0 * h);
+            fv[i * 24 + j] = (rp[i] - rm[i]) / (2.0 * h);
+        }
+    }
+    (fq, fv)
+}
+
 /// Splits a CSV line (quoted fields may hold commas).
 pub fn split_csv(line: &str) -> Vec<String> {
     let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);

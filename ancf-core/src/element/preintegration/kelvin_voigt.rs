@@ -1,0 +1,224 @@
+//! Kelvin–Voigt damping of the pre-integrated linear laws (SPEC §6).
+//!
+//! The strain-rate stress σ_v = c D Ė of a linear law D is the elastic
+//! stress of the strain c Ė. Ė is linear in the Gram rates
+//! ẋ_ij = u̇_i · u_j + u_i · u̇_j exactly as E is in x = u_i · u_j (with no
+//! constant part), so over the section the damping force is the elastic
+//! force's map applied to the strain moments c J ẋ: the same M, no section
+//! points. Point by point the same force costs a 6 × 24 strain matrix and
+//! its products at every section point (`forces::damping`), two orders of
+//! magnitude more (BENCHMARKS.md).
+//!
+//! Jacobians, in the five vectors u (u̇ = T v with the same T):
+//! * ∂Q/∂v = c Gᵀ A G, the elastic Hessian's material part (G = ∂x/∂u);
+//! * ∂Q/∂q = Σ_g s_g ∂²x_g/∂u² + c Gᵀ A G(u̇), the geometric part of the
+//!   damping stress s = c A ẋ, and the material part with its right factor
+//!   taken at u̇ (∂ẋ/∂u = G(u̇), G being linear): not symmetric.
+
+use super::{
+    CENTRE, GRAM_PAIRS, NODE_BLOCKS, PreIntegrated, STRAIN_MOMENT_OF_GRAM, STRAIN_MOMENTS,
+    T_VECTOR, gram, t_coefficients,
+};
+use crate::element::{ElementMatrix, ElementVector};
+use nalgebra::Vector3;
+
+/// u = T e at one station: the five vectors (r_x at the centerline,
+/// a = ∂r_y/∂x, b = ∂r_z/∂x, r_y, r_z) from the element's nodal vectors
+/// (r, r_x, r_y, r_z at node 1, then node 2), T's entries `tc` written out.
+fn vectors(tc: &[f64; 12], e: &ElementVector) -> [Vector3<f64>; 5] {
+    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = *tc;
+    let nv = |n: usize| Vector3::new(e[3 * n], e[3 * n + 1], e[3 * n + 2]);
+    let (r1, r1x, r1y, r1z) = (nv(0), nv(1), nv(2), nv(3));
+    let (r2, r2x, r2y, r2z) = (nv(4), nv(5), nv(6), nv(7));
+    [
+        (r1 - r2) * d1 + r1x * h1 + r2x * h2,
+        (r2y - r1y) * il,
+        (r2z - r1z) * il,
+        r1y * xi0 + r2y * xi1,
+        r1z * xi0 + r2z * xi1,
+    ]
+}
+
+/// The 3 × 3 blocks (index 5 i + j, row-major) Σ coef L_l R_rᵀ of the
+/// material Hessian's terms, with the left factor from `left` and the right
+/// from `right`; a block below the diagonal takes the terms of its mirror
+/// (j, i) with the roles of l and r exchanged. With `left` = `right` this is
+/// the (symmetric) material part of the elastic Hessian.
+fn material_blocks(
+    pre: &PreIntegrated,
+    left: &[Vector3<f64>; 5],
+    right: &[Vector3<f64>; 5],
+    scale: f64,
+) -> [[f64; 9]; 25] {
+    let mut h = [[0.0f64; 9]; 25];
+    for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
+        let (start, end) = pre.hessian_ranges[g];
+        let terms = &pre.hessian_terms[start..end];
+        let outer = |acc: &mut [f64; 9], a: &Vector3<f64>, b: &Vector3<f64>, coef: f64| {
+            for r in 0..3 {
+                for c in 0..3 {
+                    acc[3 * r + c] += scale * coef * a[r] * b[c];
+                }
+            }
+        };
+        for &(l, r, coef) in terms {
+            outer(&mut h[5 * i + j], &left[l], &right[r], coef);
+            if i != j {
+                outer(&mut h[5 * j + i], &left[r], &right[l], coef);
+            }
+        }
+    }
+    h
+}
+
+/// What one station of the damping force leaves for its Jacobians.
+struct RateStation {
+    tc: [f64; 12],
+    u: [Vector3<f64>; 5],
+    ud: [Vector3<f64>; 5],
+    /// ∂W/∂x-like coefficients of the damping stress (S_ii = 2σ_ii, S_ij = σ_ij).
+    s: [f64; 15],
+}
+
+impl PreIntegrated {
+    /// M y on M's non-zero blocks.
+    fn m_times(&self, y: &[f64; 15]) -> [f64; 15] {
+        let mut my = [0.0f64; 15];
+        for (r, row) in CENTRE.iter().zip(&self.m_centre) {
+            my[*r] = row.iter().zip(&CENTRE).map(|(m, &c)| m * y[c]).sum();
+        }
+        for r in 0..3 {
+            my[6 + r] = (0..3).map(|c| self.m_slope_y[r][c] * y[6 + c]).sum();
+            my[9 + r] = (0..3).map(|c| self.m_slope_z[r][c] * y[9 + c]).sum();
+        }
+        my[13] = self.m_beta * y[13];
+        my
+    }
+
+    /// One station ξ with weight `wx` (m): adds the damping force to `q`,
+    /// returns its power (W) and what the Jacobians need.
+    #[allow(clippy::too_many_arguments)]
+    fn rate_station(
+        &self,
+        xi: f64,
+        l: f64,
+        wx: f64,
+        c: f64,
+        e: &ElementVector,
+        v: &ElementVector,
+        q: &mut ElementVector,
+    ) -> (f64, RateStation) {
+        let tc = t_coefficients(xi, l);
+        let (u, ud) = (vectors(&tc, e), vectors(&tc, v));
+        // The strain moments' rates J ẋ (J: one coefficient per row).
+        let rate: [f64; 15] = unrolled!(r in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+            let (g, coef) = STRAIN_MOMENTS[r];
+            let (i, j) = GRAM_PAIRS[g];
+            coef * (ud[i].dot(&u[j]) + u[i].dot(&ud[j]))
+        });
+        let mr = self.m_times(&rate);
+        let power: f64 = rate.iter().zip(&mr).map(|(a, b)| a * b).sum();
+        // S_ii = 2σ_ii, S_ij = σ_ij of the damping stress σ = c Jᵀ M J ẋ.
+        let s: [f64; 15] = unrolled!(g in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+            let r = STRAIN_MOMENT_OF_GRAM[g];
+            let (i, j) = GRAM_PAIRS[g];
+            let coef = STRAIN_MOMENTS[r].1;
+            if i == j { 2.0 * c * coef * mr[r] } else { c * coef * mr[r] }
+        });
+        // Q_u,i = Σ_j S_ij u_j, then q += wx Tᵀ Q_u, written out.
+        let gu: [Vector3<f64>; 5] = unrolled!(i in [0, 1, 2, 3, 4] => {
+            u[0] * s[gram(i, 0)]
+                + u[1] * s[gram(i, 1)]
+                + u[2] * s[gram(i, 2)]
+                + u[3] * s[gram(i, 3)]
+                + u[4] * s[gram(i, 4)]
+        });
+        let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = tc;
+        let g0 = gu[0] * wx;
+        let (ga, gb) = (gu[1] * (wx * il), gu[2] * (wx * il));
+        let (gy, gz) = (gu[3] * wx, gu[4] * wx);
+        let mut add = |n: usize, f: Vector3<f64>| {
+            q[3 * n] += f.x;
+            q[3 * n + 1] += f.y;
+            q[3 * n + 2] += f.z;
+        };
+        add(0, g0 * d1);
+        add(1, g0 * h1);
+        add(2, gy * xi0 - ga);
+        add(3, gz * xi0 - gb);
+        add(4, -g0 * d1);
+        add(5, g0 * h2);
+        add(6, gy * xi1 + ga);
+        add(7, gz * xi1 + gb);
+        (wx * c * power, RateStation { tc, u, ud, s })
+    }
+
+    /// Kelvin–Voigt force (N) of the pre-integrated laws with coefficient
+    /// `c` (s) at coordinates `e` and velocities `v`, over the axial rule
+    /// (`nodes` ξ ∈ [0, 1], `weights` summing to 1) of an element of length
+    /// `l` (m), added to `q`; with `kq` and `kv`, ∂Q/∂q and ∂Q/∂v added
+    /// (row-major 24 × 24). Returns the dissipated power Q · v (W).
+    #[allow(clippy::too_many_arguments)]
+    pub fn strain_rate_force(
+        &self,
+        nodes: &[f64],
+        weights: &[f64],
+        l: f64,
+        c: f64,
+        e: &ElementVector,
+        v: &ElementVector,
+        q: &mut ElementVector,
+        mut kq: Option<&mut ElementMatrix>,
+        mut kv: Option<&mut ElementMatrix>,
+    ) -> f64 {
+        let mut power = 0.0;
+        for (xi, w) in nodes.iter().zip(weights) {
+            let wx = w * l;
+            let (p, st) = self.rate_station(*xi, l, wx, c, e, v, q);
+            power += p;
+            if let Some(kv) = kv.as_deref_mut() {
+                let h = material_blocks(self, &st.u, &st.u, c);
+                add_node_blocks(&h, &st.tc, wx, kv);
+            }
+            if let Some(kq) = kq.as_deref_mut() {
+                let mut h = material_blocks(self, &st.u, &st.ud, c);
+                for (g, &(i, j)) in GRAM_PAIRS.iter().enumerate() {
+                    for d in [0, 4, 8] {
+                        h[5 * i + j][d] += st.s[g];
+                        if i != j {
+                            h[5 * j + i][d] += st.s[g];
+                        }
+                    }
+                }
+                add_node_blocks(&h, &st.tc, wx, kq);
+            }
+        }
+        power
+    }
+}
+
+/// k += wx Tᵀ H T for the blocks H of one station (all 25; H need not be
+/// symmetric): node block (a, b) sums T_p1 T_p2 H(v(p1), v(p2)) over T's
+/// entries p1 at node a and p2 at node b.
+fn add_node_blocks(h: &[[f64; 9]; 25], tc: &[f64; 12], wx: f64, k: &mut ElementMatrix) {
+    for blk in &NODE_BLOCKS {
+        let (a, b) = (blk.a, blk.b);
+        let (mut upper, mut lower) = ([0.0f64; 9], [0.0f64; 9]);
+        for &(p1, p2, _) in &blk.terms[..blk.len] {
+            let w = wx * tc[p1] * tc[p2];
+            let (v1, v2) = (T_VECTOR[p1], T_VECTOR[p2]);
+            for x in 0..9 {
+                upper[x] += w * h[5 * v1 + v2][x];
+                lower[x] += w * h[5 * v2 + v1][x];
+            }
+        }
+        for r in 0..3 {
+            for c in 0..3 {
+                k[(3 * a + r) * 24 + 3 * b + c] += upper[3 * r + c];
+                if a != b {
+                    k[(3 * b + r) * 24 + 3 * a + c] += lower[3 * r + c];
+                }
+            }
+        }
+    }
+}

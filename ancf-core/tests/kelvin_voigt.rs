@@ -140,3 +140,37 @@ fn a_rigid_velocity_is_not_damped() {
         assert!(p.abs() < 1e-10 * p1, "{name}: power {p:e} against {p1:e}");
     }
 }
+
+/// The wire's damping force alone (eight elements at a time where the
+/// laws are pre-integrated) equals the one its Jacobians come with (one
+/// element at a time), with a Mooney–Rivlin jacket integrated by points
+/// and a count of elements no multiple of eight.
+#[test]
+fn the_batched_wire_force_equals_the_element_by_element_one() {
+    use ancf_core::forces::assembly::pattern;
+    use ancf_core::forces::damping::kelvin_voigt_force;
+    use ancf_core::model::WireBuilder;
+    use ancf_core::model::damping::Damping;
+    for jacket in [svk(5e10, 0.3, 0.1), mooney_rivlin(1e3)] {
+        let model = WireBuilder::new(1.0, 21)
+            .layer(svk(1.5e11, 0.0, 0.1), 0.005)
+            .layer(jacket, 0.014)
+            .damping(Damping::KelvinVoigt { coefficient: 1e-4 })
+            .build()
+            .unwrap();
+        let pattern = pattern(&model);
+        let mut rng = Rng::new(9);
+        let q: Vec<f64> = (model.reference.iter())
+            .map(|x| x + 0.01 * rng.uniform())
+            .collect();
+        let v: Vec<f64> = q.iter().map(|_| rng.uniform()).collect();
+        let (f, p) = kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, None);
+        let mut kv = vec![0.0; pattern.nnz()];
+        let (f1, p1) = kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, Some(&mut kv));
+        assert!(
+            p1 > 0.0 && (p - p1).abs() <= 1e-12 * p1,
+            "power {p} against {p1}"
+        );
+        assert!(rel(&f, &f1) < 1e-12, "force {:e}", rel(&f, &f1));
+    }
+}

@@ -817,6 +817,89 @@ fn jacobians_lanes<F: Arith, const W: usize>(
     energy
 }
 
+/// u = T e of W elements by components (u[v][c]: component c of vector v),
+/// T's entries `tc` written out as in [`PreIntegrated::station`].
+#[inline(always)]
+fn vectors_lanes<F: Arith, const W: usize>(
+    tc: &[f64; 12],
+    e: &[Lanes<W>; 24],
+) -> [[Lanes<W>; 3]; 5] {
+    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = *tc;
+    unrolled!(v in [0, 1, 2, 3, 4] => unrolled!(c in [0, 1, 2] => {
+        let (r1, r1x, r1y, r1z) = (e[c], e[3 + c], e[6 + c], e[9 + c]);
+        let (r2, r2x, r2y, r2z) = (e[12 + c], e[15 + c], e[18 + c], e[21 + c]);
+        match v {
+            0 => r2x.mul_add_s::<F>(h2, r1x.mul_add_s::<F>(h1, (r1 - r2) * d1)),
+            1 => (r2y - r1y) * il,
+            2 => (r2z - r1z) * il,
+            3 => r2y.mul_add_s::<F>(xi1, r1y * xi0),
+            _ => r2z.mul_add_s::<F>(xi1, r1z * xi0),
+        }
+    }))
+}
+
+/// M y on M's non-zero blocks, lane by lane, each row's sum in a register.
+#[inline(always)]
+fn m_times_lanes<F: Arith, const W: usize>(
+    pre: &PreIntegrated,
+    y: &[Lanes<W>; 15],
+) -> [Lanes<W>; 15] {
+    unrolled!(r in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => match r {
+        6..=8 => {
+            let my = &pre.m_slope_y[r - 6];
+            y[8].mul_add_s::<F>(my[2], y[7].mul_add_s::<F>(my[1], y[6] * my[0]))
+        }
+        9..=11 => {
+            let mz = &pre.m_slope_z[r - 9];
+            y[11].mul_add_s::<F>(mz[2], y[10].mul_add_s::<F>(mz[1], y[9] * mz[0]))
+        }
+        13 => y[13] * pre.m_beta,
+        _ => {
+            let row = &pre.m_centre[CENTRE_ROW[r]];
+            let mut acc = y[CENTRE[0]] * row[0];
+            for c in 1..8 {
+                acc = y[CENTRE[c]].mul_add_s::<F>(row[c], acc);
+            }
+            acc
+        }
+    })
+}
+
+/// q += wx Tᵀ Q_u with Q_u,i = Σ_j S_ij u_j (S by Gram index), as in
+/// [`PreIntegrated::station`].
+#[inline(always)]
+fn add_force_lanes<F: Arith, const W: usize>(
+    tc: &[f64; 12],
+    wx: f64,
+    u: &[[Lanes<W>; 3]; 5],
+    s: &[Lanes<W>; 15],
+    q: &mut [Lanes<W>; 24],
+) {
+    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = *tc;
+    let zero = Lanes::<W>::splat(0.0);
+    let gu: [[Lanes<W>; 3]; 5] = unrolled!(i in [0, 1, 2, 3, 4] => unrolled!(c in [0, 1, 2] => {
+        let mut acc = zero;
+        for j in 0..5 {
+            acc = u[j][c].mul_add::<F>(s[gram(i, j)], acc);
+        }
+        acc
+    }));
+    let wil = wx * il;
+    for c in 0..3 {
+        let g0 = gu[0][c] * wx;
+        let (ga, gb) = (gu[1][c] * wil, gu[2][c] * wil);
+        let (gy, gz) = (gu[3][c] * wx, gu[4][c] * wx);
+        q[c] = q[c] + g0 * d1;
+        q[3 + c] = q[3 + c] + g0 * h1;
+        q[6 + c] = q[6 + c] + gy.mul_add_s::<F>(xi0, -ga);
+        q[9 + c] = q[9 + c] + gz.mul_add_s::<F>(xi0, -gb);
+        q[12 + c] = q[12 + c] + -g0 * d1;
+        q[15 + c] = q[15 + c] + g0 * h2;
+        q[18 + c] = q[18 + c] + gy.mul_add_s::<F>(xi1, ga);
+        q[21 + c] = q[21 + c] + gz.mul_add_s::<F>(xi1, gb);
+    }
+}
+
 /// [`PreIntegrated::station`]'s force and energy for W elements; without
 /// `FORCE` the energy alone (its bits are the same: the force is computed
 /// from the energy's terms after them).
@@ -829,23 +912,12 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
     e: &[Lanes<W>; 24],
     q: &mut [Lanes<W>; 24],
 ) -> LaneStation<W> {
-    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = t_coefficients(xi, l);
+    let tc = t_coefficients(xi, l);
     let zero = Lanes::<W>::splat(0.0);
     // Every array below is built entry by entry (`unrolled!`), never zeroed
     // first: a zeroed array filled by a loop compiles to a call to memset
     // (four a station, about a tenth of the force kernel's time, perf).
-    // u = T e by components: u[v][c] is component c of vector v.
-    let u: [[Lanes<W>; 3]; 5] = unrolled!(v in [0, 1, 2, 3, 4] => unrolled!(c in [0, 1, 2] => {
-        let (r1, r1x, r1y, r1z) = (e[c], e[3 + c], e[6 + c], e[9 + c]);
-        let (r2, r2x, r2y, r2z) = (e[12 + c], e[15 + c], e[18 + c], e[21 + c]);
-        match v {
-            0 => r2x.mul_add_s::<F>(h2, r1x.mul_add_s::<F>(h1, (r1 - r2) * d1)),
-            1 => (r2y - r1y) * il,
-            2 => (r2z - r1z) * il,
-            3 => r2y.mul_add_s::<F>(xi1, r1y * xi0),
-            _ => r2z.mul_add_s::<F>(xi1, r1z * xi0),
-        }
-    }));
+    let u = vectors_lanes::<F, W>(&tc, e);
     let x: [Lanes<W>; 15] = unrolled!(g in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
         let (a, b) = (&u[GRAM_PAIRS[g].0], &u[GRAM_PAIRS[g].1]);
         a[2].mul_add::<F>(b[2], a[1].mul_add::<F>(b[1], a[0] * b[0]))
@@ -854,25 +926,7 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
         let (col, coef) = STRAIN_MOMENTS[r];
         x[col].mul_add_s::<F>(coef, Lanes::splat(pre.s0[r]))
     });
-    let ms: [Lanes<W>; 15] = unrolled!(r in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => match r {
-        6..=8 => {
-            let my = &pre.m_slope_y[r - 6];
-            strain[8].mul_add_s::<F>(my[2], strain[7].mul_add_s::<F>(my[1], strain[6] * my[0]))
-        }
-        9..=11 => {
-            let mz = &pre.m_slope_z[r - 9];
-            strain[11].mul_add_s::<F>(mz[2], strain[10].mul_add_s::<F>(mz[1], strain[9] * mz[0]))
-        }
-        13 => strain[13] * pre.m_beta,
-        _ => {
-            let row = &pre.m_centre[CENTRE_ROW[r]];
-            let mut acc = strain[CENTRE[0]] * row[0];
-            for c in 1..8 {
-                acc = strain[CENTRE[c]].mul_add_s::<F>(row[c], acc);
-            }
-            acc
-        }
-    });
+    let ms = m_times_lanes::<F, W>(pre, &strain);
     let mut energy = zero;
     for r in 0..15 {
         energy = strain[r].mul_add::<F>(ms[r], energy);
@@ -894,28 +948,7 @@ fn station_lanes<F: Arith, const W: usize, const FORCE: bool>(
             s[g] = sigma[g] * 2.0;
         }
     }
-    let gu: [[Lanes<W>; 3]; 5] = unrolled!(i in [0, 1, 2, 3, 4] => unrolled!(c in [0, 1, 2] => {
-        let mut acc = zero;
-        for j in 0..5 {
-            acc = u[j][c].mul_add::<F>(s[gram(i, j)], acc);
-        }
-        acc
-    }));
-    // q += wx Tᵀ gu, as in `station`.
-    let wil = wx * il;
-    for c in 0..3 {
-        let g0 = gu[0][c] * wx;
-        let (ga, gb) = (gu[1][c] * wil, gu[2][c] * wil);
-        let (gy, gz) = (gu[3][c] * wx, gu[4][c] * wx);
-        q[c] = q[c] + g0 * d1;
-        q[3 + c] = q[3 + c] + g0 * h1;
-        q[6 + c] = q[6 + c] + gy.mul_add_s::<F>(xi0, -ga);
-        q[9 + c] = q[9 + c] + gz.mul_add_s::<F>(xi0, -gb);
-        q[12 + c] = q[12 + c] + -g0 * d1;
-        q[15 + c] = q[15 + c] + g0 * h2;
-        q[18 + c] = q[18 + c] + gy.mul_add_s::<F>(xi1, ga);
-        q[21 + c] = q[21 + c] + gz.mul_add_s::<F>(xi1, gb);
-    }
+    add_force_lanes::<F, W>(&tc, wx, &u, &s, q);
     LaneStation {
         energy: energy * (wx * 0.5),
         u,

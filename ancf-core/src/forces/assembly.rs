@@ -142,7 +142,7 @@ fn add_whole_elements(
 }
 
 /// Coordinate i of elements `first`..`first + W` as lanes: `[i][k]`.
-fn lanes<const W: usize>(model: &Model, q: &[f64], first: usize) -> [[f64; W]; 24] {
+pub(crate) fn lanes<const W: usize>(model: &Model, q: &[f64], first: usize) -> [[f64; W]; 24] {
     let e: [ElementVector; W] = std::array::from_fn(|k| model.element_coordinates(q, first + k));
     std::array::from_fn(|i| std::array::from_fn(|k| e[k][i]))
 }

@@ -14,6 +14,7 @@ use crate::element::{
     ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
     strain_matrix,
 };
+use crate::forces::assembly::lanes;
 use crate::linalg::pattern::Pattern;
 use crate::material::{Law, tensor_from_stress};
 use crate::model::{Model, NODE_DOFS};
@@ -88,14 +89,13 @@ pub fn kelvin_voigt_element(
     mut kq: Option<&mut ElementMatrix>,
     mut kv: Option<&mut ElementMatrix>,
 ) -> f64 {
-    let (l, plan) = (ei.length, &ei.plan);
-    let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
     let mut power = 0.0;
-    if let Some(pre) = &plan.preintegrated {
+    if let Some(pre) = &ei.plan.preintegrated {
+        let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
         power += pre.strain_rate_force(
             nodes,
             weights,
-            l,
+            ei.length,
             c,
             e,
             v,
@@ -104,31 +104,35 @@ pub fn kelvin_voigt_element(
             kv.as_deref_mut(),
         );
     }
-    for (xi, w) in nodes.iter().zip(weights) {
+    power + kelvin_voigt_point_laws(ei, c, e, v, q, kq, kv)
+}
+
+/// The part of [`kelvin_voigt_element`] that the plan integrates point by
+/// point (its groups of section points and non-linear centerline laws).
+fn kelvin_voigt_point_laws(
+    ei: &ElementIntegration,
+    c: f64,
+    e: &ElementVector,
+    v: &ElementVector,
+    q: &mut ElementVector,
+    mut kq: Option<&mut ElementMatrix>,
+    mut kv: Option<&mut ElementMatrix>,
+) -> f64 {
+    let (l, plan) = (ei.length, &ei.plan);
+    let mut power = 0.0;
+    for (xi, w) in ei.axial.nodes.iter().zip(&ei.axial.weights) {
         let wx = w * l;
-        for group in &plan.groups {
-            for p in &group.points {
-                let g = shape_gradients(*xi, p.y, p.z, l);
-                power += kelvin_voigt_point(
-                    e,
-                    v,
-                    &g,
-                    wx * p.weight,
-                    &group.law,
-                    c,
-                    q,
-                    kq.as_deref_mut(),
-                    kv.as_deref_mut(),
-                );
-            }
-        }
-        for (law, area) in &plan.centerline {
-            let g = shape_gradients(*xi, 0.0, 0.0, l);
+        let points = plan.groups.iter().flat_map(|group| {
+            (group.points.iter()).map(move |p| ((p.y, p.z), p.weight, &group.law))
+        });
+        let centerline = (plan.centerline.iter()).map(|(law, area)| ((0.0, 0.0), *area, law));
+        for ((y, z), weight, law) in points.chain(centerline) {
+            let g = shape_gradients(*xi, y, z, l);
             power += kelvin_voigt_point(
                 e,
                 v,
                 &g,
-                wx * area,
+                wx * weight,
                 law,
                 c,
                 q,
@@ -161,6 +165,8 @@ pub fn kelvin_voigt_points(
 
 /// Kelvin–Voigt force of the whole wire at (q, v) on the unknowns (N) and
 /// its power (W); adds ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv` (pattern slots).
+/// The force alone takes the pre-integrated laws eight elements at a time
+/// (SIMD lanes, as the elastic force), the Jacobians one element at a time.
 pub fn kelvin_voigt_force(
     model: &Model,
     pattern: &Pattern,
@@ -173,33 +179,66 @@ pub fn kelvin_voigt_force(
     let mut full = vec![0.0; q.len()];
     let mut power = 0.0;
     let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
-    for el in (0..model.n_elements).filter(|&el| !model.is_gap(el)) {
-        let e = model.element_coordinates(q, el);
-        let ve = model.element_coordinates(v, el);
-        let mut qe = [0.0; 24];
-        if kq.is_some() {
-            mq.fill(0.0);
+    let batched = kq.is_none() && kv.is_none();
+    for group in &model.groups {
+        let ei = &group.integration;
+        let mut first = group.elements.start;
+        if let (true, Some(pre)) = (batched, &ei.plan.preintegrated) {
+            let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
+            while first + 8 <= group.elements.end {
+                let (e8, v8) = (lanes::<8>(model, q, first), lanes::<8>(model, v, first));
+                let mut q8 = [[0.0; 8]; 24];
+                let p8 = pre.strain_rate_forces_8(nodes, weights, ei.length, c, &e8, &v8, &mut q8);
+                for (k, p) in p8.iter().enumerate() {
+                    let el = first + k;
+                    let mut qe: ElementVector = std::array::from_fn(|i| q8[i][k]);
+                    power += p;
+                    if ei.plan.points() > 0 {
+                        let e = model.element_coordinates(q, el);
+                        let ve = model.element_coordinates(v, el);
+                        power += kelvin_voigt_point_laws(ei, c, &e, &ve, &mut qe, None, None);
+                    }
+                    for (f, x) in full[NODE_DOFS * el..NODE_DOFS * el + 24]
+                        .iter_mut()
+                        .zip(&qe)
+                    {
+                        *f += x;
+                    }
+                }
+                first += 8;
+            }
         }
-        if kv.is_some() {
-            mv.fill(0.0);
-        }
-        power += kelvin_voigt_element(
-            model.element(el),
-            c,
-            &e,
-            &ve,
-            &mut qe,
-            kq.is_some().then_some(&mut mq),
-            kv.is_some().then_some(&mut mv),
-        );
-        for i in 0..24 {
-            full[NODE_DOFS * el + i] += qe[i];
-        }
-        if let Some(k) = kq.as_deref_mut() {
-            pattern.add_element(k, el, &mq);
-        }
-        if let Some(k) = kv.as_deref_mut() {
-            pattern.add_element(k, el, &mv);
+        for el in first..group.elements.end {
+            let e = model.element_coordinates(q, el);
+            let ve = model.element_coordinates(v, el);
+            let mut qe = [0.0; 24];
+            if kq.is_some() {
+                mq.fill(0.0);
+            }
+            if kv.is_some() {
+                mv.fill(0.0);
+            }
+            power += kelvin_voigt_element(
+                ei,
+                c,
+                &e,
+                &ve,
+                &mut qe,
+                kq.is_some().then_some(&mut mq),
+                kv.is_some().then_some(&mut mv),
+            );
+            for (f, x) in full[NODE_DOFS * el..NODE_DOFS * el + 24]
+                .iter_mut()
+                .zip(&qe)
+            {
+                *f += x;
+            }
+            if let Some(k) = kq.as_deref_mut() {
+                pattern.add_element(k, el, &mq);
+            }
+            if let Some(k) = kv.as_deref_mut() {
+                pattern.add_element(k, el, &mv);
+            }
         }
     }
     (model.gather(&full), power)

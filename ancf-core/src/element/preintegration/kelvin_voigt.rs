@@ -16,10 +16,11 @@
 //!   taken at u̇ (∂ẋ/∂u = G(u̇), G being linear): not symmetric.
 
 use super::{
-    CENTRE, GRAM_PAIRS, NODE_BLOCKS, PreIntegrated, STRAIN_MOMENT_OF_GRAM, STRAIN_MOMENTS,
-    T_VECTOR, gram, t_coefficients,
+    CENTRE, GRAM_PAIRS, Lanes, NODE_BLOCKS, PreIntegrated, STRAIN_MOMENT_OF_GRAM, STRAIN_MOMENTS,
+    T_VECTOR, add_force_lanes, gram, m_times_lanes, t_coefficients, vectors_lanes,
 };
 use crate::element::{ElementMatrix, ElementVector};
+use crate::math::simd::Arith;
 use nalgebra::Vector3;
 
 /// u = T e at one station: the five vectors (r_x at the centerline,
@@ -195,6 +196,34 @@ impl PreIntegrated {
         }
         power
     }
+
+    /// [`PreIntegrated::strain_rate_force`] without Jacobians for eight
+    /// elements of length `l` given by lanes (`e[i][k]`, `v[i][k]`:
+    /// coordinate i of element k), on the CPU's SIMD path; their forces are
+    /// added to `q`, their powers (W) returned.
+    #[allow(clippy::too_many_arguments)]
+    pub fn strain_rate_forces_8(
+        &self,
+        nodes: &[f64],
+        weights: &[f64],
+        l: f64,
+        c: f64,
+        e: &[[f64; 8]; 24],
+        v: &[[f64; 8]; 24],
+        q: &mut [[f64; 8]; 24],
+    ) -> [f64; 8] {
+        strain_rate_8(
+            crate::math::simd::path(),
+            self,
+            nodes,
+            weights,
+            l,
+            c,
+            e,
+            v,
+            q,
+        )
+    }
 }
 
 /// k += wx Tᵀ H T for the blocks H of one station (all 25; H need not be
@@ -217,6 +246,178 @@ fn add_node_blocks(h: &[[f64; 9]; 25], tc: &[f64; 12], wx: f64, k: &mut ElementM
                 k[(3 * a + r) * 24 + 3 * b + c] += upper[3 * r + c];
                 if a != b {
                     k[(3 * b + r) * 24 + 3 * a + c] += lower[3 * r + c];
+                }
+            }
+        }
+    }
+}
+
+/// [`PreIntegrated::strain_rate_force`] without Jacobians for W elements at
+/// once (`e[i]`, `v[i]`: coordinate i of each element), lane by lane as the
+/// elastic force kernel runs them; returns each element's power (W).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn strain_rate_lanes<F: Arith, const W: usize>(
+    pre: &PreIntegrated,
+    nodes: &[f64],
+    weights: &[f64],
+    l: f64,
+    c: f64,
+    e: &[[f64; W]; 24],
+    v: &[[f64; W]; 24],
+    q: &mut [[f64; W]; 24],
+) -> [f64; W] {
+    let mut el = [Lanes([0.0; W]); 24];
+    let mut vl = [Lanes([0.0; W]); 24];
+    let mut ql = [Lanes([0.0; W]); 24];
+    for i in 0..24 {
+        (el[i], vl[i], ql[i]) = (Lanes(e[i]), Lanes(v[i]), Lanes(q[i]));
+    }
+    let mut power = Lanes::<W>::splat(0.0);
+    for (&xi, &w) in nodes.iter().zip(weights) {
+        let (tc, wx) = (t_coefficients(xi, l), w * l);
+        let (u, ud) = (
+            vectors_lanes::<F, W>(&tc, &el),
+            vectors_lanes::<F, W>(&tc, &vl),
+        );
+        let dot = |a: &[Lanes<W>; 3], b: &[Lanes<W>; 3]| {
+            a[2].mul_add::<F>(b[2], a[1].mul_add::<F>(b[1], a[0] * b[0]))
+        };
+        let rate: [Lanes<W>; 15] = unrolled!(r in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+            let (g, coef) = STRAIN_MOMENTS[r];
+            let (i, j) = GRAM_PAIRS[g];
+            (dot(&ud[i], &u[j]) + dot(&u[i], &ud[j])) * coef
+        });
+        let mr = m_times_lanes::<F, W>(pre, &rate);
+        let mut p = Lanes::<W>::splat(0.0);
+        for r in 0..15 {
+            p = rate[r].mul_add::<F>(mr[r], p);
+        }
+        power = p.mul_add_s::<F>(wx * c, power);
+        let s: [Lanes<W>; 15] = unrolled!(g in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14] => {
+            let r = STRAIN_MOMENT_OF_GRAM[g];
+            let (i, j) = GRAM_PAIRS[g];
+            mr[r] * (if i == j { 2.0 } else { 1.0 } * c * STRAIN_MOMENTS[r].1)
+        });
+        add_force_lanes::<F, W>(&tc, wx, &u, &s, &mut ql);
+    }
+    for (qi, x) in q.iter_mut().zip(&ql) {
+        *qi = x.0;
+    }
+    power.0
+}
+
+/// [`strain_rate_lanes`] with eight lanes (one AVX-512 register).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn strain_rate_8_with<F: Arith>(
+    pre: &PreIntegrated,
+    nodes: &[f64],
+    weights: &[f64],
+    l: f64,
+    c: f64,
+    e: &[[f64; 8]; 24],
+    v: &[[f64; 8]; 24],
+    q: &mut [[f64; 8]; 24],
+) -> [f64; 8] {
+    strain_rate_lanes::<F, 8>(pre, nodes, weights, l, c, e, v, q)
+}
+
+crate::simd_dispatch! {
+    /// Kelvin–Voigt forces (added to `q`) and powers of eight elements
+    /// given by lanes (`e[i][k]`: coordinate i of element k).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn strain_rate_8(
+        pre: &PreIntegrated,
+        nodes: &[f64],
+        weights: &[f64],
+        l: f64,
+        c: f64,
+        e: &[[f64; 8]; 24],
+        v: &[[f64; 8]; 24],
+        q: &mut [[f64; 8]; 24],
+    ) -> [f64; 8] = strain_rate_8_with;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::ElementIntegration;
+    use crate::material::Material;
+    use crate::math::simd::SimdPath;
+    use crate::section::Section;
+
+    /// The eight-lane kernel gives each element the force and power of
+    /// the scalar station form, on every path this CPU has (to round-off:
+    /// the two forms order their sums differently).
+    #[test]
+    fn lane_kernel_equals_the_scalar_form_on_every_path() {
+        let (l, c) = (0.05, 1e-4);
+        let section = Section::circular(
+            &[
+                (
+                    0.0,
+                    0.005,
+                    Material::st_venant_kirchhoff(6000.0, 1.5e11, 0.0, 0.1),
+                ),
+                (
+                    0.005,
+                    0.014,
+                    Material::st_venant_kirchhoff(2000.0, 5e10, 0.3, 0.1),
+                ),
+            ],
+            3,
+        );
+        let ei = ElementIntegration::new(l, 3, section);
+        let pre = ei.plan.preintegrated.as_ref().expect("linear laws");
+        let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
+        let mut seed = 1u64;
+        let mut uniform = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        // Eight elements along x, each bent and stretched a little, moving.
+        let mut e = [[0.0; 8]; 24];
+        let mut v = [[0.0; 8]; 24];
+        for k in 0..8 {
+            let reference = crate::element::reference_coordinates(
+                [k as f64 * l, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                l,
+            );
+            for i in 0..24 {
+                e[i][k] = reference[i] + 0.05 * uniform() * if (i / 3) % 4 == 0 { l } else { 1.0 };
+                v[i][k] = uniform();
+            }
+        }
+        for path in SimdPath::ALL.into_iter().filter(|p| p.supported()) {
+            let mut q8 = [[0.0; 8]; 24];
+            let p8 = strain_rate_8(path, pre, nodes, weights, l, c, &e, &v, &mut q8);
+            for k in 0..8 {
+                let (ek, vk) = (
+                    std::array::from_fn(|i| e[i][k]),
+                    std::array::from_fn(|i| v[i][k]),
+                );
+                let mut q = [0.0; 24];
+                let p = pre.strain_rate_force(nodes, weights, l, c, &ek, &vk, &mut q, None, None);
+                let scale = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+                assert!(
+                    p > 0.0 && (p8[k] - p).abs() <= 1e-12 * p,
+                    "{}: power",
+                    path.name()
+                );
+                for i in 0..24 {
+                    assert!(
+                        (q8[i][k] - q[i]).abs() <= 1e-12 * scale,
+                        "{}: element {k}, coordinate {i}: {} against {}",
+                        path.name(),
+                        q8[i][k],
+                        q[i]
+                    );
                 }
             }
         }

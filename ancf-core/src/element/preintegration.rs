@@ -17,7 +17,6 @@
 use crate::element::{ElementMatrix, ElementVector};
 use crate::math::quadrature::SectionPoint;
 use crate::math::simd::Arith;
-#[cfg(test)]
 use nalgebra::Vector3;
 use nalgebra::{Matrix6, SMatrix, SVector};
 
@@ -561,18 +560,7 @@ impl PreIntegrated {
         q: &mut ElementVector,
     ) -> Station {
         let tc = t_coefficients(xi, l);
-        let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = tc;
-        // u = T e, written out (nodal vectors r, r_x, r_y, r_z at node 1, 2).
-        let nv = |n: usize| Vector3::new(e[3 * n], e[3 * n + 1], e[3 * n + 2]);
-        let (r1, r1x, r1y, r1z) = (nv(0), nv(1), nv(2), nv(3));
-        let (r2, r2x, r2y, r2z) = (nv(4), nv(5), nv(6), nv(7));
-        let u = [
-            (r1 - r2) * d1 + r1x * h1 + r2x * h2,
-            (r2y - r1y) * il,
-            (r2z - r1z) * il,
-            r1y * xi0 + r2y * xi1,
-            r1z * xi0 + r2z * xi1,
-        ];
+        let u = vectors(&tc, e);
         let x: [f64; 15] = std::array::from_fn(|g| u[GRAM_PAIRS[g].0].dot(&u[GRAM_PAIRS[g].1]));
         // s = s₀ + J x (J has one non-zero per row), then M s on M's
         // non-zeros, row by row (a sum in a register: accumulating into
@@ -603,26 +591,7 @@ impl PreIntegrated {
             let (i, j) = GRAM_PAIRS[g];
             if i == j { 2.0 * sigma[g] } else { sigma[g] }
         });
-        let gu: [Vector3<f64>; 5] = std::array::from_fn(|i| {
-            (0..5).fold(Vector3::zeros(), |acc, j| acc + u[j] * s[gram(i, j)])
-        });
-        // q += wx Tᵀ gu, written out.
-        let g0 = gu[0] * wx;
-        let (ga, gb) = (gu[1] * (wx * il), gu[2] * (wx * il));
-        let (gy, gz) = (gu[3] * wx, gu[4] * wx);
-        let mut add = |n: usize, v: Vector3<f64>| {
-            q[3 * n] += v.x;
-            q[3 * n + 1] += v.y;
-            q[3 * n + 2] += v.z;
-        };
-        add(0, g0 * d1);
-        add(1, g0 * h1);
-        add(2, gy * xi0 - ga);
-        add(3, gz * xi0 - gb);
-        add(4, -g0 * d1);
-        add(5, g0 * h2);
-        add(6, gy * xi1 + ga);
-        add(7, gz * xi1 + gb);
+        add_force(&tc, wx, &u, &s, q);
         Station {
             energy: wx * 0.5 * energy,
             tc,
@@ -630,6 +599,47 @@ impl PreIntegrated {
             s,
         }
     }
+}
+
+/// u = T e at one station: the five vectors (r_x at the centerline,
+/// a = ∂r_y/∂x, b = ∂r_z/∂x, r_y, r_z) from the element's nodal vectors
+/// (r, r_x, r_y, r_z at node 1, then node 2), T's entries `tc` written out.
+fn vectors(tc: &[f64; 12], e: &ElementVector) -> [Vector3<f64>; 5] {
+    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = *tc;
+    let nv = |n: usize| Vector3::new(e[3 * n], e[3 * n + 1], e[3 * n + 2]);
+    let (r1, r1x, r1y, r1z) = (nv(0), nv(1), nv(2), nv(3));
+    let (r2, r2x, r2y, r2z) = (nv(4), nv(5), nv(6), nv(7));
+    [
+        (r1 - r2) * d1 + r1x * h1 + r2x * h2,
+        (r2y - r1y) * il,
+        (r2z - r1z) * il,
+        r1y * xi0 + r2y * xi1,
+        r1z * xi0 + r2z * xi1,
+    ]
+}
+
+/// q += wx Tᵀ Q_u at one station, with Q_u,i = Σ_j S_ij u_j (S by Gram
+/// index: S_ii = 2σ_ii, S_ij = σ_ij), written out.
+fn add_force(tc: &[f64; 12], wx: f64, u: &[Vector3<f64>; 5], s: &[f64; 15], q: &mut ElementVector) {
+    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = *tc;
+    let gu: [Vector3<f64>; 5] =
+        std::array::from_fn(|i| (0..5).fold(Vector3::zeros(), |acc, j| acc + u[j] * s[gram(i, j)]));
+    let g0 = gu[0] * wx;
+    let (ga, gb) = (gu[1] * (wx * il), gu[2] * (wx * il));
+    let (gy, gz) = (gu[3] * wx, gu[4] * wx);
+    let mut add = |n: usize, v: Vector3<f64>| {
+        q[3 * n] += v.x;
+        q[3 * n + 1] += v.y;
+        q[3 * n + 2] += v.z;
+    };
+    add(0, g0 * d1);
+    add(1, g0 * h1);
+    add(2, gy * xi0 - ga);
+    add(3, gz * xi0 - gb);
+    add(4, -g0 * d1);
+    add(5, g0 * h2);
+    add(6, gy * xi1 + ga);
+    add(7, gz * xi1 + gb);
 }
 
 #[cfg(test)]

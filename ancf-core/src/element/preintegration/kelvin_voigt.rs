@@ -17,28 +17,11 @@
 
 use super::{
     CENTRE, GRAM_PAIRS, Lanes, NODE_BLOCKS, PreIntegrated, STRAIN_MOMENT_OF_GRAM, STRAIN_MOMENTS,
-    T_VECTOR, add_force_lanes, gram, m_times_lanes, t_coefficients, vectors_lanes,
+    T_VECTOR, add_force, add_force_lanes, m_times_lanes, t_coefficients, vectors, vectors_lanes,
 };
 use crate::element::{ElementMatrix, ElementVector};
 use crate::math::simd::Arith;
 use nalgebra::Vector3;
-
-/// u = T e at one station: the five vectors (r_x at the centerline,
-/// a = ∂r_y/∂x, b = ∂r_z/∂x, r_y, r_z) from the element's nodal vectors
-/// (r, r_x, r_y, r_z at node 1, then node 2), T's entries `tc` written out.
-fn vectors(tc: &[f64; 12], e: &ElementVector) -> [Vector3<f64>; 5] {
-    let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = *tc;
-    let nv = |n: usize| Vector3::new(e[3 * n], e[3 * n + 1], e[3 * n + 2]);
-    let (r1, r1x, r1y, r1z) = (nv(0), nv(1), nv(2), nv(3));
-    let (r2, r2x, r2y, r2z) = (nv(4), nv(5), nv(6), nv(7));
-    [
-        (r1 - r2) * d1 + r1x * h1 + r2x * h2,
-        (r2y - r1y) * il,
-        (r2z - r1z) * il,
-        r1y * xi0 + r2y * xi1,
-        r1z * xi0 + r2z * xi1,
-    ]
-}
 
 /// The 3 × 3 blocks (index 5 i + j, row-major) Σ coef L_l R_rᵀ of the
 /// material Hessian's terms, with the left factor from `left` and the right
@@ -126,31 +109,7 @@ impl PreIntegrated {
             let coef = STRAIN_MOMENTS[r].1;
             if i == j { 2.0 * c * coef * mr[r] } else { c * coef * mr[r] }
         });
-        // Q_u,i = Σ_j S_ij u_j, then q += wx Tᵀ Q_u, written out.
-        let gu: [Vector3<f64>; 5] = unrolled!(i in [0, 1, 2, 3, 4] => {
-            u[0] * s[gram(i, 0)]
-                + u[1] * s[gram(i, 1)]
-                + u[2] * s[gram(i, 2)]
-                + u[3] * s[gram(i, 3)]
-                + u[4] * s[gram(i, 4)]
-        });
-        let [d1, h1, _, h2, _, il, _, _, xi0, xi1, _, _] = tc;
-        let g0 = gu[0] * wx;
-        let (ga, gb) = (gu[1] * (wx * il), gu[2] * (wx * il));
-        let (gy, gz) = (gu[3] * wx, gu[4] * wx);
-        let mut add = |n: usize, f: Vector3<f64>| {
-            q[3 * n] += f.x;
-            q[3 * n + 1] += f.y;
-            q[3 * n + 2] += f.z;
-        };
-        add(0, g0 * d1);
-        add(1, g0 * h1);
-        add(2, gy * xi0 - ga);
-        add(3, gz * xi0 - gb);
-        add(4, -g0 * d1);
-        add(5, g0 * h2);
-        add(6, gy * xi1 + ga);
-        add(7, gz * xi1 + gb);
+        add_force(&tc, wx, &u, &s, q);
         (wx * c * power, RateStation { tc, u, ud, s })
     }
 

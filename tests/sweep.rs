@@ -653,3 +653,20 @@ plots = false
     assert_eq!(released, 0.0);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Every sweep file shipped in sweeps/ loads, and each of its variants is
+/// a scene that passes its checks (what `ancf sweep` does before any work).
+#[test]
+fn every_shipped_sweep_loads_with_valid_variants() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let sweep = ancf::sweep::file::load(&path).unwrap_or_else(|e| panic!("{}", e.0));
+            assert!(!sweep.variants.is_empty(), "{}", path.display());
+            seen += 1;
+        }
+    }
+    assert!(seen >= 3, "only {seen} sweep files in {}", dir.display());
+}

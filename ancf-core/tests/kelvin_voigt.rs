@@ -142,29 +142,52 @@ fn a_rigid_velocity_is_not_damped() {
 }
 
 /// The wire's damping force alone (eight elements at a time where the
-/// laws are pre-integrated) equals the one its Jacobians come with (one
-/// element at a time), with a Mooney–Rivlin jacket integrated by points
-/// and a count of elements no multiple of eight.
+/// laws are pre-integrated, a long wire in two halves on two threads)
+/// equals the one its Jacobians come with (one element at a time), with a
+/// Mooney–Rivlin jacket integrated by points and counts of elements no
+/// multiple of eight; and it has the same bits on one thread and on two.
 #[test]
 fn the_batched_wire_force_equals_the_element_by_element_one() {
-    use ancf_core::forces::assembly::pattern;
+    use ancf_core::forces::assembly::{pattern, runs_in_parallel};
     use ancf_core::forces::damping::kelvin_voigt_force;
     use ancf_core::model::WireBuilder;
     use ancf_core::model::damping::Damping;
-    for jacket in [svk(5e10, 0.3, 0.1), mooney_rivlin(1e3)] {
-        let model = WireBuilder::new(1.0, 21)
+    let cases = [
+        (21, svk(5e10, 0.3, 0.1)),
+        (21, mooney_rivlin(1e3)),
+        (1003, svk(5e10, 0.3, 0.1)),
+    ];
+    for (elements, jacket) in cases {
+        let model = WireBuilder::new(1.0, elements)
             .layer(svk(1.5e11, 0.0, 0.1), 0.005)
             .layer(jacket, 0.014)
             .damping(Damping::KelvinVoigt { coefficient: 1e-4 })
             .build()
             .unwrap();
         let pattern = pattern(&model);
+        // The long wire is split as the elastic force alone would be.
+        assert_eq!(
+            elements > 100,
+            runs_in_parallel(&model, false),
+            "{elements} elements"
+        );
         let mut rng = Rng::new(9);
         let q: Vec<f64> = (model.reference.iter())
-            .map(|x| x + 0.01 * rng.uniform())
+            .map(|x| x + 1e-4 * rng.uniform())
             .collect();
         let v: Vec<f64> = q.iter().map(|_| rng.uniform()).collect();
-        let (f, p) = kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, None);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, None))
+        };
+        let ((f, p), (f2, p2)) = (on(1), on(2));
+        assert!(
+            p == p2 && f.iter().zip(&f2).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{elements} elements: 1 and 2 threads differ"
+        );
         let mut kv = vec![0.0; pattern.nnz()];
         let (f1, p1) = kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, Some(&mut kv));
         assert!(

@@ -246,14 +246,14 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 /// Whether `elements` elements of `per_element_us` µs of work each are
 /// worth a parallel section (at least two chunks, and
 /// [`PARALLEL_MIN_WORK_US`]).
-fn worth_splitting(elements: usize, per_element_us: f64) -> bool {
+pub(crate) fn worth_splitting(elements: usize, per_element_us: f64) -> bool {
     elements >= 2 * CHUNK_ELEMENTS && elements as f64 * per_element_us >= PARALLEL_MIN_WORK_US
 }
 
 /// µs of a force alone per element (the eight-wide kernel, pre-integrated
 /// SVK): the 1000-element span break's forces (≈ 150 µs) gain on two
 /// threads, the 64-element impact's (≈ 10 µs) would not.
-const FORCE_PER_ELEMENT_US: f64 = 0.15;
+pub(crate) const FORCE_PER_ELEMENT_US: f64 = 0.15;
 
 /// A force alone goes in this many chunks (two per thread on two cores),
 /// of at least [`FORCE_CHUNK_MIN`] elements: each chunk evaluates its two

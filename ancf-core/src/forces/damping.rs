@@ -14,11 +14,13 @@ use crate::element::{
     ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
     strain_matrix,
 };
-use crate::forces::assembly::lanes;
+use crate::forces::assembly::{FORCE_PER_ELEMENT_US, lanes, worth_splitting};
+use crate::linalg::parallel::run_tasks;
 use crate::linalg::pattern::Pattern;
 use crate::material::{Law, tensor_from_stress};
-use crate::model::{Model, NODE_DOFS};
+use crate::model::{ElementGroup, Model, NODE_DOFS};
 use nalgebra::{SMatrix, Vector6};
+use std::ops::Range;
 
 /// One point of the Kelvin–Voigt force: adds w Bᵀσ_v to `q`, ∂/∂q to `kq`,
 /// ∂/∂v to `kv`; returns the dissipated power w σ_v · Ė (W).
@@ -165,8 +167,8 @@ pub fn kelvin_voigt_points(
 
 /// Kelvin–Voigt force of the whole wire at (q, v) on the unknowns (N) and
 /// its power (W); adds ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv` (pattern slots).
-/// The force alone takes the pre-integrated laws eight elements at a time
-/// (SIMD lanes, as the elastic force), the Jacobians one element at a time.
+/// The force alone goes as the elastic force does ([`force_alone`]); with
+/// Jacobians, one element at a time.
 pub fn kelvin_voigt_force(
     model: &Model,
     pattern: &Pattern,
@@ -176,39 +178,14 @@ pub fn kelvin_voigt_force(
     mut kq: Option<&mut [f64]>,
     mut kv: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
+    if kq.is_none() && kv.is_none() {
+        return force_alone(model, c, q, v);
+    }
     let mut full = vec![0.0; q.len()];
     let mut power = 0.0;
     let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
-    let batched = kq.is_none() && kv.is_none();
     for group in &model.groups {
-        let ei = &group.integration;
-        let mut first = group.elements.start;
-        if let (true, Some(pre)) = (batched, &ei.plan.preintegrated) {
-            let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
-            while first + 8 <= group.elements.end {
-                let (e8, v8) = (lanes::<8>(model, q, first), lanes::<8>(model, v, first));
-                let mut q8 = [[0.0; 8]; 24];
-                let p8 = pre.strain_rate_forces_8(nodes, weights, ei.length, c, &e8, &v8, &mut q8);
-                for (k, p) in p8.iter().enumerate() {
-                    let el = first + k;
-                    let mut qe: ElementVector = std::array::from_fn(|i| q8[i][k]);
-                    power += p;
-                    if ei.plan.points() > 0 {
-                        let e = model.element_coordinates(q, el);
-                        let ve = model.element_coordinates(v, el);
-                        power += kelvin_voigt_point_laws(ei, c, &e, &ve, &mut qe, None, None);
-                    }
-                    for (f, x) in full[NODE_DOFS * el..NODE_DOFS * el + 24]
-                        .iter_mut()
-                        .zip(&qe)
-                    {
-                        *f += x;
-                    }
-                }
-                first += 8;
-            }
-        }
-        for el in first..group.elements.end {
+        for el in group.elements.clone() {
             let e = model.element_coordinates(q, el);
             let ve = model.element_coordinates(v, el);
             let mut qe = [0.0; 24];
@@ -219,7 +196,7 @@ pub fn kelvin_voigt_force(
                 mv.fill(0.0);
             }
             power += kelvin_voigt_element(
-                ei,
+                &group.integration,
                 c,
                 &e,
                 &ve,
@@ -242,4 +219,80 @@ pub fn kelvin_voigt_force(
         }
     }
     (model.gather(&full), power)
+}
+
+/// The damping force alone: each element's force and power, the
+/// pre-integrated laws eight elements at a time (SIMD lanes), a group in
+/// two halves on two threads where the elastic force would split (the
+/// second half starting on a batch boundary), then added up in element
+/// order — the same bits on any number of threads.
+fn force_alone(model: &Model, c: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, f64) {
+    let mut per: Vec<(ElementVector, f64)> = vec![([0.0; 24], 0.0); model.n_elements];
+    for group in &model.groups {
+        let els = group.elements.clone();
+        let window = &mut per[els.clone()];
+        let split = els.start + 8 * (els.len() / 16);
+        if rayon::current_num_threads() > 1 && worth_splitting(els.len(), FORCE_PER_ELEMENT_US) {
+            let (low, high) = window.split_at_mut(split - els.start);
+            let halves = vec![(els.start..split, low), (split..els.end, high)];
+            run_tasks(halves, |(els, out)| {
+                group_forces(model, group, c, (q, v), els, out)
+            });
+        } else {
+            group_forces(model, group, c, (q, v), els, window);
+        }
+    }
+    let mut full = vec![0.0; q.len()];
+    let mut power = 0.0;
+    for (el, (force, p)) in per.iter().enumerate() {
+        power += p;
+        for (f, x) in full[NODE_DOFS * el..NODE_DOFS * el + 24]
+            .iter_mut()
+            .zip(force)
+        {
+            *f += x;
+        }
+    }
+    (model.gather(&full), power)
+}
+
+/// The damping forces and powers of `group`'s elements `els` at
+/// (q, v) into `out` (one per element).
+fn group_forces(
+    model: &Model,
+    group: &ElementGroup,
+    c: f64,
+    (q, v): (&[f64], &[f64]),
+    els: Range<usize>,
+    out: &mut [(ElementVector, f64)],
+) {
+    let ei = &group.integration;
+    let mut first = els.start;
+    if let Some(pre) = &ei.plan.preintegrated {
+        let (nodes, weights) = (&ei.axial.nodes, &ei.axial.weights);
+        while first + 8 <= els.end {
+            let (e8, v8) = (lanes::<8>(model, q, first), lanes::<8>(model, v, first));
+            let mut q8 = [[0.0; 8]; 24];
+            let p8 = pre.strain_rate_forces_8(nodes, weights, ei.length, c, &e8, &v8, &mut q8);
+            for (k, p) in p8.iter().enumerate() {
+                let el = first + k;
+                let mut force: ElementVector = std::array::from_fn(|i| q8[i][k]);
+                let mut power = *p;
+                if ei.plan.points() > 0 {
+                    let e = model.element_coordinates(q, el);
+                    let ve = model.element_coordinates(v, el);
+                    power += kelvin_voigt_point_laws(ei, c, &e, &ve, &mut force, None, None);
+                }
+                out[el - els.start] = (force, power);
+            }
+            first += 8;
+        }
+    }
+    for el in first..els.end {
+        let e = model.element_coordinates(q, el);
+        let ve = model.element_coordinates(v, el);
+        let mut force = [0.0; 24];
+        let power = kelvin_voigt_element(ei, c, &e, &ve, &mut force, None, None);
+        out[el - els.start] = (force, power);
+    }
 }

@@ -3,6 +3,7 @@
 //! `Simulation`; results come back as NumPy arrays. Every error is a Python
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
 
+use ancf_core::model::damping::Damping;
 use ancf_core::solve::dynamics::StepControl;
 use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
 use ancf_core::solve::simulation::{
@@ -547,6 +548,26 @@ impl Wire {
         })
     }
 
+    /// Kelvin–Voigt damping of the wire and its members (a scene's
+    /// `[damping] kind = "kelvin-voigt"`): σ_v = c D₀ Ė with `coefficient`
+    /// c (s), a damping ratio ζ = c ω / 2 at angular frequency ω.
+    fn kelvin_voigt(&self, coefficient: f64) -> PyResult<Wire> {
+        positive("coefficient", coefficient)?;
+        Ok(self.damped(Damping::KelvinVoigt { coefficient }))
+    }
+
+    /// Rayleigh damping (a scene's `[damping] kind = "rayleigh"`):
+    /// Q_d = (mass · M + stiffness · K₀) v, `mass` in 1/s, `stiffness` in s,
+    /// K₀ the reference stiffness — for small motions about the reference.
+    #[pyo3(signature = (mass = 0.0, stiffness = 0.0))]
+    fn rayleigh(&self, mass: f64, stiffness: f64) -> PyResult<Wire> {
+        let damping = Damping::Rayleigh { mass, stiffness };
+        damping
+            .check()
+            .map_err(|e| value_error(&e.field, &e.message))?;
+        Ok(self.damped(damping))
+    }
+
     /// Gravity acceleration, m/s².
     fn gravity(&self, acceleration: Vec<f64>) -> PyResult<Wire> {
         Ok(Wire {
@@ -625,6 +646,15 @@ impl Wire {
 ///
 /// It computes what `ancf run` computes, bit for bit (checkpoints do not
 /// change a run's results).
+impl Wire {
+    /// This wire with `damping` (checked by the caller).
+    fn damped(&self, damping: Damping) -> Wire {
+        Wire {
+            builder: self.builder.clone().damping(damping),
+        }
+    }
+}
+
 #[pyclass(module = "ancf")]
 pub struct Simulation {
     scene: CoreScene,

@@ -249,6 +249,36 @@ def test_a_wire_built_in_code_equals_the_pendulum_scene():
     assert list(built.tip) == list(from_file.tip)
 
 
+def test_a_damped_wire_built_in_code_equals_the_damped_scene():
+    # `[damping]` in a scene and Wire.kelvin_voigt / Wire.rayleigh in code:
+    # the same model, the same bits, and the damping dissipates.
+    core = ancf.Material.st_venant_kirchhoff(density=7200.0, youngs_modulus=2e9)
+    wire = (
+        ancf.Wire(1.0, 4)
+        .layer(core, 0.01)
+        .layer(core, 0.02)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+    )
+    base = PENDULUM.read_text().replace("end_time = 1.0", "end_time = 0.2")
+    for built, table in [
+        (wire.kelvin_voigt(1e-3),
+         '\n[damping]\nkind = "kelvin-voigt"\nstrain_rate_coefficient = 1e-3\n'),
+        (wire.rayleigh(mass=0.5, stiffness=1e-4),
+         '\n[damping]\nkind = "rayleigh"\nmass = 0.5\nstiffness = 1e-4\n'),
+    ]:
+        in_code = ancf.Simulation.from_wire(built, time_step=1e-3, end_time=0.2, spectral_radius=1.0)
+        from_scene = ancf.Simulation(ancf.Scene.from_toml(base + table))
+        in_code.run(every=100)
+        from_scene.run(every=100)
+        assert list(in_code.tip) == list(from_scene.tip)
+        assert in_code.energies["dissipated"] > 0.0
+    with pytest.raises(ValueError, match="^coefficient: "):
+        wire.kelvin_voigt(-1.0)
+    with pytest.raises(ValueError, match="^mass: "):
+        wire.rayleigh()
+
+
 def test_the_summary_says_what_computed_it():
     sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
     build = sim.summary()["build"]

@@ -6,8 +6,8 @@
 //! constant part), so over the section the damping force is the elastic
 //! force's map applied to the strain moments c J ẋ: the same M, no section
 //! points. Point by point the same force costs a 6 × 24 strain matrix and
-//! its products at every section point (`forces::damping`), two orders of
-//! magnitude more (BENCHMARKS.md).
+//! its products at every section point (`forces::damping`), about twenty
+//! times more (BENCHMARKS.md).
 //!
 //! Jacobians, in the five vectors u (u̇ = T v with the same T):
 //! * ∂Q/∂v = c Gᵀ A G, the elastic Hessian's material part (G = ∂x/∂u);

@@ -70,6 +70,24 @@ fn a_modulus_in_the_wrong_units_is_named() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A damping ratio of 2 % written as the Kelvin–Voigt coefficient (a time,
+/// s): `check` names it with what it would mean and passes; `--strict`
+/// fails it.
+#[test]
+fn a_damping_ratio_written_as_a_time_is_named() {
+    let dir = tmp("damping");
+    let scene = edited(&dir, "pendulum.toml", |t| {
+        t + "\n[damping]\nkind = \"kelvin-voigt\"\nstrain_rate_coefficient = 0.02\n"
+    });
+    let check = ancf(&["check"], &scene);
+    assert!(check.status.success(), "{}", stderr(&check));
+    let warning = "warning: damping.strain_rate_coefficient = 2e-2 s is above 1e-3 s";
+    assert!(stderr(&check).contains(warning), "{}", stderr(&check));
+    let strict = ancf(&["check", "--strict"], &scene);
+    assert_eq!(strict.status.code(), Some(3), "{}", stderr(&strict));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Both of the impact wire's moduli divided by 10⁶: each is named before
 /// the run, and after it the wire's stretch (about 40 %) is in
 /// summary.json's `strains` and its warnings; the shipped impact reports a

@@ -550,6 +550,7 @@ impl Scene {
             .flat_map(|(i, (_, m))| {
                 crate::plausibility::material_warnings(&format!("material[{i}]"), m)
             })
+            .chain(crate::plausibility::damping_warnings(model.damping()))
             .collect();
         Ok(Scene {
             source: String::new(),

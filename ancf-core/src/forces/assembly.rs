@@ -170,28 +170,40 @@ fn add_lanes<const W: usize>(
 /// The strain energy (J) at `q` without the forces (what the energy
 /// balance needs): the elements eight and four at a time where
 /// [`assemble_into`] takes them so, at half the work, summed in the same order — its bits.
-/// A group whose energies are worth it (as a force alone is, see
-/// [`runs_in_parallel`]) is split into two windows on two threads, the second starting
-/// eight elements at a time from the group's first, so that every element
-/// is batched as in one loop: the same bits.
+/// A group whose energies are worth it is split in halves
+/// ([`per_element_in_halves`]): the same bits.
 pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
     let mut energy = vec![0.0; model.n_elements];
+    per_element_in_halves(model, &mut energy, |group, els, out| {
+        group_energies(model, group, q, els, out)
+    });
+    energy.iter().sum()
+}
+
+/// Fills `out` (one entry per element index of the model) group by group
+/// with `fill(group, elements, window)`. A group whose element work is
+/// worth it (as a force alone is, see [`runs_in_parallel`]) goes in two
+/// windows on two threads, the second starting a multiple of eight
+/// elements after the group's first, so that every element is batched as
+/// in one loop: the same bits on any number of threads.
+pub(crate) fn per_element_in_halves<T: Send>(
+    model: &Model,
+    out: &mut [T],
+    fill: impl Fn(&crate::model::ElementGroup, Range<usize>, &mut [T]) + Sync,
+) {
     let threads = rayon::current_num_threads();
     for group in &model.groups {
         let elements = group.elements.clone();
-        let window = &mut energy[elements.clone()];
+        let window = &mut out[elements.clone()];
         let split = elements.start + 8 * (elements.len() / 16);
         if threads > 1 && worth_splitting(elements.len(), FORCE_PER_ELEMENT_US) {
             let (low, high) = window.split_at_mut(split - elements.start);
             let halves = vec![(elements.start..split, low), (split..elements.end, high)];
-            crate::linalg::parallel::run_tasks(halves, |(els, out)| {
-                group_energies(model, group, q, els, out)
-            });
+            crate::linalg::parallel::run_tasks(halves, |(els, out)| fill(group, els, out));
         } else {
-            group_energies(model, group, q, elements, window);
+            fill(group, elements, window);
         }
     }
-    energy.iter().sum()
 }
 
 /// The energies of `group`'s elements `els` into `out` (one per element),
@@ -246,14 +258,14 @@ pub fn runs_in_parallel(model: &Model, with_jacobian: bool) -> bool {
 /// Whether `elements` elements of `per_element_us` µs of work each are
 /// worth a parallel section (at least two chunks, and
 /// [`PARALLEL_MIN_WORK_US`]).
-pub(crate) fn worth_splitting(elements: usize, per_element_us: f64) -> bool {
+fn worth_splitting(elements: usize, per_element_us: f64) -> bool {
     elements >= 2 * CHUNK_ELEMENTS && elements as f64 * per_element_us >= PARALLEL_MIN_WORK_US
 }
 
 /// µs of a force alone per element (the eight-wide kernel, pre-integrated
 /// SVK): the 1000-element span break's forces (≈ 150 µs) gain on two
 /// threads, the 64-element impact's (≈ 10 µs) would not.
-pub(crate) const FORCE_PER_ELEMENT_US: f64 = 0.15;
+const FORCE_PER_ELEMENT_US: f64 = 0.15;
 
 /// A force alone goes in this many chunks (two per thread on two cores),
 /// of at least [`FORCE_CHUNK_MIN`] elements: each chunk evaluates its two

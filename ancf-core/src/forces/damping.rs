@@ -14,8 +14,7 @@ use crate::element::{
     ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
     strain_matrix,
 };
-use crate::forces::assembly::{FORCE_PER_ELEMENT_US, lanes, worth_splitting};
-use crate::linalg::parallel::run_tasks;
+use crate::forces::assembly::{lanes, per_element_in_halves};
 use crate::linalg::pattern::Pattern;
 use crate::material::{Law, tensor_from_stress};
 use crate::model::{ElementGroup, Model, NODE_DOFS};
@@ -222,26 +221,15 @@ pub fn kelvin_voigt_force(
 }
 
 /// The damping force alone: each element's force and power, the
-/// pre-integrated laws eight elements at a time (SIMD lanes), a group in
-/// two halves on two threads where the elastic force would split (the
-/// second half starting on a batch boundary), then added up in element
-/// order — the same bits on any number of threads.
+/// pre-integrated laws eight elements at a time (SIMD lanes), a long group
+/// in two halves on two threads as the elastic energy goes
+/// ([`per_element_in_halves`]), then added up in element order — the same
+/// bits on any number of threads.
 fn force_alone(model: &Model, c: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, f64) {
     let mut per: Vec<(ElementVector, f64)> = vec![([0.0; 24], 0.0); model.n_elements];
-    for group in &model.groups {
-        let els = group.elements.clone();
-        let window = &mut per[els.clone()];
-        let split = els.start + 8 * (els.len() / 16);
-        if rayon::current_num_threads() > 1 && worth_splitting(els.len(), FORCE_PER_ELEMENT_US) {
-            let (low, high) = window.split_at_mut(split - els.start);
-            let halves = vec![(els.start..split, low), (split..els.end, high)];
-            run_tasks(halves, |(els, out)| {
-                group_forces(model, group, c, (q, v), els, out)
-            });
-        } else {
-            group_forces(model, group, c, (q, v), els, window);
-        }
-    }
+    per_element_in_halves(model, &mut per, |group, els, out| {
+        group_forces(model, group, c, (q, v), els, out)
+    });
     let mut full = vec![0.0; q.len()];
     let mut power = 0.0;
     for (el, (force, p)) in per.iter().enumerate() {

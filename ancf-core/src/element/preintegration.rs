@@ -562,23 +562,12 @@ impl PreIntegrated {
         let tc = t_coefficients(xi, l);
         let u = vectors(&tc, e);
         let x: [f64; 15] = std::array::from_fn(|g| u[GRAM_PAIRS[g].0].dot(&u[GRAM_PAIRS[g].1]));
-        // s = s₀ + J x (J has one non-zero per row), then M s on M's
-        // non-zeros, row by row (a sum in a register: accumulating into
-        // memory made the loop wait on store forwarding).
+        // s = s₀ + J x (J has one non-zero per row), then M s.
         let strain: [f64; 15] = std::array::from_fn(|r| {
             let (col, coef) = STRAIN_MOMENTS[r];
             self.s0[r] + coef * x[col]
         });
-        let mut ms = [0.0f64; 15];
-        let sc: [f64; 8] = CENTRE.map(|r| strain[r]);
-        for (r, row) in CENTRE.iter().zip(&self.m_centre) {
-            ms[*r] = row.iter().zip(&sc).map(|(m, s)| m * s).sum();
-        }
-        for r in 0..3 {
-            ms[6 + r] = (0..3).map(|c| self.m_slope_y[r][c] * strain[6 + c]).sum();
-            ms[9 + r] = (0..3).map(|c| self.m_slope_z[r][c] * strain[9 + c]).sum();
-        }
-        ms[13] = self.m_beta * strain[13];
+        let ms = self.m_times(&strain);
         let mut energy = 0.0;
         let mut sigma = [0.0f64; 15];
         for r in 0..15 {
@@ -598,6 +587,24 @@ impl PreIntegrated {
             u,
             s,
         }
+    }
+}
+
+impl PreIntegrated {
+    /// M y on M's non-zero blocks, row by row (each row's sum in a
+    /// register: accumulating into memory made the loop wait on store
+    /// forwarding).
+    fn m_times(&self, y: &[f64; 15]) -> [f64; 15] {
+        let mut my = [0.0f64; 15];
+        for (r, row) in CENTRE.iter().zip(&self.m_centre) {
+            my[*r] = row.iter().zip(&CENTRE).map(|(m, &c)| m * y[c]).sum();
+        }
+        for r in 0..3 {
+            my[6 + r] = (0..3).map(|c| self.m_slope_y[r][c] * y[6 + c]).sum();
+            my[9 + r] = (0..3).map(|c| self.m_slope_z[r][c] * y[9 + c]).sum();
+        }
+        my[13] = self.m_beta * y[13];
+        my
     }
 }
 

@@ -16,8 +16,8 @@
 //!   taken at u̇ (∂ẋ/∂u = G(u̇), G being linear): not symmetric.
 
 use super::{
-    CENTRE, GRAM_PAIRS, Lanes, NODE_BLOCKS, PreIntegrated, STRAIN_MOMENT_OF_GRAM, STRAIN_MOMENTS,
-    T_VECTOR, add_force, add_force_lanes, m_times_lanes, t_coefficients, vectors, vectors_lanes,
+    GRAM_PAIRS, Lanes, NODE_BLOCKS, PreIntegrated, STRAIN_MOMENT_OF_GRAM, STRAIN_MOMENTS, T_VECTOR,
+    add_force, add_force_lanes, m_times_lanes, t_coefficients, vectors, vectors_lanes,
 };
 use crate::element::{ElementMatrix, ElementVector};
 use crate::math::simd::Arith;
@@ -65,20 +65,6 @@ struct RateStation {
 }
 
 impl PreIntegrated {
-    /// M y on M's non-zero blocks.
-    fn m_times(&self, y: &[f64; 15]) -> [f64; 15] {
-        let mut my = [0.0f64; 15];
-        for (r, row) in CENTRE.iter().zip(&self.m_centre) {
-            my[*r] = row.iter().zip(&CENTRE).map(|(m, &c)| m * y[c]).sum();
-        }
-        for r in 0..3 {
-            my[6 + r] = (0..3).map(|c| self.m_slope_y[r][c] * y[6 + c]).sum();
-            my[9 + r] = (0..3).map(|c| self.m_slope_z[r][c] * y[9 + c]).sum();
-        }
-        my[13] = self.m_beta * y[13];
-        my
-    }
-
     /// One station ξ with weight `wx` (m): adds the damping force to `q`,
     /// returns its power (W) and what the Jacobians need.
     #[allow(clippy::too_many_arguments)]

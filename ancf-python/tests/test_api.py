@@ -224,16 +224,21 @@ def test_quadrature_integrates_the_area():
         ancf.quadrature(1.0, 0.5, 3)
 
 
-def test_a_wire_built_in_code_equals_the_pendulum_scene():
-    # scenes/pendulum.toml written as code: same model, same bits.
+def pendulum_wire():
+    """scenes/pendulum.toml's wire, written as code."""
     core = ancf.Material.st_venant_kirchhoff(density=7200.0, youngs_modulus=2e9)
-    wire = (
+    return (
         ancf.Wire(1.0, 4)
         .layer(core, 0.01)
         .layer(core, 0.02)
         .support(0, "pin")
         .gravity([0.0, 0.0, -9.81])
     )
+
+
+def test_a_wire_built_in_code_equals_the_pendulum_scene():
+    # scenes/pendulum.toml written as code: same model, same bits.
+    wire = pendulum_wire()
     built = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=1.0, spectral_radius=1.0)
     from_file = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
     built.run(every=1000)
@@ -252,14 +257,7 @@ def test_a_wire_built_in_code_equals_the_pendulum_scene():
 def test_a_damped_wire_built_in_code_equals_the_damped_scene():
     # `[damping]` in a scene and Wire.kelvin_voigt / Wire.rayleigh in code:
     # the same model, the same bits, and the damping dissipates.
-    core = ancf.Material.st_venant_kirchhoff(density=7200.0, youngs_modulus=2e9)
-    wire = (
-        ancf.Wire(1.0, 4)
-        .layer(core, 0.01)
-        .layer(core, 0.02)
-        .support(0, "pin")
-        .gravity([0.0, 0.0, -9.81])
-    )
+    wire = pendulum_wire()
     base = PENDULUM.read_text().replace("end_time = 1.0", "end_time = 0.2")
     for built, table in [
         (wire.kelvin_voigt(1e-3),

@@ -98,16 +98,17 @@ pub fn material_warnings(field: &str, material: &Material) -> Vec<String> {
     out
 }
 
-/// What is implausible in a scene's `[damping]`: a Kelvin–Voigt
-/// coefficient above [`KELVIN_VOIGT_MAX`].
-pub fn damping_warnings(damping: Option<&crate::model::damping::Damping>) -> Vec<String> {
-    match damping {
-        Some(&crate::model::damping::Damping::KelvinVoigt { coefficient })
+/// What is implausible in the damping written at `field` (`damping`,
+/// `beam[0].damping`, …): a Kelvin–Voigt coefficient above
+/// [`KELVIN_VOIGT_MAX`].
+pub fn damping_warnings(field: &str, damping: &crate::model::damping::Damping) -> Vec<String> {
+    match *damping {
+        crate::model::damping::Damping::KelvinVoigt { coefficient }
             if coefficient > KELVIN_VOIGT_MAX =>
         {
             let zeta = coefficient * 2.0 * std::f64::consts::PI * 100.0 / 2.0;
             vec![format!(
-                "damping.strain_rate_coefficient = {coefficient:e} s is above \
+                "{field}.strain_rate_coefficient = {coefficient:e} s is above \
                  {KELVIN_VOIGT_MAX:e} s: it is a time, not a damping ratio, and damps a 100 Hz \
                  mode at ζ = c ω / 2 = {:.0} %; for a ratio ζ at a frequency f use c = ζ / (π f)",
                 100.0 * zeta
@@ -117,8 +118,9 @@ pub fn damping_warnings(damping: Option<&crate::model::damping::Damping>) -> Vec
     }
 }
 
-/// [`material_warnings`] for a model built in code (no material names):
-/// each beam's layers, named `wire layer 0`, `tube1 layer 0`, ….
+/// [`material_warnings`] and [`damping_warnings`] for a model built in
+/// code (no material names): each beam's layers, named `wire layer 0`,
+/// `tube1 layer 0`, …, and its damping (`tube1 damping`).
 pub fn model_warnings(model: &crate::model::Model) -> Vec<String> {
     let mut out = Vec::new();
     for beam in &model.beams {
@@ -130,7 +132,12 @@ pub fn model_warnings(model: &crate::model::Model) -> Vec<String> {
             ));
         }
     }
-    out.extend(damping_warnings(model.damping()));
+    for (b, d) in model.dampings() {
+        out.extend(damping_warnings(
+            &format!("{} damping", model.beams[b].name),
+            d,
+        ));
+    }
     out
 }
 
@@ -216,16 +223,15 @@ mod tests {
     fn a_damping_ratio_written_as_a_time_is_named() {
         use crate::model::damping::Damping;
         let conductor = Damping::KelvinVoigt { coefficient: 1e-5 };
-        assert!(damping_warnings(Some(&conductor)).is_empty());
-        assert!(damping_warnings(None).is_empty());
+        assert!(damping_warnings("damping", &conductor).is_empty());
         let rayleigh = Damping::Rayleigh {
             mass: 0.5,
             stiffness: 1e-2,
         };
-        assert!(damping_warnings(Some(&rayleigh)).is_empty());
+        assert!(damping_warnings("damping", &rayleigh).is_empty());
         // "2 %" written as c: a 100 Hz mode damped at 628 %.
         let ratio = Damping::KelvinVoigt { coefficient: 0.02 };
-        let w = damping_warnings(Some(&ratio));
+        let w = damping_warnings("damping", &ratio);
         assert_eq!(w.len(), 1);
         assert!(
             w[0].starts_with("damping.strain_rate_coefficient = 2e-2 s"),

@@ -145,7 +145,7 @@ fn parts_are_the_effects_alone() {
         assert_eq!(sum.internal()[c], elastic[c] - contact[c]);
     }
     assert_eq!(sum.strain_energy(), strain);
-    let (kv, power) = kelvin_voigt_force(&model, sum.pattern(), 1e-3, &q, &v, None, None);
+    let (kv, power) = kelvin_voigt_force(&model, sum.pattern(), &[Some(1e-3)], &q, &v, None, None);
     assert_eq!(sum.damping(), Some((&kv[..], power)));
     assert_eq!(sum.external(), &model.external_force(1.0)[..]);
     sum.set_load_factor(&model, 0.25);

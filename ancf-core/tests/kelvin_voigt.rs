@@ -165,6 +165,7 @@ fn the_batched_wire_force_equals_the_element_by_element_one() {
             .build()
             .unwrap();
         let pattern = pattern(&model);
+        let c = vec![Some(1e-4); model.groups.len()];
         // The long wire is split as the elastic force alone would be.
         assert_eq!(
             elements > 100,
@@ -181,7 +182,7 @@ fn the_batched_wire_force_equals_the_element_by_element_one() {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            pool.install(|| kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, None))
+            pool.install(|| kelvin_voigt_force(&model, &pattern, &c, &q, &v, None, None))
         };
         let ((f, p), (f2, p2)) = (on(1), on(2));
         assert!(
@@ -189,7 +190,7 @@ fn the_batched_wire_force_equals_the_element_by_element_one() {
             "{elements} elements: 1 and 2 threads differ"
         );
         let mut kv = vec![0.0; pattern.nnz()];
-        let (f1, p1) = kelvin_voigt_force(&model, &pattern, 1e-4, &q, &v, None, Some(&mut kv));
+        let (f1, p1) = kelvin_voigt_force(&model, &pattern, &c, &q, &v, None, Some(&mut kv));
         assert!(
             p1 > 0.0 && (p - p1).abs() <= 1e-12 * p1,
             "power {p} against {p1}"

@@ -548,24 +548,29 @@ impl Wire {
         })
     }
 
-    /// Kelvin–Voigt damping of the wire and its members (a scene's
-    /// `[damping] kind = "kelvin-voigt"`): σ_v = c D₀ Ė with `coefficient`
-    /// c (s), a damping ratio ζ = c ω / 2 at angular frequency ω.
-    fn kelvin_voigt(&self, coefficient: f64) -> PyResult<Wire> {
+    /// Kelvin–Voigt damping (a scene's `[damping] kind = "kelvin-voigt"`):
+    /// σ_v = c D₀ Ė with `coefficient` c (s), a damping ratio ζ = c ω / 2
+    /// at angular frequency ω. Of the beam named `beam` ("wire" or a
+    /// member's name) alone, in place of any other; without `beam`, of
+    /// every beam that has none of its own.
+    #[pyo3(signature = (coefficient, beam = None))]
+    fn kelvin_voigt(&self, coefficient: f64, beam: Option<&str>) -> PyResult<Wire> {
         positive("coefficient", coefficient)?;
-        Ok(self.damped(Damping::KelvinVoigt { coefficient }))
+        self.damped(Damping::KelvinVoigt { coefficient }, beam)
     }
 
     /// Rayleigh damping (a scene's `[damping] kind = "rayleigh"`):
     /// Q_d = (mass · M + stiffness · K₀) v, `mass` in 1/s, `stiffness` in s,
     /// K₀ the reference stiffness — for small motions about the reference.
-    #[pyo3(signature = (mass = 0.0, stiffness = 0.0))]
-    fn rayleigh(&self, mass: f64, stiffness: f64) -> PyResult<Wire> {
+    /// Of the beam named `beam` alone, or of every beam that has none of
+    /// its own (as [`Wire::kelvin_voigt`]).
+    #[pyo3(signature = (mass = 0.0, stiffness = 0.0, beam = None))]
+    fn rayleigh(&self, mass: f64, stiffness: f64, beam: Option<&str>) -> PyResult<Wire> {
         let damping = Damping::Rayleigh { mass, stiffness };
         damping
             .check()
             .map_err(|e| value_error(&e.field, &e.message))?;
-        Ok(self.damped(damping))
+        self.damped(damping, beam)
     }
 
     /// Gravity acceleration, m/s².
@@ -647,11 +652,27 @@ impl Wire {
 /// It computes what `ancf run` computes, bit for bit (checkpoints do not
 /// change a run's results).
 impl Wire {
-    /// This wire with `damping` (checked by the caller).
-    fn damped(&self, damping: Damping) -> Wire {
-        Wire {
-            builder: self.builder.clone().damping(damping),
-        }
+    /// This wire with `damping` (checked by the caller) on the beam named
+    /// `beam`, or on every beam without its own; a beam must exist when its
+    /// damping is given.
+    fn damped(&self, damping: Damping, beam: Option<&str>) -> PyResult<Wire> {
+        let builder = self.builder.clone();
+        Ok(Wire {
+            builder: match beam {
+                None => builder.damping(damping),
+                Some(name) if name == ancf_core::model::WIRE || builder.has_member(name) => {
+                    builder.damping_on(name, damping)
+                }
+                Some(name) => {
+                    return Err(value_error(
+                        "beam",
+                        &format!(
+                            "no beam is named \"{name}\" (\"wire\" or a member added before)"
+                        ),
+                    ));
+                }
+            },
+        })
     }
 }
 

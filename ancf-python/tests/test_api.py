@@ -277,6 +277,41 @@ def test_a_damped_wire_built_in_code_equals_the_damped_scene():
         wire.rayleigh()
 
 
+def test_damping_of_one_beam_acts_on_that_beam_alone():
+    # Wire.kelvin_voigt(c, beam=...) is the scene's `damping` in that
+    # beam's own table; a damped tube beside the wire leaves the wire alone.
+    wire = pendulum_wire()
+    base = PENDULUM.read_text().replace("end_time = 1.0", "end_time = 0.2")
+    own = base.replace(
+        "quadrature = { axial = 3, section = 3 }",
+        'quadrature = { axial = 3, section = 3 }\n'
+        'damping = { kind = "kelvin-voigt", strain_rate_coefficient = 1e-3 }', 1)
+    in_code = ancf.Simulation.from_wire(
+        wire.kelvin_voigt(1e-3, beam="wire"), time_step=1e-3, end_time=0.2, spectral_radius=1.0)
+    from_scene = ancf.Simulation(ancf.Scene.from_toml(own))
+    in_code.run(every=100)
+    from_scene.run(every=100)
+    assert list(in_code.tip) == list(from_scene.tip)
+    assert in_code.energies["dissipated"] > 0.0
+
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    frame = wire.member("tube", 1.0, 4, [0.5, -0.5, -1.0], [0.0, 1.0, 0.0], [(steel, 0.03)],
+                        inner_radius=0.027).support(0, "clamp", beam="tube")
+    runs = {}
+    for name, built in [("undamped", frame), ("tube", frame.rayleigh(mass=5.0, beam="tube")),
+                        ("wire", frame.rayleigh(mass=5.0, beam="wire"))]:
+        sim = ancf.Simulation.from_wire(built, time_step=1e-3, end_time=0.2, spectral_radius=1.0)
+        sim.run(every=100)
+        runs[name] = sim
+    # The tube's damping changes the wire only through the shared Newton
+    # iterations (within their tolerance); the wire's own moves its tip.
+    moved = {k: float(np.abs(runs[k].tip - runs["undamped"].tip).max()) for k in ("tube", "wire")}
+    assert moved["tube"] < 1e-6 and moved["wire"] > 1e-3, moved
+    assert runs["wire"].energies["dissipated"] > 0.0
+    with pytest.raises(ValueError, match="^beam: "):
+        wire.kelvin_voigt(1e-3, beam="tube")
+
+
 def test_the_summary_says_what_computed_it():
     sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
     build = sim.summary()["build"]

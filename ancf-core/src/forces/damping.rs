@@ -164,14 +164,15 @@ pub fn kelvin_voigt_points(
     power
 }
 
-/// Kelvin–Voigt force of the whole wire at (q, v) on the unknowns (N) and
-/// its power (W); adds ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv` (pattern slots).
-/// The force alone goes as the elastic force does ([`force_alone`]); with
-/// Jacobians, one element at a time.
+/// Kelvin–Voigt force of the model at (q, v) on the unknowns (N) and its
+/// power (W), each group with its coefficient `c[group]` (s; `None`:
+/// undamped, not evaluated); adds ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv`
+/// (pattern slots). The force alone goes as the elastic force does
+/// ([`force_alone`]); with Jacobians, one element at a time.
 pub fn kelvin_voigt_force(
     model: &Model,
     pattern: &Pattern,
-    c: f64,
+    c: &[Option<f64>],
     q: &[f64],
     v: &[f64],
     mut kq: Option<&mut [f64]>,
@@ -183,7 +184,8 @@ pub fn kelvin_voigt_force(
     let mut full = vec![0.0; q.len()];
     let mut power = 0.0;
     let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
-    for group in &model.groups {
+    for (group, c) in model.groups.iter().zip(c) {
+        let Some(c) = *c else { continue };
         for el in group.elements.clone() {
             let e = model.element_coordinates(q, el);
             let ve = model.element_coordinates(v, el);
@@ -225,10 +227,12 @@ pub fn kelvin_voigt_force(
 /// in two halves on two threads as the elastic energy goes
 /// ([`per_element_in_halves`]), then added up in element order — the same
 /// bits on any number of threads.
-fn force_alone(model: &Model, c: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, f64) {
+fn force_alone(model: &Model, c: &[Option<f64>], q: &[f64], v: &[f64]) -> (Vec<f64>, f64) {
     let mut per: Vec<(ElementVector, f64)> = vec![([0.0; 24], 0.0); model.n_elements];
     per_element_in_halves(model, &mut per, |group, els, out| {
-        group_forces(model, group, c, (q, v), els, out)
+        if let Some(c) = c[model.group(group.elements.start)] {
+            group_forces(model, group, c, (q, v), els, out)
+        }
     });
     let mut full = vec![0.0; q.len()];
     let mut power = 0.0;

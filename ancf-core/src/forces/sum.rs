@@ -87,8 +87,12 @@ pub struct ForceSum {
     pattern: Pattern,
     /// λ Q_ext, all coordinates (N).
     external: Vec<f64>,
-    /// Rayleigh damping matrix α M + β K₀ in pattern slots (empty without it).
+    /// Rayleigh damping matrix α M + β K₀ in pattern slots, each beam's
+    /// own factors in its slots (empty when no beam has Rayleigh damping).
     rayleigh: Vec<f64>,
+    /// Each group's Kelvin–Voigt coefficient c (s; `None`: its beam has
+    /// none); empty when no beam has Kelvin–Voigt damping.
+    strain_rate: Vec<Option<f64>>,
     /// Q = Q_e − Q_c of the last evaluation (all coordinates, N).
     internal: Vec<f64>,
     /// Per-element strain energies (workspace) and their sum (J).
@@ -114,26 +118,23 @@ impl ForceSum {
     /// The sum of `model`'s effects at load factor 1.
     pub fn new(model: &Model) -> Self {
         let pattern = pattern(model);
-        let rayleigh = match model.damping() {
-            Some(Damping::Rayleigh {
-                mass: alpha,
-                stiffness: beta,
-            }) => {
-                let mut k0 = pattern.zeros();
-                assemble(model, &pattern, &model.reference, Some(&mut k0));
-                mass_values(model, &pattern)
-                    .iter()
-                    .zip(&k0)
-                    .map(|(m, k)| alpha * m + beta * k)
-                    .collect()
-            }
-            _ => Vec::new(),
+        let rayleigh = rayleigh_values(model, &pattern);
+        let strain_rate: Vec<Option<f64>> = (0..model.groups.len())
+            .map(|g| match model.beam_damping(model.group_beam(g)) {
+                Some(&Damping::KelvinVoigt { coefficient }) => Some(coefficient),
+                _ => None,
+            })
+            .collect();
+        let strain_rate = match strain_rate.iter().any(Option::is_some) {
+            true => strain_rate,
+            false => Vec::new(),
         };
         let n = model.reference.len();
         ForceSum {
             pattern,
             external: model.external_force(1.0),
             rayleigh,
+            strain_rate,
             internal: vec![0.0; n],
             element_energy: vec![0.0; model.n_elements],
             strain_energy: 0.0,
@@ -176,7 +177,7 @@ impl ForceSum {
     /// velocity part.
     pub fn velocity_dependent(model: &Model) -> bool {
         model.contact().is_some_and(|c| c.velocity_dependent())
-            || model.damping().is_some()
+            || model.is_damped()
             || model.has_spring_damping()
     }
 
@@ -186,7 +187,7 @@ impl ForceSum {
     /// elements contact wrote (none when nothing touched), so that a
     /// caller can clear and combine only those.
     pub fn velocity_jacobian_slots(&self, model: &Model) -> std::ops::Range<usize> {
-        if model.damping().is_some() || model.has_spring_damping() {
+        if model.is_damped() || model.has_spring_damping() {
             return 0..self.pattern.nnz();
         }
         match self.contact.as_ref().and_then(|c| c.velocity_elements) {
@@ -199,7 +200,7 @@ impl ForceSum {
     /// damping or Kelvin–Voigt damping (Rayleigh's constant matrix is).
     pub fn symmetric(model: &Model) -> bool {
         !model.contact().is_some_and(|c| c.velocity_dependent())
-            && !matches!(model.damping(), Some(Damping::KelvinVoigt { .. }))
+            && !(model.dampings()).any(|(_, d)| matches!(d, Damping::KelvinVoigt { .. }))
     }
 
     /// Evaluate the forces at `at` into the sum's buffers; with `kq`, write
@@ -271,36 +272,39 @@ impl ForceSum {
             self.damping.clear();
             return;
         };
-        let Some(damping) = model.damping() else {
-            self.damping.clear();
-            self.damping_power = 0.0;
-            if model.has_spring_damping() {
-                self.damping.resize(model.n_unknowns, 0.0);
-                self.damping_power = add_dashpots(model, &self.pattern, v, &mut self.damping, kv);
-            }
+        self.damping.clear();
+        self.damping_power = 0.0;
+        if !model.is_damped() && !model.has_spring_damping() {
             return;
-        };
-        (self.damping, self.damping_power) = match damping {
-            Damping::Rayleigh { .. } => {
-                let vu = model.gather(v);
-                let mut f = vec![0.0; model.n_unknowns];
-                self.pattern.mul_add(&self.rayleigh, &vu, 1.0, &mut f);
-                if let Some(kv) = kv.as_deref_mut() {
-                    kv.iter_mut().zip(&self.rayleigh).for_each(|(a, b)| *a += b);
-                }
-                let power = f.iter().zip(&vu).map(|(a, b)| a * b).sum();
-                (f, power)
+        }
+        self.damping.resize(model.n_unknowns, 0.0);
+        if !self.rayleigh.is_empty() {
+            let vu = model.gather(v);
+            self.pattern
+                .mul_add(&self.rayleigh, &vu, 1.0, &mut self.damping);
+            if let Some(kv) = kv.as_deref_mut() {
+                kv.iter_mut().zip(&self.rayleigh).for_each(|(a, b)| *a += b);
             }
-            Damping::KelvinVoigt { coefficient } => kelvin_voigt_force(
+            self.damping_power = self.damping.iter().zip(&vu).map(|(a, b)| a * b).sum();
+        }
+        if !self.strain_rate.is_empty() {
+            let (force, power) = kelvin_voigt_force(
                 model,
                 &self.pattern,
-                *coefficient,
+                &self.strain_rate,
                 at.q,
                 v,
                 kq,
                 kv.as_deref_mut(),
-            ),
-        };
+            );
+            match self.rayleigh.is_empty() {
+                true => self.damping = force,
+                false => (self.damping.iter_mut())
+                    .zip(&force)
+                    .for_each(|(a, b)| *a += b),
+            }
+            self.damping_power += power;
+        }
         if model.has_spring_damping() {
             self.damping_power += add_dashpots(model, &self.pattern, v, &mut self.damping, kv);
         }
@@ -433,6 +437,31 @@ fn add_springs(
         }
     }
     model.spring_energy(q)
+}
+
+/// The Rayleigh matrix α M + β K₀ in pattern slots, each Rayleigh-damped
+/// beam's own factors in its nodes' columns (beams share no slot: a gap
+/// element lies between two); empty when no beam has Rayleigh damping.
+fn rayleigh_values(model: &Model, pattern: &Pattern) -> Vec<f64> {
+    let rayleigh: Vec<(usize, f64, f64)> = (model.dampings())
+        .filter_map(|(b, d)| match *d {
+            Damping::Rayleigh { mass, stiffness } => Some((b, mass, stiffness)),
+            Damping::KelvinVoigt { .. } => None,
+        })
+        .collect();
+    if rayleigh.is_empty() {
+        return Vec::new();
+    }
+    let mut k0 = pattern.zeros();
+    assemble(model, pattern, &model.reference, Some(&mut k0));
+    let m = mass_values(model, pattern);
+    let mut values = pattern.zeros();
+    for (b, alpha, beta) in rayleigh {
+        for slot in pattern.node_values(model.beams[b].nodes.clone()) {
+            values[slot] = alpha * m[slot] + beta * k0[slot];
+        }
+    }
+    values
 }
 
 /// The elastic supports' dashpots c ṙ added to `qd` (unknowns) and c to

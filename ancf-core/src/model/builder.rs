@@ -266,7 +266,10 @@ pub struct WireBuilder {
     load_beams: Vec<Option<String>>,
     rods: Vec<Rod>,
     contact: ContactSettings,
+    /// The damping of every beam that names none of its own.
     damping: Option<Damping>,
+    /// Beams' own damping, by beam name.
+    beam_damping: Vec<(String, Damping)>,
 }
 
 impl WireBuilder {
@@ -284,6 +287,7 @@ impl WireBuilder {
             rods: Vec::new(),
             contact: ContactSettings::default(),
             damping: None,
+            beam_damping: Vec::new(),
         }
     }
 
@@ -343,6 +347,11 @@ impl WireBuilder {
     pub fn member(mut self, member: BeamBuilder) -> Self {
         self.members.push(member);
         self
+    }
+
+    /// Whether a member named `name` has been added.
+    pub fn has_member(&self, name: &str) -> bool {
+        self.members.iter().any(|m| m.name == name)
     }
 
     /// A support on beam `beam` (a member's name, or "wire"), its `node`
@@ -423,9 +432,19 @@ impl WireBuilder {
         self
     }
 
-    /// Kelvin–Voigt or Rayleigh damping.
+    /// Kelvin–Voigt or Rayleigh damping of the wire and every member that
+    /// has none of its own ([`WireBuilder::damping_on`]).
     pub fn damping(mut self, damping: Damping) -> Self {
         self.damping = Some(damping);
+        self
+    }
+
+    /// Beam `beam`'s own damping (a member's name, or "wire"), in place of
+    /// [`WireBuilder::damping`]'s: a conductor and the steel of a frame
+    /// dissipate differently. Without any, a beam is undamped.
+    pub fn damping_on(mut self, beam: &str, damping: Damping) -> Self {
+        self.beam_damping.retain(|(name, _)| name != beam);
+        self.beam_damping.push((beam.into(), damping));
         self
     }
 
@@ -522,12 +541,7 @@ impl WireBuilder {
             message: e.message,
         };
         self.contact.check().map_err(contact)?;
-        if let Some(d) = &self.damping {
-            d.check().map_err(|e| ModelError::Damping {
-                field: e.field,
-                message: e.message,
-            })?;
-        }
+        let damping = self.beam_dampings(&layouts)?;
         // Each beam's name, first node and element count.
         let starts: Vec<(&str, usize, usize)> = (layouts.iter())
             .zip(super::beam::first_nodes(&layouts))
@@ -580,7 +594,42 @@ impl WireBuilder {
         let members = member_contacts(&self.members, &model)?;
         Ok(model
             .with_contact(self.rods, members, self.contact)
-            .with_damping(self.damping))
+            .with_damping(damping))
+    }
+
+    /// Each beam's damping (index: beam): its own, else the model's; each
+    /// checked, a beam's own named as its scene field (`damping.…` of the
+    /// wire or of the member).
+    fn beam_dampings(&self, layouts: &[BeamLayout]) -> Result<Vec<Option<Damping>>, ModelError> {
+        if let Some(d) = &self.damping {
+            d.check().map_err(|e| ModelError::Damping {
+                field: e.field,
+                message: e.message,
+            })?;
+        }
+        let mut out = vec![self.damping.clone(); layouts.len()];
+        for (name, d) in &self.beam_damping {
+            let Some(beam) = layouts.iter().position(|l| &l.name == name) else {
+                let names: Vec<&str> = layouts.iter().map(|l| l.name.as_str()).collect();
+                return Err(ModelError::Damping {
+                    field: "beam".into(),
+                    message: format!("no beam is named \"{name}\" (there are {names:?})"),
+                });
+            };
+            d.check().map_err(|e| {
+                let own = ModelError::wire(&format!("damping.{}", e.field), e.message);
+                match beam {
+                    0 => own,
+                    _ => ModelError::Member {
+                        index: beam - 1,
+                        name: name.clone(),
+                        error: Box::new(own),
+                    },
+                }
+            })?;
+            out[beam] = Some(d.clone());
+        }
+        Ok(out)
     }
 }
 

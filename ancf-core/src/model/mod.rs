@@ -164,8 +164,9 @@ pub enum Effect {
     PointLoads(Vec<PointLoad>),
     /// Penalty contact with rigid rods (friction only where a rod has μ > 0).
     Contact(contact::Contact),
-    /// Structural damping (Kelvin–Voigt or Rayleigh).
-    Damping(damping::Damping),
+    /// Structural damping (Kelvin–Voigt or Rayleigh), each beam's own
+    /// (index: beam; `None`: undamped); present when a beam is damped.
+    Damping(Vec<Option<damping::Damping>>),
     /// Elastic supports: springs and dashpots at nodes.
     Springs(Vec<spring::SpringAt>),
 }
@@ -1105,18 +1106,37 @@ impl Model {
         self.springs().iter().any(|s| s.spring.damping > 0.0)
     }
 
-    /// The damping effect, when the scene names one.
-    pub fn damping(&self) -> Option<&damping::Damping> {
+    /// Beam `beam`'s structural damping, when it has one.
+    pub fn beam_damping(&self, beam: usize) -> Option<&damping::Damping> {
         self.effects.iter().find_map(|e| match e {
-            Effect::Damping(d) => Some(d),
+            Effect::Damping(per_beam) => per_beam.get(beam).and_then(Option::as_ref),
             _ => None,
         })
     }
 
-    /// Add damping as one of the model's effects.
-    pub fn with_damping(mut self, damping: Option<damping::Damping>) -> Self {
-        if let Some(d) = damping {
-            self.effects.push(Effect::Damping(d));
+    /// The damped beams (index) with their damping.
+    pub fn dampings(&self) -> impl Iterator<Item = (usize, &damping::Damping)> {
+        (0..self.beams.len()).filter_map(|b| self.beam_damping(b).map(|d| (b, d)))
+    }
+
+    /// Whether any beam is damped.
+    pub fn is_damped(&self) -> bool {
+        self.dampings().next().is_some()
+    }
+
+    /// The beam of group `g` (its elements lie in one beam).
+    pub fn group_beam(&self, g: usize) -> usize {
+        let first = self.groups[g].elements.start;
+        (self.beams.iter())
+            .position(|b| b.elements.contains(&first))
+            .expect("a group's elements belong to a beam")
+    }
+
+    /// Add each beam's damping (index: beam) as one of the model's effects
+    /// (none when no beam is damped).
+    pub fn with_damping(mut self, per_beam: Vec<Option<damping::Damping>>) -> Self {
+        if per_beam.iter().any(Option::is_some) {
+            self.effects.push(Effect::Damping(per_beam));
         }
         self
     }

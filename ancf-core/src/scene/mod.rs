@@ -374,6 +374,7 @@ impl Scene {
                 ));
             }
         }
+        let mut dampings: Vec<(String, Damping)> = Vec::new();
         for (i, b) in f.beam.iter().enumerate() {
             let table = format!("beam[{i}]");
             let Some(name) = &b.name else {
@@ -393,6 +394,11 @@ impl Scene {
             }
             let (member, _, _, elements) = beam_description(b, &table, name, &find)?;
             builder = builder.member(member.contact(beam_contact(b, &table)?));
+            let field = format!("{table}.damping");
+            if let Some(d) = damping(b.damping.as_ref(), &field)? {
+                builder = builder.damping_on(name, d.clone());
+                dampings.push((field, d));
+            }
             beam_nodes.push((name.clone(), elements + 1));
         }
         // A node of the wire or of the member named `beam`: its index on that beam.
@@ -514,8 +520,14 @@ impl Scene {
             builder = builder.rod(rod);
         }
         builder = builder.contact_settings(contact_settings(f.contact.as_ref()));
-        if let Some(d) = damping(f.damping.as_ref())? {
-            builder = builder.damping(d);
+        for (field, spec) in [("damping", &f.damping), ("wire.damping", &f.wire.damping)] {
+            if let Some(d) = damping(spec.as_ref(), field)? {
+                builder = match field {
+                    "damping" => builder.damping(d.clone()),
+                    _ => builder.damping_on(crate::model::WIRE, d.clone()),
+                };
+                dampings.push((field.to_string(), d));
+            }
         }
         let analysis = analysis(&f.analysis)?;
         let output = output(f.output.as_ref())?;
@@ -550,7 +562,10 @@ impl Scene {
             .flat_map(|(i, (_, m))| {
                 crate::plausibility::material_warnings(&format!("material[{i}]"), m)
             })
-            .chain(crate::plausibility::damping_warnings(model.damping()))
+            .chain(
+                (dampings.iter())
+                    .flat_map(|(field, d)| crate::plausibility::damping_warnings(field, d)),
+            )
             .collect();
         Ok(Scene {
             source: String::new(),
@@ -846,15 +861,15 @@ fn output(o: Option<&OutputSpec>) -> Result<OutputSettings, SceneError> {
     })
 }
 
-/// `[damping]`: which factors go with which kind; their values are the
-/// model's to check.
-fn damping(spec: Option<&DampingSpec>) -> Result<Option<Damping>, SceneError> {
+/// `[damping]` or a beam's own `damping` (at `table`): which factors go
+/// with which kind; their values are the model's to check.
+fn damping(spec: Option<&DampingSpec>, table: &str) -> Result<Option<Damping>, SceneError> {
     let Some(d) = spec else { return Ok(None) };
     let reject = |pairs: &[(&str, bool)]| -> Result<(), SceneError> {
         for (k, given) in pairs {
             if *given {
                 return Err(err(
-                    format!("damping.{k}"),
+                    format!("{table}.{k}"),
                     format!("not a parameter of kind \"{}\"", d.kind),
                 ));
             }
@@ -869,7 +884,7 @@ fn damping(spec: Option<&DampingSpec>) -> Result<Option<Damping>, SceneError> {
             ])?;
             let coefficient = d.strain_rate_coefficient.ok_or_else(|| {
                 err(
-                    "damping.strain_rate_coefficient",
+                    format!("{table}.strain_rate_coefficient"),
                     "missing (s), required for kelvin-voigt",
                 )
             })?;
@@ -886,7 +901,7 @@ fn damping(spec: Option<&DampingSpec>) -> Result<Option<Damping>, SceneError> {
             }))
         }
         other => Err(err(
-            "damping.kind",
+            format!("{table}.kind"),
             format!("unknown kind \"{other}\" (use \"kelvin-voigt\" or \"rayleigh\")"),
         )),
     }

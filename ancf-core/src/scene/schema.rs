@@ -264,6 +264,8 @@ pub struct WireSpec {
     pub restitution: Option<f64>,
     /// How the damping follows from `restitution` (as for rods).
     pub restitution_model: Option<String>,
+    /// This beam's own structural damping, in place of `[damping]`'s.
+    pub damping: Option<DampingSpec>,
 }
 
 /// One region of a graded mesh (`[wire] segments`).

@@ -76,7 +76,12 @@ pub fn effect_names(model: &Model) -> Vec<String> {
                 format!("contact ({} rods, with friction)", c.rods.len())
             }
             Effect::Contact(c) => format!("contact ({} rods, frictionless)", c.rods.len()),
-            Effect::Damping(d) => format!("damping ({d:?})"),
+            Effect::Damping(_) => {
+                let beams: Vec<String> = (model.dampings())
+                    .map(|(b, d)| format!("{}: {d:?}", model.beams[b].name))
+                    .collect();
+                format!("damping ({})", beams.join(", "))
+            }
             Effect::Springs(s) => format!("elastic supports ({})", s.len()),
         })
         .collect()

@@ -167,85 +167,125 @@ pub fn kelvin_voigt_points(
 /// Kelvin–Voigt force of the model at (q, v) on the unknowns (N) and its
 /// power (W), each group with its coefficient `c[group]` (s; `None`:
 /// undamped, not evaluated); adds ∂Q_d/∂q to `kq` and ∂Q_d/∂v to `kv`
-/// (pattern slots). The force alone goes as the elastic force does
-/// ([`force_alone`]); with Jacobians, one element at a time.
+/// (pattern slots). Allocates its result and workspace: a solver calls
+/// [`kelvin_voigt_force_into`] with buffers it keeps.
 pub fn kelvin_voigt_force(
     model: &Model,
     pattern: &Pattern,
     c: &[Option<f64>],
     q: &[f64],
     v: &[f64],
-    mut kq: Option<&mut [f64]>,
-    mut kv: Option<&mut [f64]>,
+    kq: Option<&mut [f64]>,
+    kv: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64) {
-    if kq.is_none() && kv.is_none() {
-        return force_alone(model, c, q, v);
-    }
-    let mut full = vec![0.0; q.len()];
-    let mut power = 0.0;
-    let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
-    for (group, c) in model.groups.iter().zip(c) {
-        let Some(c) = *c else { continue };
-        for el in group.elements.clone() {
-            let e = model.element_coordinates(q, el);
-            let ve = model.element_coordinates(v, el);
-            let mut qe = [0.0; 24];
-            if kq.is_some() {
-                mq.fill(0.0);
-            }
-            if kv.is_some() {
-                mv.fill(0.0);
-            }
-            power += kelvin_voigt_element(
-                &group.integration,
-                c,
-                &e,
-                &ve,
-                &mut qe,
-                kq.is_some().then_some(&mut mq),
-                kv.is_some().then_some(&mut mv),
-            );
-            for (f, x) in full[NODE_DOFS * el..NODE_DOFS * el + 24]
-                .iter_mut()
-                .zip(&qe)
-            {
-                *f += x;
-            }
-            if let Some(k) = kq.as_deref_mut() {
-                pattern.add_element(k, el, &mq);
-            }
-            if let Some(k) = kv.as_deref_mut() {
-                pattern.add_element(k, el, &mv);
-            }
-        }
-    }
-    (model.gather(&full), power)
+    let mut force = vec![0.0; model.n_unknowns];
+    let mut work = KelvinVoigtWork::default();
+    let power = kelvin_voigt_force_into(model, pattern, c, (q, v), (kq, kv), &mut work, &mut force);
+    (force, power)
 }
 
-/// The damping force alone: each element's force and power, the
-/// pre-integrated laws eight elements at a time (SIMD lanes), a long group
-/// in two halves on two threads as the elastic energy goes
-/// ([`per_element_in_halves`]), then added up in element order — the same
-/// bits on any number of threads.
-fn force_alone(model: &Model, c: &[Option<f64>], q: &[f64], v: &[f64]) -> (Vec<f64>, f64) {
-    let mut per: Vec<(ElementVector, f64)> = vec![([0.0; 24], 0.0); model.n_elements];
-    per_element_in_halves(model, &mut per, |group, els, out| {
+/// The buffers of [`kelvin_voigt_force_into`], sized at its first call:
+/// each element's force and power, and the force on all coordinates.
+#[derive(Clone, Debug, Default)]
+pub struct KelvinVoigtWork {
+    per: Vec<(ElementVector, f64)>,
+    full: Vec<f64>,
+}
+
+/// [`kelvin_voigt_force`] added to `force` (unknowns, N), with the
+/// buffers in `work`; returns the power (W). The force alone goes as the
+/// elastic force does ([`force_alone`]); with Jacobians, one element at a
+/// time.
+pub fn kelvin_voigt_force_into(
+    model: &Model,
+    pattern: &Pattern,
+    c: &[Option<f64>],
+    (q, v): (&[f64], &[f64]),
+    (mut kq, mut kv): (Option<&mut [f64]>, Option<&mut [f64]>),
+    work: &mut KelvinVoigtWork,
+    force: &mut [f64],
+) -> f64 {
+    work.full.clear();
+    work.full.resize(q.len(), 0.0);
+    let power = if kq.is_none() && kv.is_none() {
+        force_alone(model, c, (q, v), work)
+    } else {
+        let mut power = 0.0;
+        let (mut mq, mut mv) = ([0.0; 576], [0.0; 576]);
+        for (group, c) in model.groups.iter().zip(c) {
+            let Some(c) = *c else { continue };
+            for el in group.elements.clone() {
+                let e = model.element_coordinates(q, el);
+                let ve = model.element_coordinates(v, el);
+                let mut qe = [0.0; 24];
+                if kq.is_some() {
+                    mq.fill(0.0);
+                }
+                if kv.is_some() {
+                    mv.fill(0.0);
+                }
+                power += kelvin_voigt_element(
+                    &group.integration,
+                    c,
+                    &e,
+                    &ve,
+                    &mut qe,
+                    kq.is_some().then_some(&mut mq),
+                    kv.is_some().then_some(&mut mv),
+                );
+                add_element(&mut work.full, el, &qe);
+                if let Some(k) = kq.as_deref_mut() {
+                    pattern.add_element(k, el, &mq);
+                }
+                if let Some(k) = kv.as_deref_mut() {
+                    pattern.add_element(k, el, &mv);
+                }
+            }
+        }
+        power
+    };
+    for (x, u) in work.full.iter().zip(&model.dof_map) {
+        if let Some(u) = u {
+            force[*u] += x;
+        }
+    }
+    power
+}
+
+/// Adds element `el`'s force `qe` to the all-coordinates vector `full`.
+fn add_element(full: &mut [f64], el: usize, qe: &ElementVector) {
+    let rows = &mut full[NODE_DOFS * el..NODE_DOFS * el + 24];
+    rows.iter_mut().zip(qe).for_each(|(f, x)| *f += x);
+}
+
+/// The damping force alone into `work.full` (all coordinates, cleared by
+/// the caller): each element's force and power, the pre-integrated laws
+/// eight elements at a time (SIMD lanes), a long group in two halves on
+/// two threads as the elastic energy goes ([`per_element_in_halves`]),
+/// then added up in element order — the same bits on any number of
+/// threads. Returns the power (W).
+fn force_alone(
+    model: &Model,
+    c: &[Option<f64>],
+    (q, v): (&[f64], &[f64]),
+    work: &mut KelvinVoigtWork,
+) -> f64 {
+    // Written for the damped groups' elements at every call; the others
+    // (undamped groups, gaps) stay zero from here.
+    if work.per.len() != model.n_elements {
+        work.per = vec![([0.0; 24], 0.0); model.n_elements];
+    }
+    per_element_in_halves(model, &mut work.per, |group, els, out| {
         if let Some(c) = c[model.group(group.elements.start)] {
             group_forces(model, group, c, (q, v), els, out)
         }
     });
-    let mut full = vec![0.0; q.len()];
     let mut power = 0.0;
-    for (el, (force, p)) in per.iter().enumerate() {
+    for (el, (force, p)) in work.per.iter().enumerate() {
         power += p;
-        for (f, x) in full[NODE_DOFS * el..NODE_DOFS * el + 24]
-            .iter_mut()
-            .zip(force)
-        {
-            *f += x;
-        }
+        add_element(&mut work.full, el, force);
     }
-    (model.gather(&full), power)
+    power
 }
 
 /// The damping forces and powers of `group`'s elements `els` at

@@ -25,7 +25,7 @@ use super::assembly::{
 };
 use super::contact::ContactEvaluator;
 use super::coupling::Coupling;
-use super::damping::kelvin_voigt_force;
+use super::damping::{KelvinVoigtWork, kelvin_voigt_force_into};
 use crate::linalg::pattern::Pattern;
 use crate::model::damping::Damping;
 use crate::model::{Model, NODE_DOFS};
@@ -93,6 +93,8 @@ pub struct ForceSum {
     /// Each group's Kelvin–Voigt coefficient c (s; `None`: its beam has
     /// none); empty when no beam has Kelvin–Voigt damping.
     strain_rate: Vec<Option<f64>>,
+    /// Kelvin–Voigt's buffers, kept between evaluations.
+    kelvin_voigt_work: KelvinVoigtWork,
     /// Q = Q_e − Q_c of the last evaluation (all coordinates, N).
     internal: Vec<f64>,
     /// Per-element strain energies (workspace) and their sum (J).
@@ -135,6 +137,7 @@ impl ForceSum {
             external: model.external_force(1.0),
             rayleigh,
             strain_rate,
+            kelvin_voigt_work: KelvinVoigtWork::default(),
             internal: vec![0.0; n],
             element_energy: vec![0.0; model.n_elements],
             strain_energy: 0.0,
@@ -288,22 +291,15 @@ impl ForceSum {
             self.damping_power = self.damping.iter().zip(&vu).map(|(a, b)| a * b).sum();
         }
         if !self.strain_rate.is_empty() {
-            let (force, power) = kelvin_voigt_force(
+            self.damping_power += kelvin_voigt_force_into(
                 model,
                 &self.pattern,
                 &self.strain_rate,
-                at.q,
-                v,
-                kq,
-                kv.as_deref_mut(),
+                (at.q, v),
+                (kq, kv.as_deref_mut()),
+                &mut self.kelvin_voigt_work,
+                &mut self.damping,
             );
-            match self.rayleigh.is_empty() {
-                true => self.damping = force,
-                false => (self.damping.iter_mut())
-                    .zip(&force)
-                    .for_each(|(a, b)| *a += b),
-            }
-            self.damping_power += power;
         }
         if model.has_spring_damping() {
             self.damping_power += add_dashpots(model, &self.pattern, v, &mut self.damping, kv);

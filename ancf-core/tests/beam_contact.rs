@@ -5,6 +5,9 @@
 
 use ancf_core::forces::sum::{At, ForceSum};
 use ancf_core::prelude::*;
+use common::jacobian_errors;
+
+mod common;
 
 /// Outer radius of the wire and of the member, m.
 const RW: f64 = 0.01;
@@ -106,43 +109,15 @@ fn jacobians_match_differences(contact: BeamContact) {
     let c = sum.contact().expect("contact");
     assert!(c.total.active > 0, "the wire presses on the member");
     assert!(!sum.coupling().is_empty(), "the two beams are coupled");
-    let m = model.n_unknowns;
-    let h = 1e-7;
-    let (mut worst_q, mut worst_v, mut largest) = (0.0f64, 0.0f64, 0.0f64);
-    for j in 0..m {
-        let col_q = column(&sum, &model, &kq, false, j);
-        let col_v = column(&sum, &model, &kv, true, j);
-        let mut unit = vec![0.0; m];
-        unit[j] = 1.0;
-        let shifted = |x: &[f64], s: f64| {
-            let mut y = x.to_vec();
-            model.scatter_add(&unit, s, &mut y);
-            y
-        };
-        let mut fd = |dq: bool| -> Vec<f64> {
-            let (plus, minus) = if dq {
-                (
-                    force(&mut sum, &model, &shifted(&q, h), &v, &events),
-                    force(&mut sum, &model, &shifted(&q, -h), &v, &events),
-                )
-            } else {
-                (
-                    force(&mut sum, &model, &q, &shifted(&v, h), &events),
-                    force(&mut sum, &model, &q, &shifted(&v, -h), &events),
-                )
-            };
-            plus.iter()
-                .zip(minus)
-                .map(|(a, b)| (a - b) / (2.0 * h))
-                .collect()
-        };
-        let (dq, dv) = (fd(true), fd(false));
-        for i in 0..m {
-            worst_q = worst_q.max((col_q[i] - dq[i]).abs());
-            worst_v = worst_v.max((col_v[i] - dv[i]).abs());
-            largest = largest.max(dq[i].abs());
-        }
-    }
+    let mut again = ForceSum::new(&model);
+    let e = jacobian_errors(
+        &model,
+        (&q, &v),
+        1e-7,
+        |j, velocity| column(&sum, &model, if velocity { &kv } else { &kq }, velocity, j),
+        |q, v| force(&mut again, &model, q, v, &events),
+    );
+    let (worst_q, worst_v, largest) = (e.worst_q, e.worst_v, e.largest_q);
     assert!(
         worst_q <= 1e-6 * largest,
         "∂/∂q: {worst_q:e} of {largest:e}"

@@ -10,7 +10,7 @@ use ancf_core::model::ModelError;
 use ancf_core::model::damping::Damping;
 use ancf_core::prelude::*;
 use ancf_core::scene::Scene;
-use common::Rng;
+use common::{JacobianErrors, Rng, jacobian_errors};
 
 const CONDUCTOR: Damping = Damping::KelvinVoigt { coefficient: 1e-4 };
 const STEEL: Damping = Damping::Rayleigh {
@@ -194,31 +194,20 @@ fn jacobians_of_beams_own_damping_are_its_derivatives() {
     let (q, v) = state(&model);
     let d = damping_of(&model, &q, &v, true);
     let pattern = ForceSum::new(&model).pattern().clone();
-    let n = model.n_unknowns;
-    let h = 1e-7;
-    let (mut worst_q, mut worst_v, mut largest_q, mut largest_v) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for j in 0..n {
-        let mut unit = vec![0.0; n];
+    let column = |j: usize, velocity: bool| {
+        let mut unit = vec![0.0; model.n_unknowns];
         unit[j] = 1.0;
-        let (mut col_q, mut col_v) = (vec![0.0; n], vec![0.0; n]);
-        pattern.mul_add(&d.kq, &unit, 1.0, &mut col_q);
-        pattern.mul_add(&d.kv, &unit, 1.0, &mut col_v);
-        let shifted = |x: &[f64], s: f64| {
-            let mut y = x.to_vec();
-            model.scatter_add(&unit, s, &mut y);
-            y
-        };
-        let force = |q: &[f64], v: &[f64]| damping_of(&model, q, v, false).force;
-        let (qp, qm) = (force(&shifted(&q, h), &v), force(&shifted(&q, -h), &v));
-        let (vp, vm) = (force(&q, &shifted(&v, h)), force(&q, &shifted(&v, -h)));
-        for i in 0..n {
-            let (dq, dv) = ((qp[i] - qm[i]) / (2.0 * h), (vp[i] - vm[i]) / (2.0 * h));
-            worst_q = worst_q.max((col_q[i] - dq).abs());
-            worst_v = worst_v.max((col_v[i] - dv).abs());
-            largest_q = largest_q.max(dq.abs());
-            largest_v = largest_v.max(dv.abs());
-        }
-    }
+        let mut col = vec![0.0; model.n_unknowns];
+        pattern.mul_add(if velocity { &d.kv } else { &d.kq }, &unit, 1.0, &mut col);
+        col
+    };
+    let force = |q: &[f64], v: &[f64]| damping_of(&model, q, v, false).force;
+    let JacobianErrors {
+        worst_q,
+        worst_v,
+        largest_q,
+        largest_v,
+    } = jacobian_errors(&model, (&q, &v), 1e-7, column, force);
     assert!(largest_q > 0.0 && largest_v > 0.0);
     assert!(
         worst_q <= 1e-6 * largest_q,

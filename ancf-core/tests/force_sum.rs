@@ -10,6 +10,9 @@ use ancf_core::forces::sum::{At, ForceSum};
 use ancf_core::model::damping::Damping;
 use ancf_core::model::spring::Spring;
 use ancf_core::prelude::*;
+use common::jacobian_errors;
+
+mod common;
 
 /// A 1 m two-element wire of radius 1 cm lying along x at z = 0, pressed
 /// 2 mm into a rod across it at x = 0.3 m, with all effects named; with
@@ -93,36 +96,18 @@ fn jacobians_are_the_derivatives_of_the_sum() {
     assert!(contact.total.friction_power > 0.0, "friction acts");
     assert!(sum.damping().unwrap().1 > 0.0, "Kelvin–Voigt acts");
 
-    let m = model.n_unknowns;
-    let h = 1e-7;
-    let (mut worst_q, mut worst_v, mut largest) = (0.0f64, 0.0f64, 0.0f64);
-    for j in 0..m {
-        let mut unit = vec![0.0; m];
+    let column = |j: usize, velocity: bool| {
+        let mut unit = vec![0.0; model.n_unknowns];
         unit[j] = 1.0;
-        let (mut col_q, mut col_v) = (vec![0.0; m], vec![0.0; m]);
-        sum.pattern().mul_add(&kq, &unit, 1.0, &mut col_q);
-        sum.pattern().mul_add(&kv, &unit, 1.0, &mut col_v);
-        let shifted = |x: &[f64], s: f64| {
-            let mut y = x.to_vec();
-            model.scatter_add(&unit, s, &mut y);
-            y
-        };
-        let dq: Vec<f64> = total(&mut sum, &model, &shifted(&q, h), &v, &events)
-            .iter()
-            .zip(total(&mut sum, &model, &shifted(&q, -h), &v, &events))
-            .map(|(a, b)| (a - b) / (2.0 * h))
-            .collect();
-        let dv: Vec<f64> = total(&mut sum, &model, &q, &shifted(&v, h), &events)
-            .iter()
-            .zip(total(&mut sum, &model, &q, &shifted(&v, -h), &events))
-            .map(|(a, b)| (a - b) / (2.0 * h))
-            .collect();
-        for i in 0..m {
-            worst_q = worst_q.max((col_q[i] - dq[i]).abs());
-            worst_v = worst_v.max((col_v[i] - dv[i]).abs());
-            largest = largest.max(dq[i].abs());
-        }
-    }
+        let mut col = vec![0.0; model.n_unknowns];
+        sum.pattern()
+            .mul_add(if velocity { &kv } else { &kq }, &unit, 1.0, &mut col);
+        col
+    };
+    let mut again = ForceSum::new(&model);
+    let force = |q: &[f64], v: &[f64]| total(&mut again, &model, q, v, &events);
+    let e = jacobian_errors(&model, (&q, &v), 1e-7, column, force);
+    let (worst_q, worst_v, largest) = (e.worst_q, e.worst_v, e.largest_q);
     assert!(
         worst_q <= 1e-6 * largest,
         "∂/∂q: {worst_q:e} of {largest:e}"

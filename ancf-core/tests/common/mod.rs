@@ -162,3 +162,57 @@ pub fn split_csv(line: &str) -> Vec<String> {
     out.push(cur);
     out
 }
+
+/// How far a Jacobian's columns lie from central differences of the force
+/// they claim to differentiate: the largest difference and the largest
+/// difference quotient, for ∂/∂q and for ∂/∂v.
+pub struct JacobianErrors {
+    pub worst_q: f64,
+    pub worst_v: f64,
+    pub largest_q: f64,
+    pub largest_v: f64,
+}
+
+/// Central differences with step `h` of `force(q, v)` (on the unknowns) in
+/// each unknown of q and of v, against `column(j, velocity)`: column j of
+/// ∂/∂q, or of ∂/∂v with `velocity`.
+pub fn jacobian_errors(
+    model: &ancf_core::model::Model,
+    (q, v): (&[f64], &[f64]),
+    h: f64,
+    column: impl Fn(usize, bool) -> Vec<f64>,
+    mut force: impl FnMut(&[f64], &[f64]) -> Vec<f64>,
+) -> JacobianErrors {
+    let m = model.n_unknowns;
+    let mut e = JacobianErrors {
+        worst_q: 0.0,
+        worst_v: 0.0,
+        largest_q: 0.0,
+        largest_v: 0.0,
+    };
+    for j in 0..m {
+        let (col_q, col_v) = (column(j, false), column(j, true));
+        let mut unit = vec![0.0; m];
+        unit[j] = 1.0;
+        let shifted = |x: &[f64], s: f64| {
+            let mut y = x.to_vec();
+            model.scatter_add(&unit, s, &mut y);
+            y
+        };
+        let quotient = |plus: Vec<f64>, minus: Vec<f64>| -> Vec<f64> {
+            plus.iter()
+                .zip(minus)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect()
+        };
+        let dq = quotient(force(&shifted(q, h), v), force(&shifted(q, -h), v));
+        let dv = quotient(force(q, &shifted(v, h)), force(q, &shifted(v, -h)));
+        for i in 0..m {
+            e.worst_q = e.worst_q.max((col_q[i] - dq[i]).abs());
+            e.worst_v = e.worst_v.max((col_v[i] - dv[i]).abs());
+            e.largest_q = e.largest_q.max(dq[i].abs());
+            e.largest_v = e.largest_v.max(dv[i].abs());
+        }
+    }
+    e
+}

@@ -93,6 +93,26 @@ pub struct SupportSummary {
     /// … and the same for the filtered peak.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filtered_ratio_to_static: Option<f64>,
+    /// Dynamic runs with `output.response_frequencies`: what a structure
+    /// with one mode at each frequency feels from the force.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub response: Vec<SupportResponse>,
+}
+
+/// The largest response of oscillators of one frequency driven by a
+/// support's force, one per component ([`ancf_core::loads::response`]):
+/// the equivalent static force a structure with that mode carries.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct SupportResponse {
+    /// The oscillators' frequency (Hz) …
+    pub frequency: f64,
+    /// … and damping ratio.
+    pub damping: f64,
+    /// The largest |u| of the x, y and z components' oscillators (N).
+    pub peak: [f64; 3],
+    /// The largest of the three over |static_force| (as `ratio_to_static`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio_to_static: Option<f64>,
 }
 
 /// A frame member's largest internal loads over the run (`[[beam]]`).

@@ -750,6 +750,10 @@ impl Simulation {
             self.scene.starts_from_equilibrium(),
             loads,
             &filtered,
+            (
+                &self.scene.output.response_frequencies,
+                self.scene.output.response_damping,
+            ),
         )
     }
 
@@ -809,6 +813,11 @@ fn support_dict<'py>(
         if let Some(v) = v {
             d.set_item(k, v)?;
         }
+    }
+    if !s.response.is_empty() {
+        let json = serde_json::to_string(&s.response).expect("responses serialize");
+        let loads = PyModule::import(py, "json")?.getattr("loads")?;
+        d.set_item("response", loads.call1((json,))?)?;
     }
     Ok(d)
 }
@@ -903,7 +912,7 @@ impl Simulation {
                 vtk: false,
                 vtk_every: None,
                 plots: false,
-                cfc: ancf_core::loads::rod_load::DEFAULT_CFC,
+                ..Default::default()
             },
             clearance: Vec::new(),
             implausible,

@@ -312,6 +312,22 @@ def test_damping_of_one_beam_acts_on_that_beam_alone():
         wire.kelvin_voigt(1e-3, beam="tube")
 
 
+def test_a_supports_response_is_the_runs(tmp_path):
+    # `[output] response_frequencies`: the same oscillators' peaks in the
+    # Python summary as in the run's summary.json.
+    text = PENDULUM.read_text().replace("end_time = 1.0", "end_time = 0.3").replace(
+        "[output]", "[output]\nresponse_frequencies = [0.5, 40.0]\nresponse_damping = 0.05")
+    sim = ancf.Simulation(ancf.Scene.from_toml(text))
+    sim.run()
+    (pin,) = sim.supports
+    assert [r["frequency"] for r in pin["response"]] == [0.5, 40.0]
+    assert all(r["damping"] == 0.05 and len(r["peak"]) == 3 for r in pin["response"])
+    ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")
+    written = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert written["supports"][0]["response"] == pin["response"]
+    assert "response" not in ancf.Simulation(ancf.Scene.from_file(PENDULUM)).supports[0]
+
+
 def test_the_summary_says_what_computed_it():
     sim = ancf.Simulation(ancf.Scene.from_file(PENDULUM))
     build = sim.summary()["build"]

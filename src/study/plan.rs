@@ -208,6 +208,11 @@ impl Setting {
             vtk_every: None,
             plots: Some(false),
             cfc: base.output.as_ref().and_then(|o| o.cfc),
+            response_frequencies: base
+                .output
+                .as_ref()
+                .and_then(|o| o.response_frequencies.clone()),
+            response_damping: base.output.as_ref().and_then(|o| o.response_damping),
         });
         f
     }

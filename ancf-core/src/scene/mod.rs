@@ -32,6 +32,9 @@ pub mod defaults {
     pub const CHECKPOINT_EVERY: usize = 1000;
     /// The most elements a beam may have ([`crate::model::MAX_ELEMENTS`]).
     pub const MAX_ELEMENTS: usize = crate::model::MAX_ELEMENTS;
+    /// The damping ratio of the supports' response oscillators: 2 %, a
+    /// bolted steel structure's usual design value.
+    pub const RESPONSE_DAMPING: f64 = 0.02;
 }
 
 /// What a run does, after validation.
@@ -75,6 +78,11 @@ pub struct OutputSettings {
     pub plots: bool,
     /// Channel frequency class of the filtered rod forces, Hz (SAE J211).
     pub cfc: f64,
+    /// Frequencies (Hz) of the oscillators each support's force drives
+    /// ([`crate::loads::response`]); empty: none is computed.
+    pub response_frequencies: Vec<f64>,
+    /// Their damping ratio ζ.
+    pub response_damping: f64,
 }
 
 /// The ParaView frames a run writes unless `output.vtk_every` says
@@ -115,6 +123,8 @@ impl Default for OutputSettings {
             vtk_every: None,
             plots: true,
             cfc: crate::loads::rod_load::DEFAULT_CFC,
+            response_frequencies: Vec::new(),
+            response_damping: defaults::RESPONSE_DAMPING,
         }
     }
 }
@@ -851,6 +861,25 @@ fn output(o: Option<&OutputSpec>) -> Result<OutputSettings, SceneError> {
         }
         n => n,
     };
+    let response_frequencies = o.response_frequencies.clone().unwrap_or_default();
+    for (i, &f) in response_frequencies.iter().enumerate() {
+        positive(&format!("output.response_frequencies[{i}]"), f)?;
+    }
+    let response_damping = match o.response_damping {
+        Some(_) if response_frequencies.is_empty() => {
+            return Err(err(
+                "output.response_damping",
+                "the oscillators' damping needs output.response_frequencies",
+            ));
+        }
+        Some(z) if !(0.0..1.0).contains(&z) => {
+            return Err(err(
+                "output.response_damping",
+                format!("a damping ratio in [0, 1) (0.02 is 2 %), got {z}"),
+            ));
+        }
+        z => z.unwrap_or(d.response_damping),
+    };
     Ok(OutputSettings {
         every,
         checkpoint_every: o.checkpoint_every.unwrap_or(d.checkpoint_every),
@@ -858,6 +887,8 @@ fn output(o: Option<&OutputSpec>) -> Result<OutputSettings, SceneError> {
         vtk_every,
         plots: o.plots.unwrap_or(d.plots),
         cfc: positive("output.cfc", o.cfc.unwrap_or(d.cfc))?,
+        response_frequencies,
+        response_damping,
     })
 }
 

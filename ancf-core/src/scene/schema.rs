@@ -401,6 +401,10 @@ pub struct OutputSpec {
     pub plots: Option<bool>,
     /// Channel frequency class of the filtered rod forces (Hz).
     pub cfc: Option<f64>,
+    /// Frequencies of the oscillators the supports' forces drive (Hz).
+    pub response_frequencies: Option<Vec<f64>>,
+    /// Their damping ratio.
+    pub response_damping: Option<f64>,
 }
 
 /// The scene file as written.

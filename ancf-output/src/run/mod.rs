@@ -753,6 +753,10 @@ fn run_dynamic(
         scene.starts_from_equilibrium(),
         supports.loads,
         &support_filtered,
+        (
+            &scene.output.response_frequencies,
+            scene.output.response_damping,
+        ),
     );
     let member_filtered: Vec<Filtered> =
         sim.member_loads().iter().map(|h| h.filtered(cfc)).collect();

@@ -1,7 +1,9 @@
 //! The supports' loads as a frame or tower designer reads them: the static
-//! force, the peak over the run (raw and CFC-filtered) and their ratio.
+//! force, the peak over the run (raw and CFC-filtered) and their ratio,
+//! and what a structure with one mode at a given frequency feels from it.
 
-use crate::output::SupportSummary;
+use crate::output::{SupportResponse, SupportSummary};
+use ancf_core::loads::response::peak_response;
 use ancf_core::loads::rod_load::{Filtered, LoadHistory};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::Model;
@@ -34,7 +36,9 @@ fn beam_and_node(model: &Model, n: usize) -> (String, usize) {
 
 /// A dynamic run's supports: `initial` is each support's force at t = 0
 /// (`Simulation::initial_support_forces`; missing entries count as zero),
-/// `loads` and `filtered` their histories and CFC-filtered magnitudes.
+/// `loads` and `filtered` their histories and CFC-filtered magnitudes,
+/// and the oscillators of each of `frequencies` (Hz) with ratio `damping`
+/// driven by each component of the force (none when empty).
 /// The peaks are compared with the force at t = 0 only when the run starts
 /// from the static equilibrium (`from_equilibrium`): a run that starts at
 /// rest in the unloaded shape has, at t = 0, only the share of gravity the
@@ -45,6 +49,7 @@ pub fn dynamic_supports(
     from_equilibrium: bool,
     loads: &[LoadHistory],
     filtered: &[Filtered],
+    (frequencies, damping): (&[f64], f64),
 ) -> Vec<SupportSummary> {
     model
         .supports
@@ -67,6 +72,20 @@ pub fn dynamic_supports(
                 filtered_peak_force: Some(load.filtered_peak_force),
                 ratio_to_static: ratio(load.peak_force),
                 filtered_ratio_to_static: ratio(load.filtered_peak_force),
+                response: (frequencies.iter())
+                    .map(|&frequency| {
+                        let peak: [f64; 3] = std::array::from_fn(|c| {
+                            let force: Vec<f64> = h.force.iter().map(|f| f[c]).collect();
+                            peak_response(&h.time, &force, frequency, damping)
+                        });
+                        SupportResponse {
+                            frequency,
+                            damping,
+                            peak,
+                            ratio_to_static: ratio(peak.into_iter().fold(0.0, f64::max)),
+                        }
+                    })
+                    .collect(),
             }
         })
         .collect()

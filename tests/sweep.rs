@@ -602,6 +602,7 @@ release_time = 0.0
 every = 100
 vtk = false
 plots = false
+response_frequencies = [20.0]
 "#,
     )
     .unwrap();
@@ -629,6 +630,16 @@ plots = false
                 &s["supports"][0]["filtered_peak_force"],
             ),
             ("support1_peak_force", &s["supports"][1]["peak_force"]),
+            (
+                "support0_response_20hz",
+                &s["supports"][0]["response"][0]["peak"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|p| p.as_f64().unwrap())
+                    .fold(0.0, f64::max)
+                    .into(),
+            ),
         ] {
             let want = value.as_f64().unwrap();
             assert!(want > 0.0, "{col}: {want}");
@@ -641,6 +652,7 @@ plots = false
         "| bar: first impact, filtered peak (N) | 2 |",
         "| bar: max von Mises stress (Pa) | 2 |",
         "| support 1 (bar node 8): filtered peak force (N) | 2 |",
+        "| support 0 (bar node 0): response at 20 Hz (N) | 2 |",
     ] {
         assert!(report.contains(quantity), "report.md lacks {quantity}");
     }

@@ -32,7 +32,9 @@ pub const MEMBER_COLUMNS: [&str; 4] = [
 
 /// Design numbers of one support (summary.json `supports[i]`): the force
 /// it exerts, raw and CFC-filtered (N), and the filtered peak over the
-/// static force (absent unless the run starts from its equilibrium).
+/// static force (absent unless the run starts from its equilibrium); with
+/// `output.response_frequencies`, one more column per frequency f,
+/// `support{k}_response_{f}hz`: the largest component of its response.
 pub const SUPPORT_COLUMNS: [&str; 3] = [
     "peak_force",
     "filtered_peak_force",
@@ -56,6 +58,10 @@ pub struct SupportRow {
     pub label: String,
     /// [`SUPPORT_COLUMNS`].
     pub loads: [Option<f64>; SUPPORT_COLUMNS.len()],
+    /// With `output.response_frequencies`: per frequency (Hz) the largest
+    /// of its three components' oscillator peaks (N), summary.json
+    /// `supports[i].response`.
+    pub response: Vec<(f64, Option<f64>)>,
 }
 
 /// One variant as results.csv has it.
@@ -161,6 +167,11 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             p["node"].as_u64().unwrap_or(0)
         ),
         loads: SUPPORT_COLUMNS.map(|k| number(&p[k])),
+        response: each(&p["response"], |r| {
+            let peaks = each(&r["peak"], number);
+            let largest = peaks.into_iter().flatten().reduce(f64::max);
+            (number(&r["frequency"]).unwrap_or(0.0), largest)
+        }),
     });
     let d = &s["tip"]["displacement"];
     let tip = match (number(&d[0]), number(&d[1]), number(&d[2])) {
@@ -237,8 +248,13 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
         let columns = ROD_COLUMNS.iter().chain(&MEMBER_COLUMNS);
         header.extend(columns.map(|c| format!("{}_{c}", m.name)));
     }
-    for k in 0..supports.len() {
+    for (k, p) in supports.iter().enumerate() {
         header.extend(SUPPORT_COLUMNS.iter().map(|c| format!("support{k}_{c}")));
+        header.extend(
+            p.response
+                .iter()
+                .map(|(f, _)| format!("support{k}_response_{f}hz")),
+        );
     }
     header.extend(
         [
@@ -275,11 +291,14 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
                     .extend((0..ROD_COLUMNS.len() + MEMBER_COLUMNS.len()).map(|_| String::new())),
             }
         }
-        for k in 0..supports.len() {
-            match r.supports.get(k) {
+        for (k, layout) in supports.iter().enumerate() {
+            let own = r.supports.get(k);
+            match own {
                 Some(p) => cells.extend(p.loads.iter().map(|x| opt(*x))),
                 None => cells.extend(SUPPORT_COLUMNS.iter().map(|_| String::new())),
             }
+            let response = |j: usize| own.and_then(|p| p.response.get(j)).and_then(|r| r.1);
+            cells.extend((0..layout.response.len()).map(|j| opt(response(j))));
         }
         match r.tip {
             Some(t) => cells.extend(t.iter().map(|x| opt(Some(*x)))),
@@ -441,6 +460,19 @@ fn design_numbers(
                     .filter(|f| *f > 0.0)
             }),
         ));
+        for (j, (f, _)) in p.response.iter().enumerate() {
+            out.push((
+                format!("support {k} ({}): response at {f} Hz", p.label),
+                "N".into(),
+                Box::new(move |r: &Row| {
+                    r.supports
+                        .get(k)
+                        .and_then(|p| p.response.get(j))
+                        .and_then(|r| r.1)
+                        .filter(|f| *f > 0.0)
+                }),
+            ));
+        }
     }
     out.push((
         "tip displacement".into(),

@@ -38,8 +38,12 @@ fn a_supports_response_follows_its_force_above_and_ignores_it_below() {
     for (r, f) in response.iter().zip([0.01, 3.0, 500.0]) {
         assert_eq!((r.frequency, r.damping), (f, 0.05));
     }
+    // The force at t = 0, then one per step.
+    let start = run.summary.supports[0].static_force;
     for c in 0..3 {
-        let series: Vec<f64> = history.force.iter().map(|f| f[c]).collect();
+        let series: Vec<f64> = std::iter::once(start[c])
+            .chain(history.force.iter().map(|f| f[c]))
+            .collect();
         let largest = series.iter().fold(0.0f64, |m, f| m.max(f.abs()));
         let first = series[0].abs();
         assert!(largest > 0.0 || c == 1, "component {c} carries load");

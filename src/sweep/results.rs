@@ -465,11 +465,10 @@ fn design_numbers(
                 format!("support {k} ({}): response at {f} Hz", p.label),
                 "N".into(),
                 Box::new(move |r: &Row| {
-                    r.supports
-                        .get(k)
-                        .and_then(|p| p.response.get(j))
-                        .and_then(|r| r.1)
-                        .filter(|f| *f > 0.0)
+                    let p = r.supports.get(k)?;
+                    // As above: a support that held nothing is left out.
+                    p.loads[1].filter(|f| *f > 0.0)?;
+                    p.response.get(j).and_then(|r| r.1)
                 }),
             ));
         }

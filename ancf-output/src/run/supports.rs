@@ -74,9 +74,13 @@ pub fn dynamic_supports(
                 filtered_ratio_to_static: ratio(load.filtered_peak_force),
                 response: (frequencies.iter())
                     .map(|&frequency| {
+                        // The history's steps after the force at t = 0.
+                        let time: Vec<f64> = std::iter::once(0.0).chain(h.time.clone()).collect();
                         let peak: [f64; 3] = std::array::from_fn(|c| {
-                            let force: Vec<f64> = h.force.iter().map(|f| f[c]).collect();
-                            peak_response(&h.time, &force, frequency, damping)
+                            let force: Vec<f64> = std::iter::once(static_force[c])
+                                .chain(h.force.iter().map(|f| f[c]))
+                                .collect();
+                            peak_response(&time, &force, frequency, damping)
                         });
                         SupportResponse {
                             frequency,

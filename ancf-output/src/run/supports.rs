@@ -63,6 +63,15 @@ pub fn dynamic_supports(
             let reference = norm(static_force);
             let ratio = |peak: f64| (from_equilibrium && reference > 0.0).then(|| peak / reference);
             let (beam, node) = beam_and_node(model, s.node);
+            // The force at t = 0, then the steps' (built only when asked for).
+            let series = (!frequencies.is_empty()).then(|| {
+                let time: Vec<f64> = std::iter::once(0.0).chain(h.time.iter().copied()).collect();
+                let components: [Vec<f64>; 3] = std::array::from_fn(|c| {
+                    let steps = h.force.iter().map(|f| f[c]);
+                    std::iter::once(static_force[c]).chain(steps).collect()
+                });
+                (time, components)
+            });
             SupportSummary {
                 beam,
                 node,
@@ -72,15 +81,13 @@ pub fn dynamic_supports(
                 filtered_peak_force: Some(load.filtered_peak_force),
                 ratio_to_static: ratio(load.peak_force),
                 filtered_ratio_to_static: ratio(load.filtered_peak_force),
-                response: (frequencies.iter())
-                    .map(|&frequency| {
-                        // The history's steps after the force at t = 0.
-                        let time: Vec<f64> = std::iter::once(0.0).chain(h.time.clone()).collect();
+                response: (series.iter())
+                    .flat_map(|(time, components)| {
+                        frequencies.iter().map(move |&f| (time, components, f))
+                    })
+                    .map(|(time, components, frequency)| {
                         let peak: [f64; 3] = std::array::from_fn(|c| {
-                            let force: Vec<f64> = std::iter::once(static_force[c])
-                                .chain(h.force.iter().map(|f| f[c]))
-                                .collect();
-                            peak_response(&time, &force, frequency, damping)
+                            peak_response(time, &components[c], frequency, damping)
                         });
                         SupportResponse {
                             frequency,

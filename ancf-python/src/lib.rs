@@ -1077,7 +1077,8 @@ impl Simulation {
 
     /// Per support, in the scene's order: summary.json's `supports[i]`
     /// (beam, node, static_force, peak_force, peak_time,
-    /// filtered_peak_force, ratio_to_static, filtered_ratio_to_static, so
+    /// filtered_peak_force, ratio_to_static, filtered_ratio_to_static, and
+    /// with the scene's `output.response_frequencies` its `response`, so
     /// far) and its history: `time` (k, s; t = 0 first) and `force` (k × 3,
     /// N), the force it exerts on the wire.
     #[getter]

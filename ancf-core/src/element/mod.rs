@@ -536,6 +536,39 @@ impl ElementIntegration {
         }
     }
 
+    /// Visit the points the integration plan takes one by one — each
+    /// group's section points, then the centerline laws (the rest is
+    /// pre-integrated) — at the axial rule `nodes`, `weights` on [0, 1],
+    /// with the shape gradients there, the weight (m³) and the law. The
+    /// elastic force and the Kelvin–Voigt damping both integrate so.
+    #[inline(always)]
+    pub fn for_each_plan_point(
+        &self,
+        nodes: &[f64],
+        weights: &[f64],
+        mut visit: impl FnMut(&[[f64; 3]; 8], f64, &Law),
+    ) {
+        let (l, plan) = (self.length, &self.plan);
+        for (xi, w) in nodes.iter().zip(weights) {
+            let wx = w * l;
+            for group in &plan.groups {
+                for p in &group.points {
+                    visit(
+                        &shape_gradients(*xi, p.y, p.z, l),
+                        wx * p.weight,
+                        &group.law,
+                    );
+                }
+            }
+            if !plan.centerline.is_empty() {
+                let g = shape_gradients(*xi, 0.0, 0.0, l);
+                for (law, area) in &plan.centerline {
+                    visit(&g, wx * area, law);
+                }
+            }
+        }
+    }
+
     /// Element mass matrix (kg), row-major 24×24: M = Σ ρ ∫ SᵀS dV, exact
     /// (5-point axial rule, degree 6 integrand; section moments in closed form).
     pub fn mass_matrix(&self) -> ElementMatrix {
@@ -599,21 +632,9 @@ pub(crate) fn structured_element<const N: usize>(
     // The point kernel writes K's upper triangle: summed over the points
     // here, mirrored into k once.
     let mut upper = k.as_ref().map(|_| [0.0; 576]);
-    for a in 0..N {
-        let (xi, wx) = (nodes[a], weights[a] * l);
-        for group in &ei.plan.groups {
-            for p in &group.points {
-                let g = shape_gradients(xi, p.y, p.z, l);
-                energy += point_kernel(e, &g, wx * p.weight, &group.law, q, upper.as_mut());
-            }
-        }
-        if !ei.plan.centerline.is_empty() {
-            let g = shape_gradients(xi, 0.0, 0.0, l);
-            for (law, w) in &ei.plan.centerline {
-                energy += point_kernel(e, &g, wx * w, law, q, upper.as_mut());
-            }
-        }
-    }
+    ei.for_each_plan_point(nodes, weights, |g, w, law| {
+        energy += point_kernel(e, g, w, law, q, upper.as_mut());
+    });
     if let (Some(k), Some(upper)) = (k, upper) {
         for r in 0..24 {
             k[r * 24 + r] += upper[r * 24 + r];

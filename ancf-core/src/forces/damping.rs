@@ -11,8 +11,7 @@
 //! The dissipated power Q_d · v ≥ 0 is integrated into the energy balance.
 
 use crate::element::{
-    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, shape_gradients,
-    strain_matrix,
+    ElementIntegration, ElementMatrix, ElementVector, deformation_gradient, strain_matrix,
 };
 use crate::forces::assembly::{lanes, per_element_in_halves};
 use crate::linalg::pattern::Pattern;
@@ -119,29 +118,10 @@ fn kelvin_voigt_point_laws(
     mut kq: Option<&mut ElementMatrix>,
     mut kv: Option<&mut ElementMatrix>,
 ) -> f64 {
-    let (l, plan) = (ei.length, &ei.plan);
     let mut power = 0.0;
-    for (xi, w) in ei.axial.nodes.iter().zip(&ei.axial.weights) {
-        let wx = w * l;
-        let points = plan.groups.iter().flat_map(|group| {
-            (group.points.iter()).map(move |p| ((p.y, p.z), p.weight, &group.law))
-        });
-        let centerline = (plan.centerline.iter()).map(|(law, area)| ((0.0, 0.0), *area, law));
-        for ((y, z), weight, law) in points.chain(centerline) {
-            let g = shape_gradients(*xi, y, z, l);
-            power += kelvin_voigt_point(
-                e,
-                v,
-                &g,
-                wx * weight,
-                law,
-                c,
-                q,
-                kq.as_deref_mut(),
-                kv.as_deref_mut(),
-            );
-        }
-    }
+    ei.for_each_plan_point(&ei.axial.nodes, &ei.axial.weights, |g, w, law| {
+        power += kelvin_voigt_point(e, v, g, w, law, c, q, kq.as_deref_mut(), kv.as_deref_mut());
+    });
     power
 }
 

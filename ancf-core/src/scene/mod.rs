@@ -530,14 +530,13 @@ impl Scene {
             builder = builder.rod(rod);
         }
         builder = builder.contact_settings(contact_settings(f.contact.as_ref()));
-        for (field, spec) in [("damping", &f.damping), ("wire.damping", &f.wire.damping)] {
-            if let Some(d) = damping(spec.as_ref(), field)? {
-                builder = match field {
-                    "damping" => builder.damping(d.clone()),
-                    _ => builder.damping_on(crate::model::WIRE, d.clone()),
-                };
-                dampings.push((field.to_string(), d));
-            }
+        if let Some(d) = damping(f.damping.as_ref(), "damping")? {
+            builder = builder.damping(d.clone());
+            dampings.push(("damping".into(), d));
+        }
+        if let Some(d) = damping(f.wire.damping.as_ref(), "wire.damping")? {
+            builder = builder.damping_on(crate::model::WIRE, d.clone());
+            dampings.push(("wire.damping".into(), d));
         }
         let analysis = analysis(&f.analysis)?;
         let output = output(f.output.as_ref())?;

@@ -224,11 +224,7 @@ pub fn kelvin_voigt_force_into(
         }
         power
     };
-    for (x, u) in work.full.iter().zip(&model.dof_map) {
-        if let Some(u) = u {
-            force[*u] += x;
-        }
-    }
+    model.gather_add(&work.full, force);
     power
 }
 

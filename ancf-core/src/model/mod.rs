@@ -1251,6 +1251,15 @@ impl Model {
         mass_product::mass_times_into(&self.groups, x, out)
     }
 
+    /// Add the unknowns' entries of a full vector to `out` (unknowns).
+    pub fn gather_add(&self, full: &[f64], out: &mut [f64]) {
+        for (x, u) in full.iter().zip(&self.dof_map) {
+            if let Some(u) = u {
+                out[*u] += x;
+            }
+        }
+    }
+
     /// Gather the unknowns out of a full vector.
     pub fn gather(&self, full: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; self.n_unknowns];

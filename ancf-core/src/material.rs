@@ -322,7 +322,11 @@ impl Material {
                 let (mu10, mu01) = (finite("mu10", mu10)?, finite("mu01", mu01)?);
                 if mu10 < 0.0 || mu01 < 0.0 || mu10 + mu01 <= 0.0 {
                     return refuse(
-                        "mu10",
+                        if mu10 >= 0.0 && mu01 < 0.0 {
+                            "mu01"
+                        } else {
+                            "mu10"
+                        },
                         format!("need μ10 ≥ 0, μ01 ≥ 0 and μ10 + μ01 > 0, got {mu10}, {mu01}"),
                     );
                 }

@@ -32,7 +32,11 @@ impl Damping {
                 let (alpha, beta) = (finite("mass", mass)?, finite("stiffness", stiffness)?);
                 if alpha < 0.0 || beta < 0.0 || alpha + beta == 0.0 {
                     return refuse(
-                        "mass",
+                        if alpha >= 0.0 && beta < 0.0 {
+                            "stiffness"
+                        } else {
+                            "mass"
+                        },
                         format!("need mass ≥ 0, stiffness ≥ 0, not both 0; got {alpha}, {beta}"),
                     );
                 }

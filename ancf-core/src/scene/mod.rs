@@ -5,6 +5,7 @@
 //! return is mapped back to the file's field (`rod[0].contact_stiffness`).
 //! Every key, its unit and its default is documented in `docs/scene.md`.
 
+pub mod keys;
 mod schema;
 pub use schema::*;
 
@@ -661,10 +662,14 @@ fn mesh_segments(w: &WireSpec, length: f64, table: &str) -> Result<Vec<Segment>,
             let mut out = Vec::new();
             for (i, s) in list.iter().enumerate() {
                 let l = positive(&format!("{table}.segments[{i}].length"), s.length)?;
-                if s.elements == 0 {
+                if s.elements == 0 || s.elements > defaults::MAX_ELEMENTS {
                     return Err(err(
                         format!("{table}.segments[{i}].elements"),
-                        "must be at least 1",
+                        format!(
+                            "must be a whole number from 1 to {:.0e}, got {}",
+                            defaults::MAX_ELEMENTS as f64,
+                            s.elements
+                        ),
                     ));
                 }
                 out.push(Segment {

@@ -70,10 +70,20 @@ class Wire:
         direction: list[float],
         layers: list[tuple[Material, float]],
         inner_radius: float = 0.0,
+        contact_stiffness: Optional[float] = None,
+        friction: float = 0.0,
+        restitution: Optional[float] = None,
+        restitution_model: Optional[str] = None,
     ) -> Wire: ...
     def support(self, node: int, kind: str, beam: Optional[str] = None) -> Wire: ...
     def spring(
-        self, node: int, stiffness: list[float], rotational_stiffness: float = 0.0, damping: float = 0.0
+        self,
+        node: int,
+        stiffness: list[float],
+        rotational_stiffness: float = 0.0,
+        damping: float = 0.0,
+        torsional_stiffness: float = 0.0,
+        beam: Optional[str] = None,
     ) -> Wire: ...
     def kelvin_voigt(self, coefficient: float, beam: Optional[str] = None) -> Wire: ...
     def rayleigh(

@@ -81,6 +81,7 @@ fn a_slowly_sliding_wrap_transmits_the_capstan_ratio() {
         center: [0.0; 3],
         axis: [0.0, 1.0, 0.0],
         radius: R_ROD,
+        shape: Default::default(),
         length: None,
         law: ContactLaw::Line,
         contact_stiffness: EPS_L,

@@ -19,6 +19,7 @@ fn rod(law: ContactLaw, friction: f64) -> Rod {
         center: [0.4 * L, 0.0, -(RW + 0.02) + 0.003],
         axis: [0.0, 1.0, 0.0],
         radius: 0.02,
+        shape: Default::default(),
         length: None,
         law,
         contact_stiffness: if law == ContactLaw::Surface {

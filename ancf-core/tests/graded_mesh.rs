@@ -116,6 +116,7 @@ fn a_crossing_slides_over_a_change_of_element_length_with_the_exact_force() {
             center: [x, 0.0, -rs + delta],
             axis: [0.0, 1.0, 0.0],
             radius: RR,
+            shape: Default::default(),
             length: None,
             law: ContactLaw::Line,
             contact_stiffness: EPS_L,

@@ -19,6 +19,7 @@ fn rod(law: ContactLaw, x: f64, depth: f64) -> Rod {
         center: [x, 0.0, -(RW + RR) + depth],
         axis: [0.0, 1.0, 0.0],
         radius: RR,
+        shape: Default::default(),
         length: None,
         law,
         contact_stiffness: if law == ContactLaw::Surface {

@@ -77,6 +77,7 @@ fn the_schema_has_exactly_the_declared_keys() {
         (&["damping"], fields::<scene::DampingSpec>()),
         (&["output"], fields::<scene::OutputSpec>()),
         (&["clearance"], fields::<scene::ClearanceSpec>()),
+        (&["ground"], fields::<scene::GroundSpec>()),
     ];
     let mut tables_seen = BTreeSet::new();
     for (tables, schema) in cases {
@@ -287,6 +288,11 @@ radius = 0.02
 contact_stiffness = 1e7
 contact_law = "line"
 
+[[ground]]
+point = [0.0, 0.0, -2.0]
+normal = [0.0, 0.0, 1.0]
+contact_stiffness = 1e7
+
 [contact]
 
 [damping]
@@ -352,7 +358,7 @@ fn place<'a>(doc: &'a mut Value, k: &Key) -> &'a mut toml::Table {
             table.insert("restitution".into(), 0.5.into());
         }
     }
-    if head == "rod" && k.name == "restitution_model" {
+    if (head == "rod" || head == "ground") && k.name == "restitution_model" {
         table.insert("restitution".into(), 0.5.into());
     }
     match parts.next() {

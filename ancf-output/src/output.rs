@@ -40,6 +40,37 @@ pub struct ContactSummary {
     pub max_penetration: f64,
     /// Per rod, in the scene's order.
     pub rods: Vec<RodSummary>,
+    /// Per ground, in the scene's order (absent without one).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ground: Vec<GroundSummary>,
+}
+
+impl ContactSummary {
+    /// The rods' and the grounds' entries in the model's partner order
+    /// (the rods, then the grounds): one per load history.
+    pub fn rigid(&self) -> Vec<&RodSummary> {
+        (self.rods.iter())
+            .chain(self.ground.iter().map(|g| &g.contact))
+            .collect()
+    }
+}
+
+/// One ground's load, as a rod's, and how deep the wire went into it.
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
+pub struct GroundSummary {
+    /// Law, stiffness, restitution and the load (peaks raw and CFC
+    /// filtered, impulse, duration), with a rod's keys.
+    #[serde(flatten)]
+    pub contact: RodSummary,
+    /// The deepest the wire's surface went below the plane, m (0 when it
+    /// never did): centerline points a quarter element apart, at every
+    /// written state. Deeper than the wire's radius, its centerline passed
+    /// the plane: the contact stiffness or the time step is too coarse.
+    pub max_depth: f64,
+    /// When, s.
+    pub max_depth_time: f64,
+    /// Where: the centerline point, m.
+    pub max_depth_at: [f64; 3],
 }
 
 /// One rod's load: what a frame designer needs.

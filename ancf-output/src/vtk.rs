@@ -165,9 +165,25 @@ fn tube_quads(rings: usize, angles: usize) -> Vec<[usize; 4]> {
     quads
 }
 
+/// A rod's surface (a cylinder of 32 facets, `default_length` long when
+/// it is endless), or a ground's: a square of that side centred on its
+/// point, in its plane.
 fn rod_surface(rod: &Rod, default_length: f64) -> (Vec<[f64; 3]>, Vec<[usize; 4]>) {
     let d = rod.axis;
     let (u, w) = ancf_core::model::section_frame(d);
+    if rod.is_ground() {
+        let half = 0.5 * default_length;
+        let corner = |a: f64, b: f64| -> [f64; 3] {
+            std::array::from_fn(|k| rod.center[k] + half * (a * u[k] + b * w[k]))
+        };
+        let points = vec![
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        return (points, vec![[0, 1, 2, 3]]);
+    }
     let half = 0.5 * rod.length.unwrap_or(default_length);
     let n = 32;
     let mut points = Vec::new();

@@ -359,6 +359,9 @@ fn builder_field(e: &ancf_core::model::ModelError) -> String {
         ModelError::Load { index, what, .. } => format!("loads[{index}].{what}"),
         ModelError::Gravity { field, .. } => field.clone(),
         ModelError::Rod { index, field, .. } => format!("rods[{index}].{}", rod_argument(field)),
+        ModelError::Ground { index, field, .. } => {
+            format!("grounds[{index}].{}", rod_argument(field))
+        }
         ModelError::Contact { field, .. } => format!("contact.{field}"),
         ModelError::Damping { field, .. } => format!("damping.{field}"),
         ModelError::Member { index, error, .. } => {
@@ -618,10 +621,9 @@ impl Wire {
         restitution: Option<f64>,
         restitution_model: Option<&str>,
     ) -> PyResult<Wire> {
-        use ancf_core::model::contact::RestitutionModel;
-        let model = restitution_model
-            .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
-            .map_err(|message| value_error("restitution_model", &message))?;
+        use ancf_core::model::contact::ContactDamping;
+        let damping = ContactDamping::from_keys(restitution, restitution_model)
+            .map_err(|e| value_error(&e.field, &e.message))?;
         // Rod::line's own defaults: infinite, frictionless, elastic.
         let mut rod = ancf_core::model::contact::Rod::line(
             vec3("center", center)?,
@@ -635,14 +637,41 @@ impl Wire {
         if let Some(l) = length {
             rod = rod.with_length(l);
         }
-        // e = 1 asks for no damping: none is built.
-        if let Some(e) = restitution.filter(|&e| e != 1.0) {
-            rod = rod.with_restitution(e, model);
-        }
+        rod.damping = damping;
         rod.check()
             .map_err(|e| value_error(rod_argument(&e.field), &e.message))?;
         Ok(Wire {
             builder: self.builder.clone().rod(rod),
+        })
+    }
+
+    /// The ground: a plane through `point` (m) with `normal` (towards the
+    /// wire's side) under the line law of stiffness ε_L (N/m²), with
+    /// Coulomb μ and contact damping by a coefficient of restitution (None:
+    /// elastic) with its model, as for rods. Only the wire touches it.
+    #[pyo3(signature = (point, normal, stiffness, friction=None, restitution=None, restitution_model=None))]
+    fn ground(
+        &self,
+        point: Vec<f64>,
+        normal: Vec<f64>,
+        stiffness: f64,
+        friction: Option<f64>,
+        restitution: Option<f64>,
+        restitution_model: Option<&str>,
+    ) -> PyResult<Wire> {
+        use ancf_core::model::contact::{ContactDamping, Rod};
+        let damping = ContactDamping::from_keys(restitution, restitution_model)
+            .map_err(|e| value_error(&e.field, &e.message))?;
+        let mut ground = Rod::plane(vec3("point", point)?, vec3("normal", normal)?, stiffness);
+        if let Some(mu) = friction {
+            ground = ground.with_friction(mu);
+        }
+        ground.damping = damping;
+        ground
+            .check()
+            .map_err(|e| value_error(rod_argument(&e.field), &e.message))?;
+        Ok(Wire {
+            builder: self.builder.clone().ground(ground),
         })
     }
 }
@@ -1174,24 +1203,23 @@ impl Simulation {
         energy.set_item("max_drift", self.drift.1)?;
         d.set_item("energy", energy)?;
         if let Some(c) = model.contact() {
-            let rods = PyList::empty(py);
+            // summary.json's own `contact`: the rods, the grounds and their depths.
             let cfc = self.scene.output.cfc;
-            for (rod, h) in c.rods.iter().zip(self.sim.rod_loads()) {
-                let r = PyDict::new(py);
-                r.set_item("law", rod.law.name())?;
-                r.set_item("contact_stiffness", rod.contact_stiffness)?;
-                r.set_item("stiffness_unit", rod.law.stiffness_unit())?;
-                set_load(&r, &h.summary(&h.filtered(cfc)))?;
-                rods.append(r)?;
-            }
-            let contact = PyDict::new(py);
-            if let Some(record) = self.sim.contact() {
-                contact.set_item("first_time", record.first_time)?;
-                contact.set_item("max_normal_force", record.max_normal_force)?;
-                contact.set_item("max_penetration", record.max_penetration)?;
-            }
-            contact.set_item("rods", rods)?;
-            d.set_item("contact", contact)?;
+            let loads = (self.sim.rod_loads().iter())
+                .map(|h| h.summary(&h.filtered(cfc)))
+                .collect();
+            let record = self.sim.contact().copied().unwrap_or_default();
+            let contact = ancf_output::run::contact_summary(
+                c,
+                record.first_time,
+                record.max_normal_force,
+                record.max_penetration,
+                loads,
+                &self.observed,
+            );
+            let contact = serde_json::to_string(&contact).expect("contact serializes");
+            let json = PyModule::import(py, "json")?;
+            d.set_item("contact", json.call_method1("loads", (contact,))?)?;
         }
         if !model.supports.is_empty() {
             let supports = PyList::empty(py);

@@ -265,6 +265,8 @@ pub struct WireBuilder {
     /// Each load's beam by name (`None`: the wire), its node local to it.
     load_beams: Vec<Option<String>>,
     rods: Vec<Rod>,
+    /// The grounds (planes), listed after the rods in the model.
+    grounds: Vec<Rod>,
     contact: ContactSettings,
     /// The damping of every beam that names none of its own.
     damping: Option<Damping>,
@@ -285,6 +287,7 @@ impl WireBuilder {
             loads: Vec::new(),
             load_beams: Vec::new(),
             rods: Vec::new(),
+            grounds: Vec::new(),
             contact: ContactSettings::default(),
             damping: None,
             beam_damping: Vec::new(),
@@ -420,10 +423,22 @@ impl WireBuilder {
         self
     }
 
-    /// A rigid rod the wire may touch.
+    /// A rigid rod the wire may touch (a plane, [`Rod::plane`], is a
+    /// ground: [`WireBuilder::ground`]).
     pub fn rod(mut self, rod: Rod) -> Self {
-        self.rods.push(rod);
+        if rod.is_ground() {
+            self.grounds.push(rod);
+        } else {
+            self.rods.push(rod);
+        }
         self
+    }
+
+    /// The ground under the wire: a plane ([`Rod::plane`]) it may touch but
+    /// not pass. A cylinder given here is a rod ([`WireBuilder::rod`]).
+    /// The model lists the grounds after the rods.
+    pub fn ground(self, ground: Rod) -> Self {
+        self.rod(ground)
     }
 
     /// Contact integration and friction regularization (defaults as in scenes).
@@ -536,6 +551,13 @@ impl WireBuilder {
                 message: e.message,
             })?;
         }
+        for (index, ground) in self.grounds.iter().enumerate() {
+            ground.check().map_err(|e| ModelError::Ground {
+                index,
+                field: e.field,
+                message: e.message,
+            })?;
+        }
         let contact = |e: ParameterError| ModelError::Contact {
             field: e.field,
             message: e.message,
@@ -592,8 +614,10 @@ impl WireBuilder {
             return Err(ModelError::NothingToSolve);
         }
         let members = member_contacts(&self.members, &model)?;
+        let mut rigid = self.rods;
+        rigid.extend(self.grounds);
         Ok(model
-            .with_contact(self.rods, members, self.contact)
+            .with_contact(rigid, members, self.contact)
             .with_damping(damping))
     }
 
@@ -773,10 +797,21 @@ impl Model {
     /// (rod index, depth in m, the wire's centerline point there). A run
     /// that starts so begins with a contact force of the whole overlap —
     /// the geometry is at fault, not the contact law.
+    ///
+    /// A ground: the wire's surface below its plane by more than a tenth
+    /// of the radius.
     pub fn rod_overlap_at_start(&self) -> Option<(usize, f64, [f64; 3])> {
         let contact = self.contact()?;
         let (wire, wire_radius) = self.starting_wire(&self.initial_coordinates());
         contact.rods.iter().enumerate().find_map(|(i, rod)| {
+            if rod.is_ground() {
+                let height = |p: &[f64; 3]| -> f64 {
+                    (0..3).map(|k| (p[k] - rod.center[k]) * rod.axis[k]).sum()
+                };
+                let p = *wire.iter().min_by(|a, b| height(a).total_cmp(&height(b)))?;
+                let depth = wire_radius - height(&p);
+                return (depth > 0.1 * wire_radius).then_some((i, depth, p));
+            }
             // An endless rod: a segment far beyond the wire on both sides.
             let half = rod.length.map_or(1e6, |l| 0.5 * l);
             let end = |s: f64| std::array::from_fn(|k| rod.center[k] + s * half * rod.axis[k]);

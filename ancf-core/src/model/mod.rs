@@ -290,6 +290,16 @@ pub enum ModelError {
         /// What is wrong with it.
         message: String,
     },
+    /// Ground `index`: `field` is one of [`contact::Rod::check`]'s
+    /// parameters for a plane.
+    Ground {
+        /// The ground (0-based, among the grounds).
+        index: usize,
+        /// Its parameter at fault.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// The contact settings: `field` is one of [`contact::ContactSettings::check`]'s.
     Contact {
         /// The setting at fault.
@@ -324,6 +334,7 @@ impl ModelError {
             | ModelError::Load { message, .. }
             | ModelError::Gravity { message, .. }
             | ModelError::Rod { message, .. }
+            | ModelError::Ground { message, .. }
             | ModelError::Contact { message, .. }
             | ModelError::Damping { message, .. } => message.clone(),
             ModelError::NothingToSolve => "every coordinate is fixed: nothing to solve".into(),
@@ -344,6 +355,7 @@ impl std::fmt::Display for ModelError {
             ModelError::Load { index, what, .. } => write!(f, "load {index}, {what}: {m}"),
             ModelError::Gravity { field, .. } => write!(f, "gravity {field}: {m}"),
             ModelError::Rod { index, field, .. } => write!(f, "rod {index}, {field}: {m}"),
+            ModelError::Ground { index, field, .. } => write!(f, "ground {index}, {field}: {m}"),
             ModelError::Contact { field, .. } => write!(f, "contact {field}: {m}"),
             ModelError::Damping { field, .. } => write!(f, "damping {field}: {m}"),
             ModelError::Member { name, error, .. } => match &**error {

@@ -541,6 +541,39 @@ pub const KEYS: &[Key] = &[
         .default(Literal("\"exact\""))
         .python(&["Wire.rod(restitution_model)"])
         .doc("how the damping follows from e"),
+    // [[ground]]
+    key("ground", "point", Vec3)
+        .unit("m")
+        .required()
+        .python(&["Wire.ground(point)"])
+        .doc("a point of the plane"),
+    key("ground", "normal", Vec3)
+        .required()
+        .python(&["Wire.ground(normal)"])
+        .doc("its normal, towards the side the wire belongs on (normalised)"),
+    key("ground", "contact_stiffness", Float)
+        .unit("N/m²")
+        .required()
+        .range(Positive)
+        .python(&["Wire.ground(stiffness)"])
+        .doc("ε_L, the line law's force per length per penetration"),
+    key("ground", "friction", Float)
+        .default(Literal("0"))
+        .range(NonNegative)
+        .python(&["Wire.ground(friction)"])
+        .doc("Coulomb μ"),
+    key("ground", "restitution", Float)
+        .default(Means("absent: no damping"))
+        .range(open_closed(0.0, 1.0))
+        .python(&["Wire.ground(restitution)"])
+        .doc("coefficient of restitution e of contact damping"),
+    key("ground", "restitution_model", Choice(RESTITUTION_MODELS))
+        .default(Literal("\"exact\""))
+        .python(&["Wire.ground(restitution_model)"])
+        .doc("how the damping follows from e"),
+    key("ground", "beams", Names)
+        .default(Literal("[\"wire\"]"))
+        .doc("the beams that touch it: the wire"),
     // [contact]
     key("contact", "zone_points", Integer)
         .default(Literal("8"))

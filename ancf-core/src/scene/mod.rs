@@ -12,9 +12,7 @@ pub use schema::*;
 use crate::check::ParameterError;
 use crate::material::{Material, MaterialModel};
 use crate::model::clearance::ClearanceZone;
-use crate::model::contact::{
-    BeamContact, ContactDamping, ContactLaw, ContactSettings, RestitutionModel, Rod,
-};
+use crate::model::contact::{BeamContact, ContactDamping, ContactLaw, ContactSettings, Rod};
 use crate::model::damping::Damping;
 use crate::model::spring::Spring;
 use crate::model::{
@@ -512,7 +510,7 @@ impl Scene {
         if let Some(g) = &f.gravity {
             builder = builder.gravity(g.acceleration);
         }
-        if f.contact.is_some() && f.rod.is_empty() && f.beam.is_empty() {
+        if f.contact.is_some() && f.rod.is_empty() && f.beam.is_empty() && f.ground.is_empty() {
             return Err(err(
                 "contact",
                 "contact settings without any [[rod]] or [[beam]] to touch",
@@ -529,6 +527,9 @@ impl Scene {
         };
         for rod in rods(&f.rod, wire_radius, &outer_material, &find)? {
             builder = builder.rod(rod);
+        }
+        for ground in grounds(&f.ground)? {
+            builder = builder.ground(ground);
         }
         builder = builder.contact_settings(contact_settings(f.contact.as_ref()));
         if let Some(d) = damping(f.damping.as_ref(), "damping")? {
@@ -554,11 +555,15 @@ impl Scene {
         // A static solve pushes the wire out of a rod; a run from the
         // starting shape would begin with the whole overlap as its force.
         if !solves_statics && let Some((i, depth, p)) = model.rod_overlap_at_start() {
+            let (name, what, key) = match model.contact() {
+                Some(c) if c.rods[i].is_ground() => (c.rigid_name(i), "ground", "point"),
+                _ => (format!("rod[{i}]"), "rod", "center"),
+            };
             return Err(err(
-                format!("rod[{i}].center"),
+                format!("{name}.{key}"),
                 format!(
-                    "the rod overlaps the wire where the run starts: the wire's surface is {:.2} mm \
-                     inside it near [{:.3}, {:.3}, {:.3}] m; move the rod or the wire (the geometry is \
+                    "the {what} overlaps the wire where the run starts: the wire's surface is {:.2} mm \
+                     inside it near [{:.3}, {:.3}, {:.3}] m; move the {what} or the wire (the geometry is \
                      at fault, not the contact)",
                     1e3 * depth,
                     p[0],
@@ -718,6 +723,7 @@ fn model_error(
         ModelError::Load { index, what, .. } => format!("load[{index}].{what}"),
         ModelError::Gravity { field, .. } => format!("gravity.{field}"),
         ModelError::Rod { index, field, .. } => format!("rod[{index}].{field}"),
+        ModelError::Ground { index, field, .. } => format!("ground[{index}].{field}"),
         ModelError::Contact { field, .. } => format!("contact.{field}"),
         ModelError::Damping { field, .. } => format!("damping.{field}"),
         ModelError::Member { index, error, .. } => {
@@ -956,6 +962,45 @@ fn contact_settings(spec: Option<&ContactSpec>) -> ContactSettings {
     }
 }
 
+/// A contact's damping from its `restitution` and `restitution_model`
+/// (a rod's, a member's, a ground's) by [`ContactDamping::from_keys`];
+/// `at` names a key of the table.
+fn contact_damping(
+    restitution: Option<f64>,
+    model: Option<&str>,
+    at: &dyn Fn(&str) -> String,
+) -> Result<Option<ContactDamping>, SceneError> {
+    ContactDamping::from_keys(restitution, model).map_err(|e| err(at(&e.field), e.message))
+}
+
+/// `[[ground]]`: planes under the line law, each with its stiffness,
+/// friction and restitution; the values are the model's to check.
+fn grounds(specs: &[GroundSpec]) -> Result<Vec<Rod>, SceneError> {
+    let mut out = Vec::new();
+    for (i, g) in specs.iter().enumerate() {
+        let at = |k: &str| format!("ground[{i}].{k}");
+        if let Some(beams) = &g.beams
+            && let Some(other) = beams.iter().find(|b| b.as_str() != crate::model::WIRE)
+        {
+            return Err(err(
+                at("beams"),
+                format!(
+                    "\"{other}\": only the wire (\"wire\") touches the ground; frame members stand on \
+                     their supports"
+                ),
+            ));
+        }
+        let damping = contact_damping(g.restitution, g.restitution_model.as_deref(), &at)?;
+        let plane = Rod::plane(g.point, g.normal, g.contact_stiffness);
+        out.push(Rod {
+            friction: g.friction.unwrap_or(plane.friction),
+            damping,
+            ..plane
+        });
+    }
+    Ok(out)
+}
+
 /// `[[rod]]`: the law and what it needs (a stiffness, or for hertz the
 /// rod's material), the restitution model's name; the values are the
 /// model's to check.
@@ -1027,23 +1072,7 @@ fn rods(
             }
             (_, Some(k), _) => k,
         };
-        let model = r
-            .restitution_model
-            .as_deref()
-            .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
-            .map_err(|message| err(at("restitution_model"), message))?;
-        let damping = match r.restitution {
-            None if r.restitution_model.is_some() => {
-                return Err(err(
-                    at("restitution"),
-                    "missing: restitution_model is set but the coefficient of restitution is not",
-                ));
-            }
-            None => None,
-            // e = 1 asks for no damping: none is built.
-            Some(1.0) => None,
-            Some(e) => Some(ContactDamping::new(e, model)),
-        };
+        let damping = contact_damping(r.restitution, r.restitution_model.as_deref(), &at)?;
         let line = Rod::line(r.center, r.axis, r.radius, contact_stiffness);
         rods.push(Rod {
             length: r.length,
@@ -1080,21 +1109,7 @@ fn beam_contact(b: &WireSpec, table: &str) -> Result<BeamContact, SceneError> {
              law the Hertz stiffness of the two materials is used",
         ));
     }
-    let model = b
-        .restitution_model
-        .as_deref()
-        .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
-        .map_err(|message| err(at("restitution_model"), message))?;
-    let damping = match b.restitution {
-        None if b.restitution_model.is_some() => {
-            return Err(err(
-                at("restitution"),
-                "missing: restitution_model is set but the coefficient of restitution is not",
-            ));
-        }
-        None | Some(1.0) => None,
-        Some(e) => Some(ContactDamping::new(e, model)),
-    };
+    let damping = contact_damping(b.restitution, b.restitution_model.as_deref(), &at)?;
     Ok(BeamContact {
         law,
         contact_stiffness: b.contact_stiffness,

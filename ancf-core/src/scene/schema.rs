@@ -441,6 +441,31 @@ pub struct SceneFile {
     #[serde(default)]
     /// `[[clearance]]`.
     pub clearance: Vec<ClearanceSpec>,
+    #[serde(default)]
+    /// `[[ground]]`.
+    pub ground: Vec<GroundSpec>,
+}
+
+/// `[[ground]]`: a plane the wire touches and does not pass.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSpec {
+    /// A point of the plane (m).
+    #[serde(deserialize_with = "vec3")]
+    pub point: [f64; 3],
+    /// Its normal, towards the side the wire belongs on (normalised).
+    #[serde(deserialize_with = "vec3")]
+    pub normal: [f64; 3],
+    /// ε_L (N/m²), the line law's.
+    pub contact_stiffness: f64,
+    /// Coulomb μ.
+    pub friction: Option<f64>,
+    /// Coefficient of restitution e ∈ (0, 1]: contact damping (absent: none).
+    pub restitution: Option<f64>,
+    /// How the damping follows from `restitution` (as for rods).
+    pub restitution_model: Option<String>,
+    /// The beams that touch it (default: the wire only).
+    pub beams: Option<Vec<String>>,
 }
 
 /// `[[clearance]] kind`.

@@ -219,11 +219,16 @@ impl Files {
         }
         let mut plots: Vec<PlotJob<'_>> = Vec::new();
         if let Some(cs) = &summary.contact
-            && !cs.rods.is_empty()
+            && let Some(c) = scene.model.contact()
+            && !c.rods.is_empty()
         {
-            write_rod_forces(dir, loads, filtered).map_err(|e| io_err(dir, e))?;
-            plots.push(Box::new(|| {
-                super::plots::plot_rod_forces(dir, loads, filtered, &cs.rods)
+            // rod0, rod1, …, ground0, …: the model's rigid partners.
+            let names: Vec<String> = (0..c.rods.len())
+                .map(|i| c.rigid_name(i).replace(['[', ']'], ""))
+                .collect();
+            write_rod_forces(dir, &names, loads, filtered).map_err(|e| io_err(dir, e))?;
+            plots.push(Box::new(move || {
+                super::plots::plot_rod_forces(dir, &names, loads, filtered, &cs.rigid())
             }));
         }
         if !members.0.is_empty() {
@@ -263,15 +268,16 @@ pub fn write_final(
     summary.write(dir).map_err(|e| io_err(dir, e))
 }
 
-/// `rod_forces.csv`: every step's force on each rod, |F| raw and CFC
+/// `rod_forces.csv`: every step's force on each rod and ground (columns
+/// `rod0_…`, `ground0_…`), |F| raw and CFC
 /// filtered (interpolated from the filter's grid to the step times), and
 /// the components.
 fn write_rod_forces(
     out: &Path,
+    names: &[String],
     loads: &[LoadHistory],
     filtered: &[Filtered],
 ) -> std::io::Result<()> {
-    let names: Vec<String> = (0..loads.len()).map(|i| format!("rod{i}")).collect();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     write_forces(&out.join("rod_forces.csv"), &names, loads, filtered)
 }

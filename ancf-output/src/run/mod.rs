@@ -371,10 +371,6 @@ fn execute(
                     );
                     summary.steps = res.iterations.len();
                     summary.newton_iterations = res.iterations.iter().sum();
-                    summary.contact = res
-                        .contact
-                        .as_ref()
-                        .and_then(|cf| static_contact(model, cf));
                     summary.supports = supports::static_supports(model, &res.reactions);
                     let mut observed = Observations::new(scene);
                     let forces = res
@@ -383,6 +379,10 @@ fn execute(
                         .map_or(&[][..], |c| &c.member_forces[..]);
                     observed.observe(scene, &res.q, 0.0, forces);
                     observed.fill(scene, &mut summary);
+                    summary.contact = res
+                        .contact
+                        .as_ref()
+                        .and_then(|cf| static_contact(model, cf, &observed));
                     if let Some(cf) = &res.contact {
                         for (beam, f) in summary.beams.iter_mut().zip(&cf.member_forces) {
                             let force = norm(*f);
@@ -729,18 +729,18 @@ fn run_dynamic(
     let cfc = scene.output.cfc;
     let filtered: Vec<Filtered> = sim.rod_loads().iter().map(|h| h.filtered(cfc)).collect();
     if let (Some(c), Some(record)) = (contact, sim.contact()) {
-        summary.contact = Some(ContactSummary {
-            first_time: record.first_time,
-            max_normal_force: record.max_normal_force,
-            max_penetration: record.max_penetration,
-            rods: c
-                .rods
-                .iter()
-                .zip(sim.rod_loads())
-                .zip(&filtered)
-                .map(|((rod, h), f)| rod_summary(rod, h.summary(f)))
-                .collect(),
-        });
+        let loads: Vec<RodLoad> = (sim.rod_loads().iter())
+            .zip(&filtered)
+            .map(|(h, f)| h.summary(f))
+            .collect();
+        summary.contact = Some(contact_summary(
+            c,
+            record.first_time,
+            record.max_normal_force,
+            record.max_penetration,
+            loads,
+            &p.observed,
+        ));
     }
     let supports = SupportLoads {
         initial: sim.initial_support_forces(),
@@ -789,32 +789,68 @@ fn rod_summary(rod: &ancf_core::model::contact::Rod, load: RodLoad) -> crate::ou
     }
 }
 
+/// summary.json's `contact`: the rods' and the grounds' entries from each
+/// rigid partner's `loads` (model order: the rods, then the grounds), the
+/// grounds' depths from `observed`. Python's summary is built by it too.
+pub fn contact_summary(
+    c: &ancf_core::model::contact::Contact,
+    first_time: Option<f64>,
+    max_normal_force: f64,
+    max_penetration: f64,
+    loads: Vec<RodLoad>,
+    observed: &Observations,
+) -> ContactSummary {
+    let (mut rods, mut ground) = (Vec::new(), Vec::new());
+    let mut depths = observed.ground.iter();
+    for (rod, load) in c.rods.iter().zip(loads) {
+        let entry = rod_summary(rod, load);
+        if rod.is_ground() {
+            let d = depths.next().copied().unwrap_or_default();
+            ground.push(crate::output::GroundSummary {
+                contact: entry,
+                max_depth: (-d.min_distance.unwrap_or(0.0)).max(0.0),
+                max_depth_time: d.time,
+                max_depth_at: d.position,
+            });
+        } else {
+            rods.push(entry);
+        }
+    }
+    ContactSummary {
+        first_time,
+        max_normal_force,
+        max_penetration,
+        rods,
+        ground,
+    }
+}
+
 /// Contact in a static equilibrium: each rod's final force is its peak
 /// (no impulse, no duration, nothing to filter).
-fn static_contact(model: &Model, cf: &ContactForces) -> Option<ContactSummary> {
+fn static_contact(
+    model: &Model,
+    cf: &ContactForces,
+    observed: &Observations,
+) -> Option<ContactSummary> {
     let c = model.contact()?;
-    let rods = c
-        .rods
-        .iter()
-        .zip(&cf.rod_forces)
-        .map(|(rod, f)| {
+    let loads = (cf.rod_forces.iter())
+        .map(|f| {
             let force = norm(*f);
-            rod_summary(
-                rod,
-                RodLoad {
-                    peak_force: force,
-                    filtered_peak_force: force,
-                    ..Default::default()
-                },
-            )
+            RodLoad {
+                peak_force: force,
+                filtered_peak_force: force,
+                ..Default::default()
+            }
         })
         .collect();
-    Some(ContactSummary {
-        first_time: (cf.total.active > 0).then_some(0.0),
-        max_normal_force: cf.total.normal_force,
-        max_penetration: cf.total.max_penetration,
-        rods,
-    })
+    Some(contact_summary(
+        c,
+        (cf.total.active > 0).then_some(0.0),
+        cf.total.normal_force,
+        cf.total.max_penetration,
+        loads,
+        observed,
+    ))
 }
 
 #[cfg(test)]

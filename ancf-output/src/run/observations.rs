@@ -7,6 +7,7 @@ use crate::output::{BeamSummary, ClearanceSummary, StrainSummary, Summary};
 use ancf_core::loads::clearance_record::ClearanceRecord;
 use ancf_core::loads::member_load::MemberRecord;
 use ancf_core::loads::strain_record::StrainRecord;
+use ancf_core::model::clearance::ClearanceZone;
 use ancf_core::scene::Scene;
 
 /// The records so far, one per clearance zone and one per frame member, in
@@ -26,6 +27,24 @@ pub struct Observations {
     /// Each beam's largest strains, the wire first.
     #[serde(default)]
     pub strains: Vec<StrainRecord>,
+    /// How deep the wire went into each ground (its plane as a
+    /// half-space clearance zone), in the model's order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ground: Vec<ClearanceRecord>,
+}
+
+/// Each ground's plane as the half-space the wire must stay out of (the
+/// side its normal points away from), in the model's order.
+fn ground_zones(scene: &Scene) -> Vec<ClearanceZone> {
+    scene.model.contact().map_or(Vec::new(), |c| {
+        (c.rods.iter())
+            .filter(|r| r.is_ground())
+            .map(|g| ClearanceZone::HalfSpace {
+                point: g.center,
+                normal: g.axis,
+            })
+            .collect()
+    })
 }
 
 impl Observations {
@@ -47,6 +66,8 @@ impl Observations {
             .resize(scene.model.beams.len() - 1, None);
         self.strains
             .resize(scene.model.beams.len(), StrainRecord::default());
+        self.ground
+            .resize(ground_zones(scene).len(), ClearanceRecord::default());
     }
 
     /// Observe `scene`'s model at coordinates `q`, time `t` (s), the wire's
@@ -55,6 +76,9 @@ impl Observations {
     pub fn observe(&mut self, scene: &Scene, q: &[f64], t: f64, member_forces: &[[f64; 3]]) {
         let model = &scene.model;
         for (zone, record) in scene.clearance.iter().zip(&mut self.clearance) {
+            record.observe(zone, model, q, t);
+        }
+        for (zone, record) in ground_zones(scene).iter().zip(&mut self.ground) {
             record.observe(zone, model, q, t);
         }
         // Members that may touch the wire, in order, and their forces.

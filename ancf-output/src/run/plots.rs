@@ -108,7 +108,7 @@ fn plot_configurations(out: &Path, model: &Model, h: &History) -> Result<(), Str
         .map(|c| {
             c.rods
                 .iter()
-                .filter(|r| r.axis[1].abs() > 0.99)
+                .filter(|r| !r.is_ground() && r.axis[1].abs() > 0.99)
                 .map(|r| (r.center[0], r.center[2], r.radius))
                 .collect()
         })
@@ -183,15 +183,22 @@ fn plot_contact_point(out: &Path, h: &History) -> Result<(), String> {
     )
 }
 
-/// `rod_forces.png`: per rod, the raw and the filtered force with both peaks marked.
+/// `rod_forces.png`: per rod and ground (`names`: `rod0`, `ground0`, …),
+/// the raw and the filtered force with both peaks marked.
 pub fn plot_rod_forces(
     out: &Path,
+    names: &[String],
     loads: &[LoadHistory],
     filtered: &[Filtered],
-    rods: &[crate::output::RodSummary],
+    rods: &[&crate::output::RodSummary],
 ) -> Result<(), String> {
     let titles: Vec<String> = (0..loads.len())
-        .map(|i| format!("Force on rod {i} (CFC {:.0})", rods[i].load.cfc))
+        .map(|i| {
+            let name = names[i]
+                .replacen("rod", "rod ", 1)
+                .replacen("ground", "ground ", 1);
+            format!("Force on {name} (CFC {:.0})", rods[i].load.cfc)
+        })
         .collect();
     let summaries: Vec<&RodLoad> = rods.iter().map(|r| &r.load).collect();
     plot_forces(

@@ -102,6 +102,15 @@ class Wire:
         restitution: Optional[float] = None,
         restitution_model: Optional[str] = None,
     ) -> Wire: ...
+    def ground(
+        self,
+        point: list[float],
+        normal: list[float],
+        stiffness: float,
+        friction: Optional[float] = None,
+        restitution: Optional[float] = None,
+        restitution_model: Optional[str] = None,
+    ) -> Wire: ...
 
 class RunResult:
     """Records of a run; every attribute is a float64 NumPy array."""

@@ -356,6 +356,7 @@ pub(crate) fn element_member(
                     offset: reach,
                     stiffness: member.contact_stiffness * w * len * l,
                     axis: None,
+                    plane: None,
                     friction: member.friction,
                     slip_velocity: contact.settings.slip_velocity,
                     damping,

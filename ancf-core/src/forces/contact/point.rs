@@ -12,6 +12,9 @@ use crate::model::contact::Rod;
 /// nearest point is inside the rod's length (`true`: the vector is normal to
 /// the axis) or on an end (`false`: an end cap). `None` for `cap = false`
 /// when `p` lies beyond the rod's ends (open ends: the surface law).
+///
+/// For a ground (a plane) the vector from its point to `p`, whose component
+/// along the normal is the signed distance ([`LawInput::plane`]).
 pub(crate) fn axis_offset(rod: &Rod, p: &[f64; 3], caps: bool) -> Option<([f64; 3], bool)> {
     let d = rod.axis;
     let rel = [
@@ -19,6 +22,9 @@ pub(crate) fn axis_offset(rod: &Rod, p: &[f64; 3], caps: bool) -> Option<([f64; 
         p[1] - rod.center[1],
         p[2] - rod.center[2],
     ];
+    if rod.is_ground() {
+        return Some((rel, true));
+    }
     let along = dot(rel, d);
     let (foot, inside) = match rod.length {
         Some(len) if along.abs() > 0.5 * len => {
@@ -91,6 +97,9 @@ pub(crate) struct LawInput {
     /// normal then turns in the plane normal to it); `None`: in every
     /// direction.
     pub axis: Option<[f64; 3]>,
+    /// A plane's unit normal: then the gap is n · w − `offset`, signed, and
+    /// the normal does not turn (`axis` is not read).
+    pub plane: Option<[f64; 3]>,
     /// Coulomb μ (0: no friction).
     pub friction: f64,
     /// Friction's regularization velocity v_ε, m/s.
@@ -122,22 +131,33 @@ pub(crate) struct PointForce {
 /// `sample`. `None` when the point is apart.
 pub(crate) fn point_law(pt: &LawInput, sample: &mut ContactSample) -> Option<PointForce> {
     let w = pt.w;
-    let dist = dot(w, w).sqrt();
+    let (dist, n) = match pt.plane {
+        // A plane: the signed distance, the fixed normal.
+        Some(normal) => (dot(w, normal), normal),
+        None => {
+            let dist = dot(w, w).sqrt();
+            (dist, [w[0] / dist, w[1] / dist, w[2] / dist])
+        }
+    };
     let g = dist - pt.offset;
-    if g >= 0.0 || dist == 0.0 {
+    if g >= 0.0 || (pt.plane.is_none() && dist == 0.0) {
         return None;
     }
     // Inside a rod's length the normal turns in the plane normal to the
-    // axis (∂w/∂p = I − d dᵀ); on an end cap in every direction (∂w/∂p = I).
+    // axis (∂w/∂p = I − d dᵀ); on an end cap in every direction (∂w/∂p = I);
+    // a plane's does not turn.
     let (d, dd) = match pt.axis {
         Some(d) => (d, 1.0),
         None => ([0.0; 3], 0.0),
     };
-    let n = [w[0] / dist, w[1] / dist, w[2] / dist];
+    let turns = if pt.plane.is_some() { 0.0 } else { 1.0 };
     let kn = pt.stiffness;
     let elastic = kn * (-g);
-    // ∂n/∂p = (I − n nᵀ − d dᵀ) / |w| inside, (I − n nᵀ) / |w| on a cap
-    let nmat = |a: usize, b: usize| ((a == b) as u8 as f64 - n[a] * n[b] - dd * d[a] * d[b]) / dist;
+    // ∂n/∂p = (I − n nᵀ − d dᵀ) / |w| inside, (I − n nᵀ) / |w| on a cap, 0
+    // on a plane
+    let nmat = |a: usize, b: usize| {
+        turns * ((a == b) as u8 as f64 - n[a] * n[b] - dd * d[a] * d[b]) / dist
+    };
     let friction = pt.friction > 0.0;
     let damped = pt.damping.is_some();
     let vp = pt.velocity;
@@ -260,6 +280,7 @@ pub(crate) fn point_contact(
         offset: pt.offset,
         stiffness: pt.stiffness,
         axis: pt.inside.then_some(rod.axis),
+        plane: rod.is_ground().then_some(rod.axis),
         friction: rod.friction,
         slip_velocity,
         damping: out.damping,

@@ -99,6 +99,13 @@ struct RodGap<'a> {
 impl GapFunction for RodGap<'_> {
     fn eval(&self, xi: f64) -> [f64; 3] {
         let [r, r1, r2] = centerline(self.e, xi, self.l);
+        if self.rod.is_ground() {
+            // A plane: the signed distance less the wire's radius, a cubic
+            // in ξ (not squared: its sign is the side).
+            let n = self.rod.axis;
+            let rel: [f64; 3] = std::array::from_fn(|c| r[c] - self.rod.center[c]);
+            return [dot(rel, n) - self.reach, dot(r1, n), dot(r2, n)];
+        }
         let (w, inside) = axis_offset(self.rod, &r, true).expect("caps always give an offset");
         // ∂w/∂ξ = Π r′ with Π = I − d dᵀ inside the rod's length, I on a cap.
         let d = self.rod.axis;
@@ -165,7 +172,8 @@ pub(crate) trait GapFunction {
 
 /// The intervals of ξ where element `e` (length `l`) has its centerline
 /// within `reach` of the rod (distance to the axis segment: a finite rod's
-/// ends are spherical caps).
+/// ends are spherical caps), or of a ground's plane (on its side, or
+/// through it).
 pub fn active_zones(e: &ElementVector, l: f64, rod: &Rod, reach: f64) -> Zones {
     zones_of(&RodGap { e, l, rod, reach })
 }
@@ -227,6 +235,7 @@ mod tests {
             center: [x, 0.0, z],
             axis: [0.0, 1.0, 0.0],
             radius: 0.02,
+            shape: Default::default(),
             length: None,
             law: ContactLaw::Line,
             contact_stiffness: 1.0,

@@ -53,15 +53,33 @@ impl ContactLaw {
     }
 }
 
-/// A rigid cylinder.
+/// The shape of a rigid contact partner.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RigidShape {
+    /// A cylinder (a `[[rod]]`): the gap is the distance from its axis
+    /// less both radii, the normal turns with the contact point.
+    #[default]
+    Cylinder,
+    /// A plane (a `[[ground]]`): `center` is a point of it, `axis` its unit
+    /// normal towards the side the wire belongs on; the gap is the signed
+    /// distance n · (r − p) less the wire's radius, and the normal is fixed.
+    /// A wire point that passes through the plane is still pushed back up.
+    Plane,
+}
+
+/// A rigid contact partner of the wire: a cylinder (a rod) or, with
+/// [`RigidShape::Plane`], the ground. Both share the line law, friction,
+/// restitution and the load report; only the gap's geometry differs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rod {
-    /// A point on the axis, m.
+    /// A point on the axis (a plane: a point of it), m.
     pub center: [f64; 3],
-    /// Unit axis direction.
+    /// Unit axis direction (a plane: its unit normal).
     pub axis: [f64; 3],
-    /// Radius, m.
+    /// Radius, m (a plane: 0).
     pub radius: f64,
+    /// A cylinder or a plane.
+    pub shape: RigidShape,
     /// Length, m, centred on `center`; `None` is infinite. The line laws
     /// treat the ends as spherical caps (distance to the axis segment), the
     /// surface law as open (no contact beyond the ends).
@@ -139,6 +157,32 @@ impl RestitutionModel {
 }
 
 impl ContactDamping {
+    /// The damping that a contact's `restitution` and `restitution_model`
+    /// keys ask for, the one rule every way in (scene, builder, Python)
+    /// follows: the model needs the coefficient, the model's name must be
+    /// known, and e = 1 (elastic) or no coefficient asks for none. The
+    /// coefficient's range is [`Rod::check`]'s.
+    pub fn from_keys(
+        restitution: Option<f64>,
+        model: Option<&str>,
+    ) -> Result<Option<ContactDamping>, ParameterError> {
+        let kind = match model {
+            Some(name) => RestitutionModel::from_name(name)
+                .or_else(|message| refuse("restitution_model", message))?,
+            None => RestitutionModel::default(),
+        };
+        Ok(match restitution {
+            None if model.is_some() => {
+                return refuse(
+                    "restitution",
+                    "missing: restitution_model is set but the coefficient of restitution is not",
+                );
+            }
+            None | Some(1.0) => None,
+            Some(e) => Some(ContactDamping::new(e, kind)),
+        })
+    }
+
     /// Damping for a coefficient of restitution `restitution` ∈ (0, 1) by
     /// `model`.
     pub fn new(restitution: f64, model: RestitutionModel) -> Self {
@@ -228,6 +272,7 @@ impl Rod {
             center,
             axis,
             radius,
+            shape: RigidShape::Cylinder,
             length: None,
             law: ContactLaw::Line,
             contact_stiffness: stiffness,
@@ -236,15 +281,47 @@ impl Rod {
         }
     }
 
+    /// The ground: a frictionless plane through `point` (m) with `normal`
+    /// (towards the wire's side, normalised) under the line law of ε_L
+    /// `stiffness` (N/m²).
+    pub fn plane(point: [f64; 3], normal: [f64; 3], stiffness: f64) -> Self {
+        Rod {
+            radius: 0.0,
+            shape: RigidShape::Plane,
+            ..Rod::line(point, normal, 0.0, stiffness)
+        }
+    }
+
+    /// Whether this partner is the ground (a plane).
+    pub fn is_ground(&self) -> bool {
+        self.shape == RigidShape::Plane
+    }
+
     /// Whether the rod can be built: a finite centre, a non-zero axis,
     /// radius, length and stiffness > 0, friction μ ≥ 0 and restitution in
     /// (0, 1].
+    /// A plane's point and normal are checked as `point` and `normal`, and
+    /// it takes the line law only.
     pub fn check(&self) -> Result<(), ParameterError> {
-        finite3("center", self.center)?;
-        direction("axis", self.axis)?;
-        positive("radius", self.radius)?;
-        if let Some(l) = self.length {
-            positive("length", l)?;
+        match self.shape {
+            RigidShape::Cylinder => {
+                finite3("center", self.center)?;
+                direction("axis", self.axis)?;
+                positive("radius", self.radius)?;
+                if let Some(l) = self.length {
+                    positive("length", l)?;
+                }
+            }
+            RigidShape::Plane => {
+                finite3("point", self.center)?;
+                direction("normal", self.axis)?;
+                if self.law != ContactLaw::Line || self.length.is_some() || self.radius != 0.0 {
+                    return refuse(
+                        "contact_law",
+                        "the ground takes the line law only (no length, no radius)",
+                    );
+                }
+            }
         }
         positive("contact_stiffness", self.contact_stiffness)?;
         non_negative("friction", self.friction)?;
@@ -280,6 +357,17 @@ impl Rod {
             length: Some(length),
             ..self
         }
+    }
+}
+
+/// How the scene names rigid partner `i` of `rods` (the grounds after the
+/// rods): `rod[k]` or `ground[k]`, k counted among its own kind.
+pub fn rigid_name(rods: &[Rod], i: usize) -> String {
+    let kind = rods[i].shape;
+    let k = rods[..i].iter().filter(|r| r.shape == kind).count();
+    match kind {
+        RigidShape::Cylinder => format!("rod[{k}]"),
+        RigidShape::Plane => format!("ground[{k}]"),
     }
 }
 
@@ -425,6 +513,12 @@ impl Contact {
     /// Rods and members: the contact partners.
     pub fn partners(&self) -> usize {
         self.rods.len() + self.members.len()
+    }
+
+    /// How the scene names rigid partner `i` (an index into `rods`, where
+    /// the grounds follow the rods): `rod[k]` or `ground[k]`.
+    pub fn rigid_name(&self, i: usize) -> String {
+        rigid_name(&self.rods, i)
     }
 
     /// Whether any rod or member has friction (then the Newton matrix is

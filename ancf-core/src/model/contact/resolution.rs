@@ -27,7 +27,8 @@ pub struct UnresolvedContact {
     /// The contact partner's index: the rods in the scene's order, then
     /// the members.
     pub rod: usize,
-    /// The partner as a message names it: `rod 0`, `member "tube"`.
+    /// The partner as a message names it: `rod 0`, `ground 0`,
+    /// `member "tube"`.
     pub partner: String,
     /// Its law.
     pub law: ContactLaw,
@@ -83,7 +84,7 @@ pub fn unresolved_contacts(
         .filter(|(_, rod)| rod.law != ContactLaw::Surface)
         .map(|(i, rod)| UnresolvedContact {
             rod: i,
-            partner: format!("rod {i}"),
+            partner: contact.rigid_name(i).replace('[', " ").replace(']', ""),
             law: rod.law,
             stiffness: rod.contact_stiffness,
             mass_per_length,

@@ -14,6 +14,7 @@ use std::hint::black_box;
 fn mooney_rivlin() -> Material {
     Material {
         locking: Default::default(),
+        yield_stress: None,
         ..rubber()
     }
 }

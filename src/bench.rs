@@ -24,6 +24,7 @@ pub fn svk(nu: f64) -> Material {
             bending_factor: 1.0,
         },
         locking: Default::default(),
+        yield_stress: None,
     }
 }
 
@@ -227,6 +228,7 @@ pub fn rubber() -> Material {
             penalty: 1e3,
         },
         locking: ancf_core::material::Locking::None,
+        yield_stress: None,
     }
 }
 

@@ -246,6 +246,10 @@ pub struct Material {
     pub model: MaterialModel,
     /// The locking remedy (how the law is split between section and centerline).
     pub locking: Locking,
+    /// The yield stress f_y (Pa) of an elastic material, when known: the
+    /// law stays elastic, but a run warns where the stress passes it and
+    /// reports a member's utilization against it. `None`: not checked.
+    pub yield_stress: Option<f64>,
 }
 
 /// Poisson's ratio of a St. Venant–Kirchhoff material unless given: 0, the
@@ -273,6 +277,16 @@ impl Material {
                 bending_factor,
             },
             locking: Default::default(),
+            yield_stress: None,
+        }
+    }
+
+    /// The same material with yield stress f_y (Pa): checked against, not
+    /// modelled (the law stays elastic).
+    pub fn with_yield_stress(self, yield_stress: f64) -> Self {
+        Material {
+            yield_stress: Some(yield_stress),
+            ..self
         }
     }
 
@@ -287,14 +301,26 @@ impl Material {
                 penalty,
             },
             locking: Default::default(),
+            yield_stress: None,
         }
     }
 
     /// Whether the constants describe a real material: ρ > 0; SVK: E > 0,
     /// ν ∈ (−1, 0.5) (the bounds of a stable isotropic solid), ω ∈ [0, 1];
-    /// Mooney–Rivlin: μ10, μ01 ≥ 0 with μ10 + μ01 > 0, κ > 0.
+    /// Mooney–Rivlin: μ10, μ01 ≥ 0 with μ10 + μ01 > 0, κ > 0; a yield
+    /// stress > 0, for SVK only.
     pub fn check(&self) -> Result<(), ParameterError> {
         positive("density", self.density)?;
+        if let Some(fy) = self.yield_stress {
+            positive("yield_stress", fy)?;
+            if matches!(self.model, MaterialModel::MooneyRivlin { .. }) {
+                return refuse(
+                    "yield_stress",
+                    "a Mooney–Rivlin material does not yield: yield_stress is for steel and \
+                     aluminium (st-venant-kirchhoff)",
+                );
+            }
+        }
         match self.model {
             MaterialModel::StVenantKirchhoff {
                 youngs_modulus,

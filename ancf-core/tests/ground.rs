@@ -371,6 +371,19 @@ fn a_scene_reads_its_ground_and_names_its_fields() {
     // The wire starting under the ground is the geometry's fault.
     let e = bad("point = [0.0, 0.0, -0.05]", "point = [0.0, 0.0, 0.05]");
     assert_eq!(e.field, "ground[0].point", "{e}");
+    // A clearance zone under the ground.
+    let with_zone =
+        |index: usize| format!("{SCENE}\n[[clearance]]\nkind = \"ground\"\nground = {index}\n");
+    let zoned = Scene::from_toml(&with_zone(0)).unwrap();
+    assert_eq!(
+        zoned.clearance,
+        vec![ancf_core::model::clearance::ClearanceZone::HalfSpace {
+            point: [0.0, 0.0, -0.05],
+            normal: [0.0, 0.0, 2.0],
+        }]
+    );
+    let e = Scene::from_toml(&with_zone(1)).expect_err("no ground 1");
+    assert_eq!(e.field, "clearance[0].ground", "{e}");
     // An unresolved ground is named as a ground.
     let coarse = Scene::from_toml(&SCENE.replace("time_step = 1e-4", "time_step = 1e-2")).unwrap();
     let warnings = coarse.unresolved_contacts();

@@ -237,22 +237,28 @@ pub struct Material {
 #[pymethods]
 impl Material {
     /// St. Venant–Kirchhoff: density (kg/m³), Young's modulus (Pa),
-    /// Poisson's ratio, weakened-bending coefficient ω (1: plain continuum).
+    /// Poisson's ratio, weakened-bending coefficient ω (1: plain continuum),
+    /// and the yield stress f_y (Pa) the run checks stresses against (the
+    /// law stays elastic; None: not checked).
     #[staticmethod]
-    #[pyo3(signature = (density, youngs_modulus, poisson_ratio=None, bending_factor=None))]
+    #[pyo3(signature = (density, youngs_modulus, poisson_ratio=None, bending_factor=None, yield_stress=None))]
     fn st_venant_kirchhoff(
         density: f64,
         youngs_modulus: f64,
         poisson_ratio: Option<f64>,
         bending_factor: Option<f64>,
+        yield_stress: Option<f64>,
     ) -> PyResult<Material> {
         use ancf_core::material::{DEFAULT_BENDING_FACTOR, DEFAULT_POISSON_RATIO};
-        let inner = ancf_core::material::Material::st_venant_kirchhoff(
-            density,
-            youngs_modulus,
-            poisson_ratio.unwrap_or(DEFAULT_POISSON_RATIO),
-            bending_factor.unwrap_or(DEFAULT_BENDING_FACTOR),
-        );
+        let inner = ancf_core::material::Material {
+            yield_stress,
+            ..ancf_core::material::Material::st_venant_kirchhoff(
+                density,
+                youngs_modulus,
+                poisson_ratio.unwrap_or(DEFAULT_POISSON_RATIO),
+                bending_factor.unwrap_or(DEFAULT_BENDING_FACTOR),
+            )
+        };
         inner
             .check()
             .map_err(|e| value_error(&e.field, &e.message))?;
@@ -1279,6 +1285,7 @@ impl Simulation {
         // As summary.json: present only when there is something to say.
         let mut warnings = self.scene.warnings();
         warnings.extend(self.observed.strain_warnings(&self.scene));
+        warnings.extend(self.observed.yield_warnings(&self.scene));
         if !warnings.is_empty() {
             d.set_item("warnings", warnings)?;
         }

@@ -371,6 +371,31 @@ def test_a_wire_with_a_rod_reports_contact():
     assert sim.contact[0]["impulse"] > 0.0
 
 
+def test_a_wire_dropped_on_the_ground_is_held_and_reported_as_the_cli_reports_it(tmp_path):
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3, 0.1)
+    wire = (
+        ancf.Wire(1.0, 16)
+        .layer(steel, 0.01)
+        .support(0, "pin")
+        .gravity([0.0, 0.0, -9.81])
+        .ground([0.0, 0.0, -0.3], [0.0, 0.0, 1.0], 5e7, friction=0.5, restitution=0.5)
+    )
+    sim = ancf.Simulation.from_wire(wire, time_step=1e-4, end_time=0.6)
+    sim.run()
+    # The swinging wire reaches the ground and stays above it.
+    assert sim.nodes[:, 2].min() > -0.3
+    ground = sim.summary()["contact"]["ground"]
+    assert len(ground) == 1 and ground[0]["impulse"] > 0.0
+    assert 0.0 < ground[0]["max_depth"] < 0.01
+    assert sim.summary()["contact"]["rods"] == []
+    with pytest.raises(ValueError, match="restitution"):
+        ancf.Wire(1.0, 4).ground([0, 0, 0], [0, 0, 1], 5e7, restitution_model="flores")
+    with pytest.raises(ValueError, match="normal"):
+        ancf.Wire(1.0, 4).ground([0, 0, 0], [0, 0, 0], 5e7)
+    with pytest.raises(ValueError, match="stiffness"):
+        ancf.Wire(1.0, 4).ground([0, 0, 0], [0, 0, 1], -1.0)
+
+
 def test_contact_damping_takes_energy_only_when_asked():
     steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3, 0.1)
 

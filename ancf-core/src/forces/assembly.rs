@@ -959,6 +959,7 @@ mod tests {
                 bending_factor: 1.0,
             },
             locking: Default::default(),
+            yield_stress: None,
         };
         let rubber = Material {
             density: 1100.0,
@@ -968,6 +969,7 @@ mod tests {
                 penalty: 1e3,
             },
             locking: crate::material::Locking::None,
+            yield_stress: None,
         };
         (steel, rubber)
     }

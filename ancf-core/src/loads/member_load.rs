@@ -40,6 +40,18 @@ pub struct MemberRecord {
     /// (The first impact's von Mises stress, Pa.)
     #[serde(default)]
     pub first_impact_max_von_mises: f64,
+    /// The largest utilization M_Ed / M_N,Rd of the member's section by
+    /// EN 1993-1-1 ([`crate::loads::design_check`]; ≤ 1 holds), for a tube
+    /// or solid circle whose material gives a yield stress (`None`
+    /// otherwise) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub utilization: Option<f64>,
+    /// … its time (s) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub utilization_time: Option<f64>,
+    /// … and where (m from the member's first node).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub utilization_at: Option<f64>,
 }
 
 /// The resultants element `el` carries at its end `end` (0: first node,
@@ -103,6 +115,9 @@ impl MemberRecord {
         first_contact: Option<f64>,
     ) {
         let start = model.node_arc(beam.nodes.start);
+        let resistance = crate::loads::design_check::section_resistance(
+            &model.element(beam.elements.start).section,
+        );
         let first_impact = first_contact
             .is_some_and(|t1| (t1..=t1 + crate::loads::rod_load::FIRST_IMPACT_WINDOW).contains(&t));
         for el in beam.elements.clone() {
@@ -120,6 +135,14 @@ impl MemberRecord {
                     self.max_von_mises = stress;
                     self.max_von_mises_time = t;
                     self.max_von_mises_at = at;
+                }
+                if let Some(r) = resistance {
+                    let u = r.utilization(n, m);
+                    if self.utilization.is_none_or(|max| u > max) {
+                        self.utilization = Some(u);
+                        self.utilization_time = Some(t);
+                        self.utilization_at = Some(at);
+                    }
                 }
                 if first_impact {
                     self.first_impact_max_bending_moment =

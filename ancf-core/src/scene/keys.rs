@@ -313,6 +313,12 @@ pub const KEYS: &[Key] = &[
         .range(Positive)
         .python(&["Material.mooney_rivlin(penalty)"])
         .doc("Mooney–Rivlin volume penalty κ"),
+    key("material", "yield_stress", Float)
+        .unit("Pa")
+        .default(Means("none: not checked"))
+        .range(Positive)
+        .python(&["Material.st_venant_kirchhoff(yield_stress)"])
+        .doc("f_y: a stress past it is warned of, members get their utilization"),
     key("material", "locking", Choice(&["centerline", "none"]))
         .default(Literal("\"centerline\""))
         .doc("the locking remedy"),
@@ -622,9 +628,13 @@ pub const KEYS: &[Key] = &[
         .python(&["Wire.rayleigh(stiffness)"])
         .doc("Rayleigh stiffness factor"),
     // [[clearance]]
-    key("clearance", "kind", Choice(&["box", "half-space"]))
-        .required()
-        .doc("the zone's shape"),
+    key(
+        "clearance",
+        "kind",
+        Choice(&["box", "half-space", "ground"]),
+    )
+    .required()
+    .doc("the zone's shape"),
     key("clearance", "min", Vec3)
         .unit("m")
         .doc("box: its corner of least x, y, z"),
@@ -635,6 +645,8 @@ pub const KEYS: &[Key] = &[
         .unit("m")
         .doc("half-space: a point of its plane"),
     key("clearance", "normal", Vec3).doc("half-space: the normal, out of the zone"),
+    key("clearance", "ground", Integer)
+        .doc("ground: the [[ground]]'s index, its plane the zone's surface"),
     // [output]
     key("output", "every", Integer)
         .default(Literal("1"))

@@ -572,7 +572,7 @@ impl Scene {
                 ),
             ));
         }
-        let clearance = clearance_zones(&f.clearance)?;
+        let clearance = clearance_zones(&f.clearance, &f.ground)?;
         let implausible = (materials.iter().enumerate())
             .flat_map(|(i, (_, m))| {
                 crate::plausibility::material_warnings(&format!("material[{i}]"), m)
@@ -594,7 +594,10 @@ impl Scene {
 }
 
 /// The `[[clearance]]` zones, each with its own shape's keys, checked.
-fn clearance_zones(specs: &[ClearanceSpec]) -> Result<Vec<ClearanceZone>, SceneError> {
+fn clearance_zones(
+    specs: &[ClearanceSpec],
+    grounds: &[GroundSpec],
+) -> Result<Vec<ClearanceZone>, SceneError> {
     specs
         .iter()
         .enumerate()
@@ -613,7 +616,11 @@ fn clearance_zones(specs: &[ClearanceSpec]) -> Result<Vec<ClearanceZone>, SceneE
             let zone = match c.kind {
                 ClearanceKindSpec::Box => {
                     refuse_extra(
-                        &[("point", c.point.is_some()), ("normal", c.normal.is_some())],
+                        &[
+                            ("point", c.point.is_some()),
+                            ("normal", c.normal.is_some()),
+                            ("ground", c.ground.is_some()),
+                        ],
                         "box",
                     )?;
                     ClearanceZone::Box {
@@ -623,12 +630,43 @@ fn clearance_zones(specs: &[ClearanceSpec]) -> Result<Vec<ClearanceZone>, SceneE
                 }
                 ClearanceKindSpec::HalfSpace => {
                     refuse_extra(
-                        &[("min", c.min.is_some()), ("max", c.max.is_some())],
+                        &[
+                            ("min", c.min.is_some()),
+                            ("max", c.max.is_some()),
+                            ("ground", c.ground.is_some()),
+                        ],
                         "half-space",
                     )?;
                     ClearanceZone::HalfSpace {
                         point: need("point", c.point)?,
                         normal: need("normal", c.normal)?,
+                    }
+                }
+                ClearanceKindSpec::Ground => {
+                    refuse_extra(
+                        &[
+                            ("min", c.min.is_some()),
+                            ("max", c.max.is_some()),
+                            ("point", c.point.is_some()),
+                            ("normal", c.normal.is_some()),
+                        ],
+                        "ground",
+                    )?;
+                    let index = c
+                        .ground
+                        .ok_or_else(|| err(field("ground"), "missing: the [[ground]]'s index"))?;
+                    let g = grounds.get(index).ok_or_else(|| {
+                        err(
+                            field("ground"),
+                            format!(
+                                "no ground[{index}]: the scene has {} [[ground]] table(s)",
+                                grounds.len()
+                            ),
+                        )
+                    })?;
+                    ClearanceZone::HalfSpace {
+                        point: g.point,
+                        normal: g.normal,
                     }
                 }
             };
@@ -1200,6 +1238,7 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
             density: m.density,
             model,
             locking,
+            yield_stress: m.yield_stress,
         };
         material.check().map_err(|e| err(at(&e.field), e.message))?;
         out.push((m.name.clone(), material));

@@ -191,6 +191,8 @@ pub struct MaterialSpec {
     pub mu01: Option<f64>,
     /// Mooney–Rivlin: volume penalty κ.
     pub penalty: Option<f64>,
+    /// SVK: the yield stress f_y (Pa), checked against (the law stays elastic).
+    pub yield_stress: Option<f64>,
 }
 
 /// One concentric layer of `[wire] layers`.
@@ -476,6 +478,8 @@ pub enum ClearanceKindSpec {
     Box,
     /// A half-space: `point`, `normal` (out of the zone).
     HalfSpace,
+    /// The half-space under a `[[ground]]`: `ground`, its index.
+    Ground,
 }
 
 /// `[[clearance]]`: a region the wire must stay out of.
@@ -496,6 +500,8 @@ pub struct ClearanceSpec {
     /// Half-space: the plane's normal, out of the zone.
     #[serde(default, deserialize_with = "optional_vec3")]
     pub normal: Option<[f64; 3]>,
+    /// Ground: the `[[ground]]`'s index (0, 1, …).
+    pub ground: Option<usize>,
 }
 
 /// A vector of exactly three numbers: a longer array is refused, not cut

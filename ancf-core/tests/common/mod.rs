@@ -25,6 +25,7 @@ impl Rng {
 pub fn svk(e: f64, nu: f64, omega: f64) -> Material {
     Material {
         locking: Default::default(),
+        yield_stress: None,
         density: 7200.0,
         model: MaterialModel::StVenantKirchhoff {
             youngs_modulus: e,
@@ -37,6 +38,7 @@ pub fn svk(e: f64, nu: f64, omega: f64) -> Material {
 pub fn mooney_rivlin(penalty: f64) -> Material {
     Material {
         locking: Default::default(),
+        yield_stress: None,
         density: 1100.0,
         model: MaterialModel::MooneyRivlin {
             mu10: 5e5,

@@ -122,6 +122,31 @@ impl Observations {
             .collect()
     }
 
+    /// Each frame member whose outer-fiber von Mises stress passed its
+    /// material's yield stress: the elastic result is not valid past it.
+    pub fn yield_warnings(&self, scene: &Scene) -> Vec<String> {
+        let model = &scene.model;
+        (model.beams.iter().skip(1))
+            .zip(&self.members)
+            .filter_map(|(beam, r)| {
+                let fy = model.element(beam.elements.start).section.layers.last()?.material.yield_stress?;
+                (r.max_von_mises > fy).then(|| {
+                    format!(
+                        "beam \"{}\": its outer fiber's von Mises stress reached {:.0} MPa at t = {:.4} s, \
+                         {:.2} m from its first node, past its material's yield stress {:.0} MPa; the \
+                         material law is elastic, so the run's results past that moment are not the \
+                         member's (it would bend for good)",
+                        beam.name,
+                        1e-6 * r.max_von_mises,
+                        r.max_von_mises_time,
+                        r.max_von_mises_at,
+                        1e-6 * fy
+                    )
+                })
+            })
+            .collect()
+    }
+
     /// summary.json's `clearance`: each zone's kind and record.
     pub fn clearance_summary(&self, scene: &Scene) -> Vec<ClearanceSummary> {
         (scene.clearance.iter())
@@ -187,7 +212,11 @@ impl Observations {
         if let Some(note) = self.clearance_note() {
             summary.message.push_str(&format!("; {note}"));
         }
-        for w in self.strain_warnings(scene) {
+        for w in self
+            .strain_warnings(scene)
+            .into_iter()
+            .chain(self.yield_warnings(scene))
+        {
             summary.message.push_str(&format!("; warning: {w}"));
             summary.warnings.push(w);
         }

@@ -49,6 +49,7 @@ class Material:
         youngs_modulus: float,
         poisson_ratio: Optional[float] = None,
         bending_factor: Optional[float] = None,
+        yield_stress: Optional[float] = None,
     ) -> Material: ...
     @staticmethod
     def mooney_rivlin(density: float, mu10: float, mu01: float, penalty: float) -> Material: ...

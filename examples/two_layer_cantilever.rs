@@ -16,6 +16,7 @@ const L: f64 = 1.0;
 fn svk(e: f64) -> Material {
     Material {
         locking: Default::default(),
+        yield_stress: None,
         density: 7200.0,
         model: MaterialModel::StVenantKirchhoff {
             youngs_modulus: e,

@@ -6,6 +6,8 @@
 //! stress σ = [S11, S22, S33, S23, S13, S12] (second Piola–Kirchhoff, Pa),
 //! so that dW = σ · dε and the tangent D = ∂σ/∂ε is symmetric.
 
+pub mod beam_plasticity;
+
 use crate::check::{ParameterError, finite, positive, refuse};
 use nalgebra::{Matrix3, Matrix6, Vector6};
 

@@ -85,7 +85,8 @@ pub struct Outcome {
     /// Contact runs: each rod's loads, in the scene's rod order, then each
     /// frame member's.
     pub rods: Vec<RodOutcome>,
-    /// The names of `rods`' entries: `rod 0`, …, then the members' names.
+    /// The names of `rods`' entries: `rod 0`, …, `ground 0`, …, then the
+    /// members' names.
     pub partners: Vec<String>,
     /// Each support's CFC-filtered peak force over the run (N), with what
     /// it holds (`wire node 0`); `None` for a dynamic run's support that
@@ -208,13 +209,15 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
     // Contact runs: the rod with the largest filtered peak (SAE J211, the
     // load a designer uses; the raw peak of a penalty contact is not a result).
     let contact = summary.contact.as_ref();
-    // Rods, then members: each one's load, and a member's moments and
+    // Rods, grounds, then members: each one's load, and a member's moments and
     // stress (whole run, whole run, first impact).
     type Member = Option<(f64, f64, f64)>;
     let loads: Vec<(String, &ancf_core::loads::rod_load::RodLoad, Member)> = contact
         .map(|c| {
             let rods =
                 (c.rods.iter().enumerate()).map(|(i, r)| (format!("rod {i}"), &r.load, None));
+            let grounds = (c.ground.iter().enumerate())
+                .map(|(i, g)| (format!("ground {i}"), &g.contact.load, None));
             let members = summary.beams.iter().map(|b| {
                 let r = &b.record;
                 let m = (
@@ -224,11 +227,14 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
                 );
                 (b.name.clone(), &b.contact, Some(m))
             });
-            rods.chain(members).collect()
+            rods.chain(grounds).chain(members).collect()
         })
         .unwrap_or_default();
+    // The ground's blow is not the frame's load: the peak is the rods' and
+    // the members'.
     let peak_rod = loads
         .iter()
+        .filter(|(name, _, _)| !name.starts_with("ground"))
         .map(|(_, l, _)| *l)
         .max_by(|a, b| a.filtered_peak_force.total_cmp(&b.filtered_peak_force));
     Outcome {

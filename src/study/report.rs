@@ -697,7 +697,7 @@ fn quantities(partners: &[String], supports: &[String]) -> Vec<Quantity> {
                 format!("{name}: filtered peak, whole run (N)"),
                 Box::new(move |o| rod(o).map(|r| r.filtered_peak)),
             ));
-            if !name.starts_with("rod ") {
+            if !name.starts_with("rod ") && !name.starts_with("ground ") {
                 q.push((
                     format!("{name}: first impact, max bending moment (N m)"),
                     Box::new(move |o| rod(o).and_then(|r| r.first_impact_moment)),

@@ -297,3 +297,60 @@ fn a_rod_overlapping_the_wire_at_the_start_is_refused() {
     let touching = text.replace(rod, "center = [1.0, 0.0, -0.03407]");
     assert!(Scene::from_toml(&touching).is_ok());
 }
+
+/// A member's name becomes part of file names and CSV headers: only an
+/// identifier is taken, by the scene and the builder alike.
+#[test]
+fn a_member_name_must_be_an_identifier() {
+    let scene = |name: &str| {
+        format!(
+            "{BASE}\n[[beam]]\nname = \"{}\"\nlength = 1.0\nelements = 2\norigin = [0.0, 5.0, 0.0]\n\
+             layers = [{{ material = \"steel\", outer_radius = 0.01 }}]\n[[support]]\nbeam = \"{}\"\n\
+             node = 0\nkind = \"fixed\"\n",
+            toml_escaped(name),
+            toml_escaped(name)
+        )
+    };
+    let long = "a".repeat(240);
+    for bad in [
+        "../../x",
+        "/abs",
+        "a\u{0}b",
+        long.as_str(),
+        "a,b\nc",
+        "wire",
+        "",
+        "tube 1",
+    ] {
+        let e = Scene::from_toml(&scene(bad)).expect_err(bad);
+        assert_eq!(e.field, "beam[0].name", "{bad:?}: {e}");
+        let built = WireBuilder::new(1.0, 2)
+            .layer(Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0), 0.01)
+            .support(0, SupportKind::Fixed)
+            .member(
+                ancf_core::model::BeamBuilder::new(bad, 1.0, 2)
+                    .placed([0.0, 5.0, 0.0], [1.0, 0.0, 0.0])
+                    .layer(Material::st_venant_kirchhoff(7800.0, 2e11, 0.3, 1.0), 0.01),
+            )
+            .build();
+        assert!(
+            matches!(built, Err(ModelError::Member { .. })),
+            "{bad:?}: the builder took it"
+        );
+    }
+    for good in ["tube0", "post_1-a", "A"] {
+        Scene::from_toml(&scene(good)).unwrap_or_else(|e| panic!("{good}: {e}"));
+    }
+}
+
+/// `s` as the inside of a TOML basic string.
+fn toml_escaped(s: &str) -> String {
+    s.chars()
+        .map(|c| match c {
+            '"' => "\\\"".to_string(),
+            '\\' => "\\\\".to_string(),
+            c if (c as u32) < 0x20 => format!("\\u{:04X}", c as u32),
+            c => c.to_string(),
+        })
+        .collect()
+}

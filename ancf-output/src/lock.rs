@@ -25,6 +25,11 @@ impl OutputLock {
     pub fn acquire(dir: &Path) -> Result<Self, String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let path = dir.join(LOCK_FILE);
+        // A symbolic link planted there is removed, never written through
+        // (the PID would land in its target).
+        if std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
+            std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
         let mut file = OpenOptions::new()
             .create(true)
             .truncate(false)
@@ -71,6 +76,22 @@ impl OutputLock {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A symbolic link planted as the lock file is removed, not followed:
+    /// its target keeps its contents.
+    #[cfg(unix)]
+    #[test]
+    fn a_planted_lock_link_is_not_followed() {
+        let dir = std::env::temp_dir().join(format!("ancf-lock-link-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("victim");
+        std::fs::write(&target, "keep").unwrap();
+        std::os::unix::fs::symlink(&target, dir.join(LOCK_FILE)).unwrap();
+        let lock = OutputLock::acquire(&dir).unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
+        drop(lock);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     /// A second lock on the same folder is refused, naming this process;
     /// once the first is dropped, the folder can be locked again.

@@ -33,6 +33,40 @@ pub struct SlurmSpec {
     pub options: Option<Vec<String>>,
 }
 
+impl SlurmSpec {
+    /// Whether each value can go into the job script as it is: one line
+    /// each (a newline would start a shell command of its own), and
+    /// `time`, `mem` and `partition` of the characters Slurm's values use.
+    pub fn check(&self) -> Result<(), String> {
+        let plain = |field: &str, v: &Option<String>| match v {
+            Some(v)
+                if v.is_empty()
+                    || !v
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || "_-:.,+".contains(c)) =>
+            {
+                Err(format!(
+                    "slurm.{field}: \"{}\" is not a Slurm value (letters, digits and _-:.,+ only)",
+                    v.escape_debug()
+                ))
+            }
+            _ => Ok(()),
+        };
+        plain("time", &self.time)?;
+        plain("mem", &self.mem)?;
+        plain("partition", &self.partition)?;
+        for (i, o) in self.options.iter().flatten().enumerate() {
+            if o.chars().any(char::is_control) {
+                return Err(format!(
+                    "slurm.options[{i}]: \"{}\" holds a control character; each option is one #SBATCH line",
+                    o.escape_debug()
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 #[derive(Clone, Debug, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SweepSpec {
@@ -212,6 +246,11 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
             "{}: slurm.max_parallel: must be at least 1",
             path.display()
         ));
+    }
+    if let Some(slurm) = &spec.slurm {
+        slurm
+            .check()
+            .map_err(|e| SweepError(format!("{}: {e}", path.display())))?;
     }
     let folder = path.parent().unwrap_or(Path::new("."));
     let scene = folder.join(&spec.scene);

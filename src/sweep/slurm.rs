@@ -41,7 +41,15 @@ fn call(program: &str, args: &[&str]) -> Result<String, String> {
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
+/// `s` as one word of a bash script, taken literally: in single quotes,
+/// each `'` closed, escaped and reopened (`$(…)`, `` ` `` and `$` stay text).
+fn shell_quoted(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
 /// The job-array script for the variants `ids` of the sweep in `out`.
+/// Paths go in single quotes; the caller refuses a path or a value with a
+/// control character ([`script_safe`], [`SlurmSpec::check`]).
 pub fn script(out: &Path, ids: &[String], spec: &SlurmSpec, exe: &Path) -> String {
     let mut s = String::from("#!/bin/bash\n");
     let _ = writeln!(s, "#SBATCH --job-name=ancf-sweep");
@@ -73,15 +81,32 @@ pub fn script(out: &Path, ids: &[String], spec: &SlurmSpec, exe: &Path) -> Strin
     let _ = writeln!(s, "export RAYON_NUM_THREADS=${{SLURM_CPUS_PER_TASK:-1}}");
     let _ = writeln!(s, "ids=({})", ids.join(" "));
     let _ = writeln!(s, "id=${{ids[$SLURM_ARRAY_TASK_ID]}}");
-    let _ = writeln!(s, "dir=\"{}/runs/$id\"", out.display());
-    // Resume when a checkpoint is there at the time the task starts (an
-    // earlier attempt of the same variant), else start.
-    let exe = exe.display();
     let _ = writeln!(
         s,
-        "if [ -f \"$dir/checkpoint.json\" ]; then\n  exec \"{exe}\" run --resume \"$dir\" --quiet\nelse\n  exec \"{exe}\" run \"$dir/scene.toml\" --out \"$dir\" --quiet\nfi"
+        "dir={}\"/runs/$id\"",
+        shell_quoted(&out.display().to_string())
+    );
+    // Resume when a checkpoint is there at the time the task starts (an
+    // earlier attempt of the same variant), else start.
+    let exe = shell_quoted(&exe.display().to_string());
+    let _ = writeln!(
+        s,
+        "if [ -f \"$dir/checkpoint.json\" ]; then\n  exec {exe} run --resume \"$dir\" --quiet\nelse\n  exec {exe} run \"$dir/scene.toml\" --out \"$dir\" --quiet\nfi"
     );
     s
+}
+
+/// Whether `path` can be written into a job script: one line (a newline
+/// would end the `#SBATCH --output` directive and start a command).
+pub fn script_safe(what: &str, path: &Path) -> Result<(), String> {
+    let text = path.display().to_string();
+    if text.chars().any(char::is_control) {
+        return Err(format!(
+            "{what} \"{}\" holds a control character; the Slurm job script cannot name it",
+            text.escape_debug()
+        ));
+    }
+    Ok(())
 }
 
 /// Submits the variants `ids` (none: nothing to do) and, unless
@@ -99,6 +124,8 @@ pub fn run(
         return Ok(Outcome::Finished);
     }
     let exe = std::env::current_exe().map_err(|e| format!("the ancf executable: {e}"))?;
+    script_safe("--out", out)?;
+    script_safe("the ancf executable", &exe)?;
     let dir = out.join("slurm");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     std::fs::create_dir_all(out.join("logs")).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -282,13 +309,47 @@ mod tests {
             "#SBATCH --account=wires",
             "#SBATCH --signal=INT@60",
             "ids=(v001 v004)",
-            "dir=\"/shared/sweep/runs/$id\"",
-            "exec \"/opt/ancf\" run --resume \"$dir\" --quiet",
+            "dir='/shared/sweep'\"/runs/$id\"",
+            "exec '/opt/ancf' run --resume \"$dir\" --quiet",
         ] {
             assert!(
                 s.lines().any(|l| l.trim() == line),
                 "missing {line:?} in\n{s}"
             );
         }
+    }
+
+    /// A path with `$(…)`, backquotes and a quote stays text: bash, given
+    /// the script's `dir=` line, sets dir to the path itself.
+    #[test]
+    fn paths_in_the_script_are_not_expanded_by_the_shell() {
+        let hostile = "/tmp/a $(touch pwned) `id` it's";
+        let s = script(
+            Path::new(hostile),
+            &["v001".to_string()],
+            &SlurmSpec::default(),
+            Path::new("/opt/ancf"),
+        );
+        let line = s.lines().find(|l| l.starts_with("dir=")).unwrap();
+        let out = Command::new("bash")
+            .arg("-c")
+            .arg(format!("id=v001; {line}; printf %s \"$dir\""))
+            .output()
+            .unwrap();
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout),
+            format!("{hostile}/runs/v001")
+        );
+        assert!(script_safe("--out", Path::new("/tmp/a\nb")).is_err());
+        let bad = SlurmSpec {
+            partition: Some("debug\nrm -rf ~".into()),
+            ..Default::default()
+        };
+        assert!(bad.check().unwrap_err().contains("slurm.partition"));
+        let bad = SlurmSpec {
+            options: Some(vec!["--account=x\ntouch pwned".into()]),
+            ..Default::default()
+        };
+        assert!(bad.check().unwrap_err().contains("slurm.options[0]"));
     }
 }

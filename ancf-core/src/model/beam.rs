@@ -65,6 +65,42 @@ impl BeamLayout {
     }
 }
 
+/// The longest name a member may have, in bytes.
+pub const MAX_NAME_LEN: usize = 64;
+
+/// Whether `name` may name a frame member: it becomes part of file names
+/// (`final_nodes_NAME.csv`) and CSV headers, so only letters, digits, `_`
+/// and `-`, 1 to [`MAX_NAME_LEN`] of them, and not "wire" (the wire's own).
+/// `Err` says what is wrong, the name quoted with control characters
+/// escaped.
+pub fn check_member_name(name: &str) -> Result<(), String> {
+    let shown = name.escape_debug().to_string();
+    if name.is_empty() {
+        return Err("a member's name must not be empty".into());
+    }
+    if name == super::WIRE {
+        return Err("\"wire\" is the wire's own name; name the member otherwise".into());
+    }
+    if name.len() > MAX_NAME_LEN {
+        return Err(format!(
+            "\"{}…\" is {} bytes long; a member's name has at most {MAX_NAME_LEN}",
+            shown.chars().take(32).collect::<String>(),
+            name.len()
+        ));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || *c == '_' || *c == '-'))
+    {
+        return Err(format!(
+            "\"{shown}\" holds {:?}: a member's name becomes part of file names and CSV \
+             headers, so it takes only letters, digits, '_' and '-'",
+            c
+        ));
+    }
+    Ok(())
+}
+
 /// Each beam's first node (and first element) in the model: one past the
 /// previous beam's last node, the index between them being its gap.
 pub fn first_nodes(layouts: &[BeamLayout]) -> Vec<usize> {

@@ -475,16 +475,13 @@ impl WireBuilder {
                 name: m.name.clone(),
                 error: Box::new(error),
             };
-            if m.name == super::WIRE
-                || m.name.is_empty()
-                || self.members[..i].iter().any(|o| o.name == m.name)
-            {
+            if let Err(message) = super::beam::check_member_name(&m.name) {
+                return Err(member(ModelError::wire("name", message)));
+            }
+            if self.members[..i].iter().any(|o| o.name == m.name) {
                 return Err(member(ModelError::wire(
                     "name",
-                    format!(
-                        "\"{}\" cannot name a member: names are unique, not empty and not \"wire\"",
-                        m.name
-                    ),
+                    format!("\"{}\" names two members: names are unique", m.name),
                 )));
             }
             layouts.push(m.layout().map_err(member)?);

@@ -392,13 +392,12 @@ impl Scene {
                     "missing: a member needs a name",
                 ));
             };
-            if name == crate::model::WIRE
-                || name.is_empty()
-                || beam_nodes.iter().any(|(n, _)| n == name)
-            {
+            crate::model::beam::check_member_name(name)
+                .map_err(|message| err(format!("{table}.name"), message))?;
+            if beam_nodes.iter().any(|(n, _)| n == name) {
                 return Err(err(
                     format!("{table}.name"),
-                    format!("\"{name}\": a member's name is unique, not empty and not \"wire\""),
+                    format!("\"{name}\" names two members: names are unique"),
                 ));
             }
             let (member, _, _, elements) = beam_description(b, &table, name, &find)?;

@@ -398,16 +398,49 @@ fn truncate_csv(path: &Path, t: f64) -> Result<Vec<f64>, String> {
 
 /// Write `contents` to `path` through `path` + `.tmp` and a rename: a run
 /// killed meanwhile leaves the old file whole, never an empty or cut one.
+/// The `.tmp` file is made new (whatever stood there, a symbolic link
+/// included, is removed, never written through); the rename replaces a
+/// link at `path` itself, not its target.
 fn replace_file(path: &Path, contents: &str) -> std::io::Result<()> {
+    use std::io::Write as _;
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
-    std::fs::write(&tmp, contents)?;
+    match std::fs::remove_file(&tmp) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+        _ => {}
+    }
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)?;
+    file.write_all(contents.as_bytes())?;
+    drop(file);
     std::fs::rename(&tmp, path)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A symbolic link planted at the temporary's name is replaced, and
+    /// its target keeps its contents.
+    #[cfg(unix)]
+    #[test]
+    fn a_planted_link_at_the_temporary_is_not_written_through() {
+        let dir = std::env::temp_dir().join(format!("ancf-replace-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("victim");
+        std::fs::write(&target, "keep").unwrap();
+        std::os::unix::fs::symlink(&target, dir.join("checkpoint.json.tmp")).unwrap();
+        replace_file(&dir.join("checkpoint.json"), "new").unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
+        assert_eq!(
+            std::fs::read_to_string(dir.join("checkpoint.json")).unwrap(),
+            "new"
+        );
+        assert!(!dir.join("checkpoint.json.tmp").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     /// The header and the rows up to t stay, later rows go, the kept rows'
     /// times come back, and no temporary file is left beside the CSV.

@@ -30,6 +30,10 @@ pub const MEMBER_COLUMNS: [&str; 4] = [
     "first_impact_max_von_mises",
 ];
 
+/// A ground's numbers besides its [`ROD_COLUMNS`] (summary.json
+/// `contact.ground[i]`): how deep the wire went into it, m.
+pub const GROUND_COLUMNS: [&str; 1] = ["max_depth"];
+
 /// Design numbers of one support (summary.json `supports[i]`): the force
 /// it exerts, raw and CFC-filtered (N), and the filtered peak over the
 /// static force (absent unless the run starts from its equilibrium); with
@@ -49,6 +53,9 @@ pub struct MemberRow {
     pub contact: [Option<f64>; ROD_COLUMNS.len()],
     /// Its internal loads: [`MEMBER_COLUMNS`].
     pub loads: [Option<f64>; MEMBER_COLUMNS.len()],
+    /// Its utilization by EN 1993-1-1 (summary.json `beams[i].utilization`;
+    /// a column `NAME_utilization` when any variant has it).
+    pub utilization: Option<f64>,
 }
 
 /// One support's numbers in a variant.
@@ -76,6 +83,9 @@ pub struct Row {
     pub wall_time_s: Option<f64>,
     /// Per rod: [`ROD_COLUMNS`].
     pub rods: Vec<[Option<f64>; ROD_COLUMNS.len()]>,
+    /// Per ground: [`ROD_COLUMNS`], then [`GROUND_COLUMNS`] (columns
+    /// `ground{k}_…` when a variant has a ground).
+    pub grounds: Vec<Vec<Option<f64>>>,
     /// Per frame member, in the scene's order.
     pub members: Vec<MemberRow>,
     /// Per support, in the scene's order.
@@ -137,6 +147,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
             message,
             wall_time_s: None,
             rods: Vec::new(),
+            grounds: Vec::new(),
             members: Vec::new(),
             supports: Vec::new(),
             tip: None,
@@ -155,10 +166,16 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
     let rods = each(&s["contact"]["rods"], |r| {
         ROD_COLUMNS.map(|k| number(&r[k]))
     });
+    let grounds = each(&s["contact"]["ground"], |g| {
+        (ROD_COLUMNS.iter().chain(&GROUND_COLUMNS))
+            .map(|k| number(&g[*k]))
+            .collect()
+    });
     let members = each(&s["beams"], |b| MemberRow {
         name: b["name"].as_str().unwrap_or("").to_string(),
         contact: ROD_COLUMNS.map(|k| number(&b[k])),
         loads: MEMBER_COLUMNS.map(|k| number(&b[k])),
+        utilization: number(&b["utilization"]),
     });
     let supports = each(&s["supports"], |p| SupportRow {
         label: format!(
@@ -185,6 +202,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         message: s["message"].as_str().unwrap_or("").to_string(),
         wall_time_s: number(&s["wall_time_s"]),
         rods,
+        grounds,
         members,
         supports,
         tip,
@@ -244,9 +262,24 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
     for k in 0..n_rods {
         header.extend(ROD_COLUMNS.iter().map(|c| format!("rod{k}_{c}")));
     }
-    for m in members {
+    let n_grounds = rows.iter().map(|r| r.grounds.len()).max().unwrap_or(0);
+    for k in 0..n_grounds {
+        let columns = ROD_COLUMNS.iter().chain(&GROUND_COLUMNS);
+        header.extend(columns.map(|c| format!("ground{k}_{c}")));
+    }
+    // A member's utilization column only where some variant reports one.
+    let utilized: Vec<bool> = (0..members.len())
+        .map(|k| {
+            rows.iter()
+                .any(|r| r.members.get(k).is_some_and(|m| m.utilization.is_some()))
+        })
+        .collect();
+    for (m, &u) in members.iter().zip(&utilized) {
         let columns = ROD_COLUMNS.iter().chain(&MEMBER_COLUMNS);
         header.extend(columns.map(|c| format!("{}_{c}", m.name)));
+        if u {
+            header.push(format!("{}_utilization", m.name));
+        }
     }
     for (k, p) in supports.iter().enumerate() {
         header.extend(SUPPORT_COLUMNS.iter().map(|c| format!("support{k}_{c}")));
@@ -284,11 +317,21 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
                 None => cells.extend(ROD_COLUMNS.iter().map(|_| String::new())),
             }
         }
-        for k in 0..members.len() {
+        for k in 0..n_grounds {
+            match r.grounds.get(k) {
+                Some(v) => cells.extend(v.iter().map(|x| opt(*x))),
+                None => cells
+                    .extend((0..ROD_COLUMNS.len() + GROUND_COLUMNS.len()).map(|_| String::new())),
+            }
+        }
+        for (k, &u) in utilized.iter().enumerate() {
             match r.members.get(k) {
                 Some(m) => cells.extend(m.contact.iter().chain(&m.loads).map(|x| opt(*x))),
                 None => cells
                     .extend((0..ROD_COLUMNS.len() + MEMBER_COLUMNS.len()).map(|_| String::new())),
+            }
+            if u {
+                cells.push(opt(r.members.get(k).and_then(|m| m.utilization)));
             }
         }
         for (k, layout) in supports.iter().enumerate() {

@@ -1122,3 +1122,83 @@ fn a_tube_member_reports_its_utilization_and_warns_past_yield() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A cantilever held at its root by springs only (translational, a
+/// rotational spring on the tangent and a torsional one): the moment the
+/// springs carry is the weight's w L² / 2, in summary.json and supports.csv.
+#[test]
+fn a_spring_support_reports_the_moment_it_carries() {
+    let dir = tmp("spring-moment");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |analysis: &str| {
+        format!(
+            r#"
+[analysis]
+{analysis}
+
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+
+[[material]]
+name = "steel"
+model = "st-venant-kirchhoff"
+density = 7800.0
+youngs_modulus = 2e11
+
+[wire]
+length = 1.0
+elements = 8
+layers = [{{ material = "steel", outer_radius = 0.01 }}]
+
+[[support]]
+node = 0
+kind = "spring"
+stiffness = [1e9, 1e9, 1e9]
+rotational_stiffness = 1e6
+torsional_stiffness = 1e6
+
+[output]
+plots = false
+vtk = false
+"#
+        )
+    };
+    let w = 7800.0 * std::f64::consts::PI * 1e-4 * 9.81;
+    let expected = 0.5 * w;
+    for (name, analysis) in [
+        ("static", "kind = \"static\""),
+        (
+            "dynamic",
+            "kind = \"dynamic\"\ninitial = \"static\"\nend_time = 0.002\ntime_step = 1e-4",
+        ),
+    ] {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, scene(analysis)).unwrap();
+        let out = dir.join(name);
+        assert!(run_quiet(&path, &out).status().unwrap().success(), "{name}");
+        let m = summary(&out)["supports"][0]["peak_moment"]
+            .as_f64()
+            .unwrap();
+        assert!(
+            (m - expected).abs() < 1e-3 * expected,
+            "{name}: the springs carry {m} N m, w L² / 2 = {expected}"
+        );
+        if name == "dynamic" {
+            let csv = std::fs::read_to_string(out.join("supports.csv")).unwrap();
+            let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+            assert_eq!(header[4..], ["s0_mx", "s0_my", "s0_mz"]);
+            let first: Vec<f64> = csv
+                .lines()
+                .nth(1)
+                .unwrap()
+                .split(',')
+                .map(|x| x.parse().unwrap())
+                .collect();
+            assert!(
+                (first[5].abs() - expected).abs() < 1e-3 * expected,
+                "t = 0: {first:?}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -128,6 +128,14 @@ pub struct SupportSummary {
     /// with one mode at each frequency feels from the force.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub response: Vec<SupportResponse>,
+    /// A support with a rotational or torsional spring: the largest |M|
+    /// its springs exert on the body (N m; a static run: at equilibrium),
+    /// what sizes a coupler or a post's head …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_moment: Option<f64>,
+    /// … and its time (s; dynamic runs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_moment_time: Option<f64>,
 }
 
 /// The largest response of oscillators of one frequency driven by a

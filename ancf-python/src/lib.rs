@@ -779,7 +779,7 @@ impl Simulation {
         let cfc = self.scene.output.cfc;
         let loads = self.sim.support_loads();
         let filtered: Vec<_> = loads.iter().map(|h| h.filtered(cfc)).collect();
-        ancf_output::run::supports::dynamic_supports(
+        let mut supports = ancf_output::run::supports::dynamic_supports(
             &self.scene.model,
             self.sim.initial_support_forces(),
             self.scene.starts_from_equilibrium(),
@@ -789,7 +789,13 @@ impl Simulation {
                 &self.scene.output.response_frequencies,
                 self.scene.output.response_damping,
             ),
-        )
+        );
+        ancf_output::run::supports::add_peak_moments(
+            &self.scene.model,
+            &mut supports,
+            self.sim.support_moments(),
+        );
+        supports
     }
 
     /// One step; the error names the step and the time.

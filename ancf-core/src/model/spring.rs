@@ -154,24 +154,33 @@ impl SpringAt {
     /// convention: the body feels its negative) to `out`.
     pub fn add_force(&self, q: &[f64], out: &mut [f64]) {
         let base = self.first_coordinate();
+        for (o, f) in out[base..base + 12].iter_mut().zip(self.node_force(q)) {
+            *o += f;
+        }
+    }
+
+    /// ∂V/∂q on the node's twelve coordinates (r, r_x, r_y, r_z).
+    fn node_force(&self, q: &[f64]) -> [f64; 12] {
+        let mut out = [0.0; 12];
         let r = self.position(q);
         for i in 0..3 {
-            out[base + i] += self.spring.stiffness[i] * (r[i] - self.rest[i]);
+            out[i] = self.spring.stiffness[i] * (r[i] - self.rest[i]);
         }
         let k = self.spring.rotational_stiffness;
         if k != 0.0 {
             let (_, n, _, w) = self.tangent_terms(q);
             for i in 0..3 {
-                out[base + 3 + i] -= k / n * w[i];
+                out[3 + i] = -k / n * w[i];
             }
         }
         let kt = self.spring.torsional_stiffness;
         if kt != 0.0 {
             let (a, s) = self.twist(q);
             for i in 0..6 {
-                out[base + 6 + i] += kt * s * a[i];
+                out[6 + i] = kt * s * a[i];
             }
         }
+        out
     }
 
     /// ∂²V/∂(r_y, r_z)² (row-major 6 × 6): the torsional spring's constant
@@ -199,6 +208,30 @@ impl SpringAt {
                 s * (c * p + t[i] * w[j] + w[i] * t[j])
             })
         })
+    }
+
+    /// Whether the support carries a moment: a rotational or a torsional
+    /// spring.
+    pub fn carries_moment(&self) -> bool {
+        self.spring.rotational_stiffness != 0.0 || self.spring.torsional_stiffness != 0.0
+    }
+
+    /// The moment the rotational and torsional springs exert on the node
+    /// (N m) at coordinates `q`: a rotation δθ of the node's triad moves
+    /// each gradient r_i by δθ × r_i, so the moment of the generalized
+    /// forces −∂V/∂r_i on them is Σ_i r_i × (−∂V/∂r_i).
+    pub fn moment_on_body(&self, q: &[f64]) -> [f64; 3] {
+        let base = self.first_coordinate();
+        let local = self.node_force(q);
+        let mut m = [0.0; 3];
+        for i in 0..3 {
+            let (at, l) = (base + 3 + 3 * i, 3 + 3 * i);
+            let r = [q[at], q[at + 1], q[at + 2]];
+            let f = [-local[l], -local[l + 1], -local[l + 2]];
+            let c = crate::math::vec3::cross(r, f);
+            m = std::array::from_fn(|k| m[k] + c[k]);
+        }
+        m
     }
 
     /// The force the support exerts on the node (N): −K (r − r⁰), less the

@@ -165,6 +165,12 @@ pub struct Snapshot {
     /// recorded: recorded from there on).
     #[serde(default)]
     pub support_loads: Vec<LoadHistory>,
+    /// The moment each support's rotational and torsional springs exert on
+    /// the body at t = 0 and at the end of every step (N m, model's support
+    /// order; zero for a support without them), kept only when a support
+    /// has them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub support_moments: Vec<LoadHistory>,
     /// The force each support exerts on the wire in the initial state (N,
     /// model's support order): from an initial static equilibrium, the
     /// static reaction that a support's peak is compared with.
@@ -173,6 +179,16 @@ pub struct Snapshot {
     /// Contact so far (`None` without rods).
     #[serde(default)]
     pub contact: Option<ContactRecord>,
+}
+
+/// How many support moment histories `model` keeps: one per support when
+/// any has a rotational or torsional spring, else none.
+fn moment_supports(model: &Model) -> usize {
+    if model.springs().iter().any(|s| s.carries_moment()) {
+        model.supports.len()
+    } else {
+        0
+    }
 }
 
 /// A running dynamic simulation.
@@ -224,6 +240,14 @@ impl Simulation {
             })?;
         let rods = model.contact().map_or(0, |c| c.rods.len());
         let members = model.contact().map_or(0, |c| c.members.len());
+        // The springs' moments start with the initial state's (t = 0).
+        let mut support_moments = vec![LoadHistory::default(); moment_supports(model)];
+        let springs = model.springs();
+        for (i, history) in support_moments.iter_mut().enumerate() {
+            let m = (springs.iter().find(|s| s.support == i))
+                .map_or([0.0; 3], |s| s.moment_on_body(&state.q));
+            history.push(0.0, m);
+        }
         Ok(Simulation {
             static_iterations,
             steps: Self::step_count(&settings),
@@ -244,6 +268,7 @@ impl Simulation {
                 rod_loads: vec![LoadHistory::default(); rods],
                 member_loads: vec![LoadHistory::default(); members],
                 support_loads: vec![LoadHistory::default(); model.supports.len()],
+                support_moments: vec![LoadHistory::default(); moment_supports(model)],
                 // Every support holds in the static equilibrium, those
                 // released at t = 0 too: their force before the break.
                 initial_support_forces: static_reactions
@@ -271,6 +296,9 @@ impl Simulation {
         }
         if snapshot.support_loads.len() != model.supports.len() {
             snapshot.support_loads = vec![LoadHistory::default(); model.supports.len()];
+        }
+        if snapshot.support_moments.len() != moment_supports(model) {
+            snapshot.support_moments = vec![LoadHistory::default(); moment_supports(model)];
         }
         Self::check_snapshot(model, &settings, &snapshot).map_err(|message| {
             SimulationError::Setup {
@@ -520,6 +548,14 @@ impl Simulation {
         for (history, force) in p.support_loads.iter_mut().zip(&info.reactions) {
             history.push(p.state.time, *force);
         }
+        if !p.support_moments.is_empty() {
+            let springs = self.integrator.model.springs();
+            for (i, history) in p.support_moments.iter_mut().enumerate() {
+                let m = (springs.iter().find(|s| s.support == i))
+                    .map_or([0.0; 3], |s| s.moment_on_body(&p.state.q));
+                history.push(p.state.time, m);
+            }
+        }
         if let Some(record) = p.contact.as_mut() {
             record.push(p.state.time, &info.contact, info.deepest);
         }
@@ -686,6 +722,13 @@ impl Simulation {
     /// broken-wire load.
     pub fn support_loads(&self) -> &[LoadHistory] {
         &self.progress.support_loads
+    }
+
+    /// The moment each support's springs exert on the body at every step,
+    /// N m (model's support order; empty when no support has a rotational
+    /// or torsional spring).
+    pub fn support_moments(&self) -> &[LoadHistory] {
+        &self.progress.support_moments
     }
 
     /// The force each support exerts on the wire at t = 0 (N), in the

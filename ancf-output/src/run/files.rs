@@ -215,7 +215,7 @@ impl Files {
             v.finish().map_err(|e| io_err(dir, e))?;
         }
         if !supports.loads.is_empty() {
-            write_supports(dir, supports).map_err(|e| io_err(dir, e))?;
+            write_supports(dir, &scene.model, supports).map_err(|e| io_err(dir, e))?;
         }
         let mut plots: Vec<PlotJob<'_>> = Vec::new();
         if let Some(cs) = &summary.contact
@@ -334,32 +334,65 @@ pub struct SupportLoads<'a> {
     pub initial: &'a [[f64; 3]],
     /// Each support's force at every step, N.
     pub loads: &'a [LoadHistory],
+    /// Each support's springs' moment at every step, N m (empty when no
+    /// support has a rotational or torsional spring).
+    pub moments: &'a [LoadHistory],
 }
 
 /// `supports.csv`: `time`, then per support i in the model's order
-/// `s{i}_fx,s{i}_fy,s{i}_fz`, the force it exerts on the body (N); the
-/// first row is t = 0, then one row per step.
-fn write_supports(out: &Path, supports: SupportLoads<'_>) -> std::io::Result<()> {
+/// `s{i}_fx,s{i}_fy,s{i}_fz`, the force it exerts on the body (N), then
+/// per support whose springs carry a moment `s{i}_mx,s{i}_my,s{i}_mz`
+/// (N m, at the step's end); the first row is t = 0, then one row per step.
+fn write_supports(
+    out: &Path,
+    model: &ancf_core::model::Model,
+    supports: SupportLoads<'_>,
+) -> std::io::Result<()> {
     let loads = supports.loads;
+    // The supports whose springs carry a moment: their `s{i}_m…` columns.
+    let springs = model.springs();
+    let moments: Vec<usize> = (0..supports.moments.len())
+        .filter(|&i| springs.iter().any(|s| s.support == i && s.carries_moment()))
+        .collect();
     let mut s = String::from("time");
     for i in 0..loads.len() {
         s += &format!(",s{i}_fx,s{i}_fy,s{i}_fz");
     }
+    for i in &moments {
+        s += &format!(",s{i}_mx,s{i}_my,s{i}_mz");
+    }
     s.push('\n');
-    let mut row = |t: f64, force: &dyn Fn(usize) -> [f64; 3]| {
-        s += &format!("{t:.9e}");
-        for i in 0..loads.len() {
-            let f = force(i);
-            s += &format!(",{:.9e},{:.9e},{:.9e}", f[0], f[1], f[2]);
-        }
-        s.push('\n');
+    let mut row =
+        |t: f64, force: &dyn Fn(usize) -> [f64; 3], moment: &dyn Fn(usize) -> [f64; 3]| {
+            s += &format!("{t:.9e}");
+            for i in 0..loads.len() {
+                let f = force(i);
+                s += &format!(",{:.9e},{:.9e},{:.9e}", f[0], f[1], f[2]);
+            }
+            for &i in &moments {
+                let m = moment(i);
+                s += &format!(",{:.9e},{:.9e},{:.9e}", m[0], m[1], m[2]);
+            }
+            s.push('\n');
+        };
+    // The moments' histories start at t = 0, the forces' at the first step.
+    let moment = |i: usize, k: usize| {
+        supports.moments[i]
+            .force
+            .get(k)
+            .copied()
+            .unwrap_or([0.0; 3])
     };
-    row(0.0, &|i| {
-        supports.initial.get(i).copied().unwrap_or([0.0; 3])
-    });
+    row(
+        0.0,
+        &|i| supports.initial.get(i).copied().unwrap_or([0.0; 3]),
+        &|i| moment(i, 0),
+    );
     let steps = loads.first().map_or(0, |h| h.time.len());
     for k in 0..steps {
-        row(loads[0].time[k], &|i| loads[i].force[k]);
+        row(loads[0].time[k], &|i| loads[i].force[k], &|i| {
+            moment(i, k + 1)
+        });
     }
     std::fs::write(out.join("supports.csv"), s)
 }

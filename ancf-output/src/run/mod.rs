@@ -371,7 +371,7 @@ fn execute(
                     );
                     summary.steps = res.iterations.len();
                     summary.newton_iterations = res.iterations.iter().sum();
-                    summary.supports = supports::static_supports(model, &res.reactions);
+                    summary.supports = supports::static_supports(model, &res.reactions, &res.q);
                     let mut observed = Observations::new(scene);
                     let forces = res
                         .contact
@@ -745,6 +745,7 @@ fn run_dynamic(
     let supports = SupportLoads {
         initial: sim.initial_support_forces(),
         loads: sim.support_loads(),
+        moments: sim.support_moments(),
     };
     let support_filtered: Vec<Filtered> = supports.loads.iter().map(|h| h.filtered(cfc)).collect();
     summary.supports = supports::dynamic_supports(
@@ -758,6 +759,7 @@ fn run_dynamic(
             scene.output.response_damping,
         ),
     );
+    supports::add_peak_moments(model, &mut summary.supports, supports.moments);
     let member_filtered: Vec<Filtered> =
         sim.member_loads().iter().map(|h| h.filtered(cfc)).collect();
     if let Some(f) = files.as_mut() {

@@ -211,8 +211,8 @@ pub fn plot_rod_forces(
 }
 
 /// `member_loads.png`: per frame member, the wire's contact force on it,
-/// raw and filtered with both peaks marked, its largest bending moment and
-/// von Mises stress in the title.
+/// raw and filtered with both peaks marked, its largest bending moment,
+/// von Mises stress and (with a yield stress) utilization in the title.
 pub fn plot_member_loads(
     out: &Path,
     loads: &[LoadHistory],
@@ -222,8 +222,12 @@ pub fn plot_member_loads(
     let titles: Vec<String> = beams
         .iter()
         .map(|b| {
+            let utilization = b
+                .record
+                .utilization
+                .map_or(String::new(), |u| format!(", utilization {u:.2}"));
             format!(
-                "Contact force on {} (CFC {:.0}); max M {:.3} kN m, max von Mises {:.1} MPa",
+                "Contact force on {} (CFC {:.0}); max M {:.3} kN m, max von Mises {:.1} MPa{utilization}",
                 b.name,
                 b.contact.cfc,
                 b.record.max_bending_moment / 1e3,

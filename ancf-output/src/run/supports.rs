@@ -11,19 +11,52 @@ use ancf_core::model::Model;
 /// A static run's supports: the reaction at equilibrium alone.
 /// `reactions` are `StaticResult::reactions` (node, force), in the model's
 /// support order.
-pub fn static_supports(model: &Model, reactions: &[(usize, [f64; 3])]) -> Vec<SupportSummary> {
+/// `q` the equilibrium's coordinates (a spring's moment is read there).
+pub fn static_supports(
+    model: &Model,
+    reactions: &[(usize, [f64; 3])],
+    q: &[f64],
+) -> Vec<SupportSummary> {
+    let springs = model.springs();
     reactions
         .iter()
-        .map(|(node, f)| {
+        .enumerate()
+        .map(|(i, (node, f))| {
             let (beam, node) = beam_and_node(model, *node);
+            let moment = (springs.iter().find(|s| s.support == i))
+                .filter(|s| s.carries_moment())
+                .map(|s| norm(s.moment_on_body(q)));
             SupportSummary {
                 beam,
                 node,
                 static_force: *f,
+                peak_moment: moment,
                 ..Default::default()
             }
         })
         .collect()
+}
+
+/// Into `supports` (a dynamic run's, model order): each spring support's
+/// largest moment over `moments` (the simulation's histories, empty when no
+/// support carries one).
+pub fn add_peak_moments(model: &Model, supports: &mut [SupportSummary], moments: &[LoadHistory]) {
+    let springs = model.springs();
+    for (i, (summary, h)) in supports.iter_mut().zip(moments).enumerate() {
+        if !springs.iter().any(|s| s.support == i && s.carries_moment()) {
+            continue;
+        }
+        let peak = (h.time.iter().zip(&h.force))
+            .map(|(t, m)| (*t, norm(*m)))
+            .fold(None, |best: Option<(f64, f64)>, (t, m)| match best {
+                Some((_, b)) if b >= m => best,
+                _ => Some((t, m)),
+            });
+        if let Some((t, m)) = peak {
+            summary.peak_moment = Some(m);
+            summary.peak_moment_time = Some(t);
+        }
+    }
 }
 
 /// The beam holding the model's node `n` (its name) and the node's index on it.
@@ -97,6 +130,7 @@ pub fn dynamic_supports(
                         }
                     })
                     .collect(),
+                ..Default::default()
             }
         })
         .collect()

@@ -385,7 +385,7 @@ fn a_scene_reads_its_ground_and_names_its_fields() {
     let e = Scene::from_toml(&with_zone(1)).expect_err("no ground 1");
     assert_eq!(e.field, "clearance[0].ground", "{e}");
     // An unresolved ground is named as a ground.
-    let coarse = Scene::from_toml(&SCENE.replace("time_step = 1e-4", "time_step = 1e-2")).unwrap();
+    let coarse = Scene::from_toml(&SCENE.replace("time_step = 1e-4", "time_step = 4e-3")).unwrap();
     let warnings = coarse.unresolved_contacts();
     assert_eq!(warnings.len(), 1);
     assert!(

@@ -354,3 +354,34 @@ fn toml_escaped(s: &str) -> String {
         })
         .collect()
 }
+
+/// Counts and frequencies have bounds before any work: the filter's class
+/// and the oscillators below the steps' Nyquist frequency (1/(2h) = 500 Hz
+/// here), the static start's increments as a static solve's.
+#[test]
+fn counts_and_frequencies_are_bounded_before_work() {
+    let with = |extra: &str| Scene::from_toml(&format!("{BASE}\n{extra}\n"));
+    for (extra, field) in [
+        ("[output]\ncfc = 1e9", "output.cfc"),
+        ("[output]\ncfc = 1e300", "output.cfc"),
+        ("[output]\ncfc = 300.0", "output.cfc"),
+        (
+            "[output]\nresponse_frequencies = [2e153]",
+            "output.response_frequencies[0]",
+        ),
+        (
+            "[output]\nresponse_frequencies = [10.0, 500.0]",
+            "output.response_frequencies[1]",
+        ),
+    ] {
+        let e = with(extra).expect_err(extra);
+        assert_eq!(e.field, field, "{extra}: {e}");
+    }
+    with("[output]\ncfc = 180.0\nresponse_frequencies = [10.0, 400.0]").expect("below Nyquist");
+    let scene = |analysis: &str| Scene::from_toml(&BASE.replace("kind = \"dynamic\"", analysis));
+    let e = scene("kind = \"dynamic\"\ninitial = \"static\"\nload_steps = 1099511627776")
+        .expect_err("2^40 increments");
+    assert_eq!(e.field, "analysis.load_steps", "{e}");
+    let e = scene("kind = \"dynamic\"\nload_steps = 4").expect_err("no static start");
+    assert!(e.message.contains("initial = \"static\""), "{e}");
+}

@@ -541,6 +541,8 @@ impl Scene {
         }
         let analysis = analysis(&f.analysis)?;
         let output = output(f.output.as_ref())?;
+        let cfc_given = f.output.as_ref().is_some_and(|o| o.cfc.is_some());
+        output_resolved(&output, &analysis, cfc_given)?;
         let model = builder
             .build()
             .map_err(|e| model_error(&e, &layer_materials, &f.material))?;
@@ -815,11 +817,20 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
         }
         AnalysisKind::Dynamic => {
             let initial_static = a.initial == Some(InitialSpec::Static);
-            if a.load_steps == Some(0) {
-                return Err(err("analysis.load_steps", "must be at least 1"));
-            }
             if a.load_steps.is_some() && !initial_static {
-                return Err(err("analysis.load_steps", "only for kind = \"static\""));
+                return Err(err(
+                    "analysis.load_steps",
+                    "only for kind = \"static\" or a dynamic run with initial = \"static\" (its \
+                     starting equilibrium's increments)",
+                ));
+            }
+            // The static start's increments: the static solve's own bounds.
+            if let Some(n) = a.load_steps {
+                let start = StaticSettings {
+                    load_steps: n,
+                    ..Default::default()
+                };
+                start.check().map_err(in_table("analysis"))?;
             }
             let end_time = a.end_time.ok_or_else(|| {
                 err(
@@ -889,6 +900,53 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
             })
         }
     }
+}
+
+/// The filter and the oscillators need frequencies the steps sample:
+/// CFC's −3 dB corner (5/3 CFC) and every response frequency below the
+/// Nyquist frequency 1 / (2 h) of the longest step (fixed h, or an
+/// adaptive run's `max_time_step`). Above it the steps carry no such
+/// content, and the numbers would be the unfiltered force or the starting
+/// one, not what was asked. The default class is not judged (`cfc_given`
+/// false): a coarse run without contact does not ask for it.
+fn output_resolved(
+    output: &OutputSettings,
+    analysis: &Analysis,
+    cfc_given: bool,
+) -> Result<(), SceneError> {
+    let Analysis::Dynamic { settings, .. } = analysis else {
+        return Ok(());
+    };
+    let h = settings
+        .step_control
+        .as_ref()
+        .map_or(settings.time_step, |c| c.max_step);
+    let nyquist = 0.5 / h;
+    let corner = crate::loads::cfc::corner_frequency(output.cfc);
+    if cfc_given && corner >= nyquist {
+        return Err(err(
+            "output.cfc",
+            format!(
+                "CFC {} has its −3 dB corner at {corner:.4e} Hz, at or above the steps' Nyquist \
+                 frequency 1/(2h) = {nyquist:.4e} Hz (h = {h:e} s): the filter would pass \
+                 everything the steps carry; use a class below {:.4e}, or a shorter step",
+                output.cfc,
+                0.6 * nyquist
+            ),
+        ));
+    }
+    for (i, &f) in output.response_frequencies.iter().enumerate() {
+        if f >= nyquist {
+            return Err(err(
+                format!("output.response_frequencies[{i}]"),
+                format!(
+                    "{f:e} Hz is at or above the steps' Nyquist frequency 1/(2h) = {nyquist:.4e} Hz \
+                     (h = {h:e} s): an oscillator that fast is not resolved; use a shorter step"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `[output]` over the defaults.

@@ -1202,3 +1202,14 @@ vtk = false
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A file no scene could be is refused unread past its size bound:
+/// `/dev/zero` would otherwise fill the memory.
+#[cfg(unix)]
+#[test]
+fn check_refuses_an_endless_file() {
+    let out = ancf().args(["check", "/dev/zero"]).output().unwrap();
+    assert!(!out.status.success());
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(text.contains("larger than a scene file may be"), "{text}");
+}

@@ -322,6 +322,11 @@ fn place<'a>(doc: &'a mut Value, k: &Key) -> &'a mut toml::Table {
             Value::Table(toml::toml! { kind = "kelvin-voigt" }),
         );
     }
+    if k.table == "analysis" && ["max_time_step", "error_tolerance"].contains(&k.name) {
+        let analysis = root["analysis"].as_table_mut().unwrap();
+        analysis.insert("time_step".into(), "auto".into());
+        analysis.insert("error_tolerance".into(), 1e-4.into());
+    }
     if k.table == "analysis" && k.name == "load_steps" {
         root["analysis"]
             .as_table_mut()

@@ -103,6 +103,10 @@ pub struct Variant {
     pub warnings: Vec<String>,
 }
 
+/// The most variants one sweep takes: each is a folder with a scene, a
+/// run and its outputs.
+pub const MAX_VARIANTS: usize = 100_000;
+
 /// A sweep-file error, naming where it is.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepError(pub String);
@@ -234,8 +238,7 @@ fn set_in(
 /// Reads and checks a sweep file: every variant is a valid scene, or the
 /// sweep is refused naming the variant, its values and the field.
 pub fn load(path: &Path) -> Result<Sweep, SweepError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SweepError(format!("{}: {e}", path.display())))?;
+    let text = ancf_core::scene::read_scene_text(path).map_err(|e| SweepError(e.message))?;
     let spec: SweepSpec = toml::from_str(&text).map_err(|e| located(path, &text, &e))?;
     if spec
         .slurm
@@ -255,11 +258,11 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
     let folder = path.parent().unwrap_or(Path::new("."));
     let scene = folder.join(&spec.scene);
     let scene = std::fs::canonicalize(&scene).unwrap_or(scene);
-    let base_text = std::fs::read_to_string(&scene).map_err(|e| {
+    let base_text = ancf_core::scene::read_scene_text(&scene).map_err(|e| {
         SweepError(format!(
-            "scene = \"{}\": {}: {e}",
+            "scene = \"{}\": {}",
             spec.scene.display(),
-            scene.display()
+            e.message
         ))
     })?;
     let base: toml::Table =
@@ -319,9 +322,23 @@ pub fn expand(
     }
     let mut names = Vec::new();
     let mut lists = Vec::new();
+    // Each scene path once over all parameters (trimmed: " wire.elements "
+    // is wire.elements): a second setting would silently win.
+    let mut seen: Vec<(String, &str)> = Vec::new();
     for (name, values) in parameters {
         for path in linked_paths(name) {
             parse_path(path).map_err(|e| SweepError(format!("parameters.\"{name}\": {e}")))?;
+            if let Some((_, other)) = seen.iter().find(|(p, _)| p == path) {
+                return err(if other == name {
+                    format!("parameters.\"{name}\": the scene path '{path}' is named twice")
+                } else {
+                    format!(
+                        "parameters.\"{name}\": the scene path '{path}' is also set by \
+                         parameters.\"{other}\"; name each path once"
+                    )
+                });
+            }
+            seen.push((path.to_string(), name));
         }
         let toml::Value::Array(values) = values else {
             return err(format!(
@@ -346,6 +363,18 @@ pub fn expand(
         }
         names.push(name.clone());
         lists.push(values.clone());
+    }
+    // Refused before anything is built: a grid of 10⁶ variants took
+    // gigabytes and minutes to check, then wrote a folder per variant.
+    let count = match mode {
+        Mode::Zip => lists[0].len(),
+        Mode::Grid => lists.iter().fold(1usize, |n, l| n.saturating_mul(l.len())),
+    };
+    if count > MAX_VARIANTS {
+        return err(format!(
+            "[parameters]: {count} variants, more than a sweep takes ({MAX_VARIANTS}); split it \
+             into several sweeps"
+        ));
     }
     let combos: Vec<Vec<usize>> = match mode {
         Mode::Zip => {
@@ -562,6 +591,49 @@ mod tests {
             "\"wire.length\" = [1.0, 2.0]\n\"wire.elements\" = [2]",
         );
         assert!(mismatched.unwrap_err().0.contains("equal length"));
+    }
+
+    /// A grid beyond [`MAX_VARIANTS`] is refused before it is built.
+    #[test]
+    fn a_sweep_has_at_most_max_variants() {
+        let base: toml::Table = toml::from_str("[wire]\nlength = 1.0\nelements = 2\n").unwrap();
+        let many: Vec<String> = (0..1000).map(|i| format!("{}.0", i + 1)).collect();
+        let list = format!("[{}]", many.join(", "));
+        let parameters: toml::Table = toml::from_str(&format!(
+            "\"wire.length\" = {list}\n\"wire.origin[0]\" = {list}"
+        ))
+        .unwrap();
+        let e = expand(
+            PathBuf::from("s.toml"),
+            base,
+            Mode::Grid,
+            &parameters,
+            SlurmSpec::default(),
+        )
+        .expect_err("10^6 variants");
+        assert!(e.0.contains("1000000 variants"), "{}", e.0);
+    }
+
+    /// A path named twice, within one parameter or across two (spaces
+    /// aside), is refused: one of the settings would silently win.
+    #[test]
+    fn a_scene_path_is_set_by_one_parameter_only() {
+        let base: toml::Table = toml::from_str("[wire]\nlength = 1.0\nelements = 2\n").unwrap();
+        for params in [
+            "\"wire.elements\" = [2]\n\" wire.elements \" = [4]",
+            "\"wire.length & wire.length\" = [[1.0, 2.0]]",
+        ] {
+            let parameters: toml::Table = toml::from_str(params).unwrap();
+            let e = expand(
+                PathBuf::from("s.toml"),
+                base.clone(),
+                Mode::Grid,
+                &parameters,
+                SlurmSpec::default(),
+            )
+            .expect_err(params);
+            assert!(e.0.contains("wire."), "{params}: {}", e.0);
+        }
     }
 
     #[test]

@@ -224,11 +224,13 @@ pub const KEYS: &[Key] = &[
     key("analysis", "error_tolerance", Float)
         .unit("m")
         .default(RequiredWhen("required with \"auto\""))
+        .range(Positive)
         .python(&["Simulation.from_wire(error_tolerance)"])
         .doc("adaptive steps: the position error one step may add"),
     key("analysis", "max_time_step", Float)
         .unit("s")
         .default(Means("end_time / 100"))
+        .range(Positive)
         .python(&["Simulation.from_wire(max_time_step)"])
         .doc("adaptive steps: the longest step"),
     key("analysis", "spectral_radius", Float)

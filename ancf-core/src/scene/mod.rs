@@ -36,6 +36,40 @@ pub mod defaults {
     pub const RESPONSE_DAMPING: f64 = 0.02;
 }
 
+/// The largest scene file read: 16 MB, far above any scene (the span
+/// break's is 5 kB; a 10⁵-node support list would be a few MB).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The text of the scene file at `path`: refused unread past
+/// [`MAX_SCENE_BYTES`] (a scene is a few kB; `/dev/zero` would fill the
+/// memory), and when it is not UTF-8.
+pub fn read_scene_text(path: &std::path::Path) -> Result<String, SceneError> {
+    use std::io::Read as _;
+    let cannot = |e: std::io::Error| err("", format!("cannot read {}: {e}", path.display()));
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .map_err(cannot)?
+        .take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(err(
+            "",
+            format!(
+                "{} is larger than a scene file may be ({} MB)",
+                path.display(),
+                MAX_SCENE_BYTES >> 20
+            ),
+        ));
+    }
+    String::from_utf8(bytes).map_err(|_| {
+        err(
+            "",
+            format!("{} is not UTF-8 text: no scene file", path.display()),
+        )
+    })
+}
+
 /// What a run does, after validation.
 #[derive(Clone, Debug)]
 pub enum Analysis {
@@ -329,9 +363,10 @@ impl Scene {
     }
 
     /// Read, parse and validate a scene file.
+    /// A file larger than [`MAX_SCENE_BYTES`] is refused unread
+    /// ([`read_scene_text`]).
     pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| err("", format!("cannot read {}: {e}", path.display())))?;
+        let text = read_scene_text(path)?;
         Scene::from_toml(&text).map_err(|mut e| {
             e.message = format!("{} (in {})", e.message, path.display());
             e
@@ -867,6 +902,10 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
                              the run may accumulate",
                         )
                     })?;
+                    positive("analysis.error_tolerance", tolerance)?;
+                    if let Some(h) = a.max_time_step {
+                        positive("analysis.max_time_step", h)?;
+                    }
                     let control = StepControl {
                         tolerance,
                         max_step: a

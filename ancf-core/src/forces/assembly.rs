@@ -171,7 +171,7 @@ fn add_lanes<const W: usize>(
 /// balance needs): the elements eight and four at a time where
 /// [`assemble_into`] takes them so, at half the work, summed in the same order — its bits.
 /// A group whose energies are worth it is split in halves
-/// ([`per_element_in_halves`]): the same bits.
+/// (`per_element_in_halves`): the same bits.
 pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
     let mut energy = vec![0.0; model.n_elements];
     per_element_in_halves(model, &mut energy, |group, els, out| {

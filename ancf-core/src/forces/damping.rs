@@ -78,7 +78,7 @@ fn kelvin_voigt_point(
 /// Kelvin–Voigt force of one element with coordinates `e` and velocities
 /// `v`, over the same laws as its elastic force and as its plan integrates
 /// them: the pre-integrated linear laws in closed form over the section
-/// ([`crate::element::preintegration::PreIntegrated::strain_rate_force`]),
+/// (`PreIntegrated::strain_rate_force`),
 /// the others point by point.
 pub fn kelvin_voigt_element(
     ei: &ElementIntegration,
@@ -174,7 +174,7 @@ pub struct KelvinVoigtWork {
 
 /// [`kelvin_voigt_force`] added to `force` (unknowns, N), with the
 /// buffers in `work`; returns the power (W). The force alone goes as the
-/// elastic force does ([`force_alone`]); with Jacobians, one element at a
+/// elastic force does (`force_alone`); with Jacobians, one element at a
 /// time.
 pub fn kelvin_voigt_force_into(
     model: &Model,

@@ -198,7 +198,7 @@ impl Files {
     /// The end of a dynamic run: VTK's collection, supports.csv,
     /// rod_forces.csv, member_forces.csv, contact_point.csv, then the plots
     /// (rod_forces.png, member_loads.png and the run's own), drawn at once
-    /// ([`super::plots::draw`]).
+    /// (`plots::draw`).
     #[allow(clippy::too_many_arguments)]
     pub fn finish(
         &mut self,

@@ -448,6 +448,10 @@ fn interrupted_run_keeps_its_output() {
     let rows = std::fs::read_to_string(&series).unwrap().lines().count();
     assert!(rows > 3, "time series kept ({rows} lines)");
     assert!(dir.join("vtk/wire.pvd").exists() && dir.join("final_nodes.csv").exists());
+    assert!(
+        !dir.join(".ancf.lock").exists(),
+        "an interrupted run leaves its lock file"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -595,6 +599,10 @@ fn one_run_per_output_folder() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cantilever_large_deflection.toml");
     assert!(run_quiet(&static_scene, &out).status().unwrap().success());
     assert_eq!(summary(&out)["status"], "completed");
+    assert!(
+        !out.join(".ancf.lock").exists(),
+        "a completed run leaves its lock file"
+    );
     for stale in ["timeseries.csv", "rod_forces.csv", "checkpoint.json", "vtk"] {
         assert!(
             !out.join(stale).exists(),
@@ -773,6 +781,10 @@ fn a_locking_penalty_is_named_as_the_cause() {
     std::fs::write(&path, text).unwrap();
     let out = dir.join("out");
     assert!(!run_quiet(&path, &out).status().unwrap().success());
+    assert!(
+        !out.join(".ancf.lock").exists(),
+        "a failed run leaves its lock file"
+    );
     let s = summary(&out);
     let message = s["message"].as_str().unwrap();
     assert!(

@@ -3,8 +3,8 @@
 //! operating system's file lock, `File::try_lock`) while they write. A
 //! second writer is refused with the holder's process id; a lock left by a
 //! killed process is released by the operating system with it, so the next
-//! run takes the folder over (the file itself stays, with the last
-//! holder's id).
+//! run takes the folder over. A run that ends (completed, failed or
+//! interrupted) removes the file; only a killed one leaves it, with its id.
 
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{Read, Seek, Write};
@@ -22,7 +22,40 @@ pub struct OutputLock {
 
 impl OutputLock {
     /// Lock `dir` (created if missing) for this process, or say who holds it.
+    /// A lock taken on a file that its holder removed as it ended (the
+    /// path now names another file, or none) is taken again on the path's.
     pub fn acquire(dir: &Path) -> Result<Self, String> {
+        for _ in 0..16 {
+            let lock = Self::acquire_once(dir)?;
+            if lock.still_at_path() {
+                return Ok(lock);
+            }
+            // Its drop leaves the path alone: it names another file.
+            drop(lock);
+        }
+        Err(format!(
+            "{}: the lock file keeps changing hands; another program is creating and removing it",
+            dir.join(LOCK_FILE).display()
+        ))
+    }
+
+    /// Whether the locked file is still the one the path names.
+    fn still_at_path(&self) -> bool {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt as _;
+            match (self._file.metadata(), std::fs::symlink_metadata(&self.path)) {
+                (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+                _ => false,
+            }
+        }
+        #[cfg(not(unix))]
+        {
+            self.path.exists()
+        }
+    }
+
+    fn acquire_once(dir: &Path) -> Result<Self, String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let path = dir.join(LOCK_FILE);
         // A symbolic link planted there is removed, never written through
@@ -70,6 +103,16 @@ impl OutputLock {
     /// The lock file.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+}
+
+impl Drop for OutputLock {
+    /// Removes the lock file while still holding its lock (a writer that
+    /// opened it meanwhile finds it gone and takes the path's new one).
+    fn drop(&mut self) {
+        if self.still_at_path() {
+            let _ = std::fs::remove_file(&self.path);
+        }
     }
 }
 

@@ -668,7 +668,12 @@ def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
     assert ours["max_bending_moment"] > 0.0
     cli = ancf.run(ancf.Scene.from_toml(text), tmp_path / "out")
     assert cli["beams"][0] == ours
-    assert (tmp_path / "out" / "member_forces.csv").exists()
+    forces = (tmp_path / "out" / "member_forces.csv").read_text().splitlines()
+    header = forces[0].split(",")
+    assert header[-1] == "bar_moment"
+    moments = [float(line.split(",")[-1]) for line in forces[1:]]
+    # The step's largest moment: its largest over the run is the summary's.
+    assert max(moments) == pytest.approx(ours["max_bending_moment"], rel=1e-12)
     # A member built in code touches the wire alike.
     steel_core = ancf.Material.st_venant_kirchhoff(5990.0, 154e9, 0.0, 0.1)
     alu = ancf.Material.st_venant_kirchhoff(2026.0, 51.7e9, 0.0, 0.1)

@@ -106,6 +106,8 @@ impl MemberRecord {
     /// Observe member `beam` of `model` at coordinates `q`, time `t` (s),
     /// the wire having first touched it at `first_contact` (s; `None`:
     /// not yet).
+    ///
+    /// Returns the member's largest bending moment at this state (N m).
     pub fn observe(
         &mut self,
         model: &Model,
@@ -113,7 +115,8 @@ impl MemberRecord {
         q: &[f64],
         t: f64,
         first_contact: Option<f64>,
-    ) {
+    ) -> f64 {
+        let mut largest: f64 = 0.0;
         let start = model.node_arc(beam.nodes.start);
         let resistance = crate::loads::design_check::section_resistance(
             &model.element(beam.elements.start).section,
@@ -124,6 +127,7 @@ impl MemberRecord {
             let section = &model.element(el).section;
             for end in 0..2 {
                 let (n, m, torque) = end_resultants(model, el, end, q);
+                largest = largest.max(m);
                 let stress = von_mises(section, n, m, torque);
                 let at = model.node_arc(el + end) - start;
                 if m > self.max_bending_moment {
@@ -151,5 +155,6 @@ impl MemberRecord {
                 }
             }
         }
+        largest
     }
 }

@@ -206,7 +206,7 @@ impl Files {
         history: &History,
         loads: &[LoadHistory],
         filtered: &[Filtered],
-        members: (&[LoadHistory], &[Filtered]),
+        members: MemberLoads<'_>,
         supports: SupportLoads<'_>,
         summary: &Summary,
     ) -> Result<(), String> {
@@ -233,7 +233,8 @@ impl Files {
         }
         if !members.0.is_empty() {
             let names: Vec<&str> = summary.beams.iter().map(|b| b.name.as_str()).collect();
-            write_member_forces(dir, &names, members.0, members.1).map_err(|e| io_err(dir, e))?;
+            write_member_forces(dir, &names, members.0, members.1, members.2)
+                .map_err(|e| io_err(dir, e))?;
             plots.push(Box::new(|| {
                 super::plots::plot_member_loads(dir, members.0, members.1, &summary.beams)
             }));
@@ -284,14 +285,39 @@ fn write_rod_forces(
 
 /// `member_forces.csv`: [`write_rod_forces`]'s columns for the wire's
 /// contact force on each frame member, named by the member
-/// (`NAME_force`, `NAME_filtered`, `NAME_fx`, …).
+/// (`NAME_force`, `NAME_filtered`, `NAME_fx`, …), and `NAME_moment`, the
+/// member's largest bending moment at the step (N m; `moments`: each
+/// member's (time, moment) at every observed state).
 fn write_member_forces(
     out: &Path,
     names: &[&str],
     loads: &[LoadHistory],
     filtered: &[Filtered],
+    moments: &[Vec<(f64, f64)>],
 ) -> std::io::Result<()> {
-    write_forces(&out.join("member_forces.csv"), names, loads, filtered)
+    let times = loads.first().map_or(&[][..], |h| &h.time[..]);
+    let at: Vec<Vec<f64>> = moments
+        .iter()
+        .map(|h| {
+            let mut j = 0;
+            times
+                .iter()
+                .map(|&t| {
+                    while j < h.len() && h[j].0 < t {
+                        j += 1;
+                    }
+                    h.get(j).filter(|e| e.0 == t).map_or(0.0, |e| e.1)
+                })
+                .collect()
+        })
+        .collect();
+    write_forces_with(
+        &out.join("member_forces.csv"),
+        names,
+        loads,
+        filtered,
+        Some(("moment", &at)),
+    )
 }
 
 /// Forces over the steps, a `NAME_force, NAME_filtered, NAME_fx, NAME_fy,
@@ -302,16 +328,31 @@ fn write_forces(
     loads: &[LoadHistory],
     filtered: &[Filtered],
 ) -> std::io::Result<()> {
+    write_forces_with(path, names, loads, filtered, None)
+}
+
+/// [`write_forces`] with one more column per load, `NAME_{suffix}`, its
+/// value at each step in `extra`'s rows (load by load).
+fn write_forces_with(
+    path: &Path,
+    names: &[&str],
+    loads: &[LoadHistory],
+    filtered: &[Filtered],
+    extra: Option<(&str, &[Vec<f64>])>,
+) -> std::io::Result<()> {
     let mut s = String::from("time");
     for n in names {
         s += &format!(",{n}_force,{n}_filtered,{n}_fx,{n}_fy,{n}_fz");
+        if let Some((suffix, _)) = extra {
+            s += &format!(",{n}_{suffix}");
+        }
     }
     s.push('\n');
     let steps = loads.first().map_or(0, |h| h.time.len());
     for k in 0..steps {
         let t = loads[0].time[k];
         s += &format!("{t:.9e}");
-        for (h, f) in loads.iter().zip(filtered) {
+        for (i, (h, f)) in loads.iter().zip(filtered).enumerate() {
             let v = h.force[k];
             let mag = norm(v);
             s += &format!(
@@ -321,11 +362,19 @@ fn write_forces(
                 v[1],
                 v[2]
             );
+            if let Some((_, rows)) = extra {
+                let x = rows.get(i).and_then(|r| r.get(k)).copied().unwrap_or(0.0);
+                s += &format!(",{x:.9e}");
+            }
         }
         s.push('\n');
     }
     std::fs::write(path, s)
 }
+
+/// The frame members' contact loads, filtered, and each member's largest
+/// bending moment at every observed state (time s, N m), model order.
+pub type MemberLoads<'a> = (&'a [LoadHistory], &'a [Filtered], &'a [Vec<(f64, f64)>]);
 
 /// The supports' forces on the body over a run: at t = 0 and after every step.
 #[derive(Clone, Copy)]

@@ -768,7 +768,11 @@ fn run_dynamic(
             &p.history,
             sim.rod_loads(),
             &filtered,
-            (sim.member_loads(), &member_filtered),
+            (
+                sim.member_loads(),
+                &member_filtered,
+                &p.observed.member_moments,
+            ),
             supports,
             summary,
         )?;

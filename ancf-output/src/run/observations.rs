@@ -31,6 +31,11 @@ pub struct Observations {
     /// half-space clearance zone), in the model's order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ground: Vec<ClearanceRecord>,
+    /// Each frame member's largest bending moment at every observed state
+    /// (time s, N m), in the model's member order: member_forces.csv's
+    /// `NAME_moment`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub member_moments: Vec<Vec<(f64, f64)>>,
 }
 
 /// Each ground's plane as the half-space the wire must stay out of (the
@@ -68,6 +73,8 @@ impl Observations {
             .resize(scene.model.beams.len(), StrainRecord::default());
         self.ground
             .resize(ground_zones(scene).len(), ClearanceRecord::default());
+        self.member_moments
+            .resize(scene.model.beams.len() - 1, Vec::new());
     }
 
     /// Observe `scene`'s model at coordinates `q`, time `t` (s), the wire's
@@ -90,8 +97,12 @@ impl Observations {
             }
         }
         let members = model.beams.iter().skip(1).zip(&mut self.members);
-        for ((beam, record), first) in members.zip(&self.member_first_contact) {
-            record.observe(model, beam, q, t, *first);
+        let histories = members
+            .zip(&self.member_first_contact)
+            .zip(&mut self.member_moments);
+        for (((beam, record), first), history) in histories {
+            let m = record.observe(model, beam, q, t, *first);
+            history.push((t, m));
         }
         for (beam, record) in model.beams.iter().zip(&mut self.strains) {
             record.observe(model, beam, q, t);

@@ -672,8 +672,9 @@ def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
     header = forces[0].split(",")
     assert header[-1] == "bar_moment"
     moments = [float(line.split(",")[-1]) for line in forces[1:]]
-    # The step's largest moment: its largest over the run is the summary's.
-    assert max(moments) == pytest.approx(ours["max_bending_moment"], rel=1e-12)
+    # The step's largest moment: its largest over the run is the summary's
+    # (to the CSV's ten significant digits).
+    assert max(moments) == pytest.approx(ours["max_bending_moment"], rel=1e-9)
     # A member built in code touches the wire alike.
     steel_core = ancf.Material.st_venant_kirchhoff(5990.0, 154e9, 0.0, 0.1)
     alu = ancf.Material.st_venant_kirchhoff(2026.0, 51.7e9, 0.0, 0.1)

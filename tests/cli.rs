@@ -1225,3 +1225,78 @@ fn check_refuses_an_endless_file() {
     let text = String::from_utf8_lossy(&out.stderr);
     assert!(text.contains("larger than a scene file may be"), "{text}");
 }
+
+/// Ctrl-C stops a static solve and a dynamic run's static start within
+/// about a second, ending `interrupted` with the last converged state.
+#[test]
+fn ctrl_c_stops_static_solves() {
+    let dir = tmp("static-interrupt");
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = std::fs::read_to_string("scenes/cantilever_large_deflection.toml").unwrap();
+    // A million increments: minutes of work unless stopped.
+    let cases = [
+        (
+            "static",
+            with_analysis_line(&base, "load_steps", "load_steps = 1000000"),
+        ),
+        (
+            "start",
+            with_analysis_line(&base, "load_steps", "load_steps = 1000000").replace(
+                "kind = \"static\"",
+                "kind = \"dynamic\"\ninitial = \"static\"\nend_time = 0.01\ntime_step = 1e-3",
+            ),
+        ),
+    ];
+    for (name, text) in cases {
+        assert!(text.contains("load_steps = 1000000"), "{name}");
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let out = dir.join(name);
+        let mut child = run_quiet(&path, &out).spawn().unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "{name}: ended before the signal"
+        );
+        let sent = std::time::Instant::now();
+        Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        let status = child.wait().unwrap();
+        assert!(
+            sent.elapsed() < std::time::Duration::from_secs(3),
+            "{name}: took {:?} to stop",
+            sent.elapsed()
+        );
+        assert_eq!(status.code(), Some(130), "{name}");
+        let s = summary(&out);
+        assert_eq!(s["status"], "interrupted", "{name}: {}", s["message"]);
+        assert!(s["message"].as_str().unwrap().contains("Ctrl-C"), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `text` with the line that sets `key` replaced by `line` (or `line`
+/// added after `[analysis]` when the key is absent).
+fn with_analysis_line(text: &str, key: &str, line: &str) -> String {
+    let mut found = false;
+    let mut out: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with(&format!("{key} "))
+                || l.trim_start().starts_with(&format!("{key}="))
+            {
+                found = true;
+                line.to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    if !found {
+        let at = out.iter().position(|l| l.trim() == "[analysis]").unwrap();
+        out.insert(at + 1, line.to_string());
+    }
+    out.join("\n") + "\n"
+}

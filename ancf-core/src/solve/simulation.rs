@@ -30,11 +30,12 @@
 use crate::loads::contact_record::ContactRecord;
 use crate::loads::rod_load::LoadHistory;
 use crate::model::Model;
+use crate::solve::cancel::CancelToken;
 use crate::solve::dynamics::step_size::{Verdict, judge, towards_event};
 use crate::solve::dynamics::{
     DynamicSettings, Energies, Integrator, State, StepError, StepInfo, Subdivision,
 };
-use crate::solve::statics::{StaticError, StaticSettings, solve_static};
+use crate::solve::statics::{StaticError, StaticSettings, solve_static_cancellable};
 use std::ops::ControlFlow;
 use std::sync::Arc;
 
@@ -211,6 +212,18 @@ impl Simulation {
         settings: DynamicSettings,
         initial: Initial,
     ) -> Result<Self, SimulationError> {
+        Self::new_cancellable(model, settings, initial, None)
+    }
+
+    /// [`Simulation::new`] whose static start `cancel` can stop (Ctrl-C, a
+    /// termination signal): the error is then a [`StaticError`] that says
+    /// it was interrupted.
+    pub fn new_cancellable(
+        model: &Model,
+        settings: DynamicSettings,
+        initial: Initial,
+        cancel: Option<&CancelToken>,
+    ) -> Result<Self, SimulationError> {
         let (q0, static_iterations, static_reactions) = match initial {
             Initial::Reference => (model.initial_coordinates(), Vec::new(), None),
             Initial::Static { load_steps } => {
@@ -218,7 +231,8 @@ impl Simulation {
                     load_steps,
                     ..Default::default()
                 };
-                let res = solve_static(model, &st).map_err(SimulationError::Static)?;
+                let res = solve_static_cancellable(model, &st, model.initial_coordinates(), cancel)
+                    .map_err(SimulationError::Static)?;
                 let reactions = res.reactions.iter().map(|(_, f)| *f).collect::<Vec<_>>();
                 (res.q, res.iterations, Some(reactions))
             }

@@ -4,6 +4,7 @@
 use crate::forces::sum::{At, ForceSum};
 use crate::linalg::linear_solver::SparseSolver;
 use crate::model::Model;
+use crate::solve::cancel::CancelToken;
 use crate::solve::reactions::support_forces;
 
 /// Settings of the static solver.
@@ -67,6 +68,9 @@ pub struct StaticError {
     pub last_converged: Vec<f64>,
     /// Newton iterations per load increment up to the failure.
     pub iterations: Vec<usize>,
+    /// The solve was stopped by its cancel token (Ctrl-C, a termination
+    /// signal), not a failure of Newton.
+    pub interrupted: bool,
 }
 
 impl std::fmt::Display for StaticError {
@@ -125,9 +129,13 @@ fn newton(
     q: &mut Vec<f64>,
     settings: &StaticSettings,
     roundoff: &[f64],
+    cancel: Option<&CancelToken>,
 ) -> Result<(usize, f64), String> {
     let mut it = 0;
     loop {
+        if cancel.is_some_and(CancelToken::is_cancelled) {
+            return Err("stopped".into());
+        }
         let mut kv = forces.pattern().zeros();
         let (r, scale, u) = residual(model, forces, q, Some(&mut kv));
         let rn = norm(&r);
@@ -186,11 +194,24 @@ pub fn solve_static_from(
     settings: &StaticSettings,
     q0: Vec<f64>,
 ) -> Result<StaticResult, StaticError> {
+    solve_static_cancellable(model, settings, q0, None)
+}
+
+/// [`solve_static_from`] that `cancel` stops between Newton iterations
+/// (Ctrl-C, a termination signal): the error then says so
+/// ([`StaticError::interrupted`]) and keeps the last converged state.
+pub fn solve_static_cancellable(
+    model: &Model,
+    settings: &StaticSettings,
+    q0: Vec<f64>,
+    cancel: Option<&CancelToken>,
+) -> Result<StaticResult, StaticError> {
     if let Some(message) = model.static_holding_error() {
         return Err(StaticError {
             message,
             last_converged: q0,
             iterations: vec![],
+            interrupted: false,
         });
     }
     let mut forces = ForceSum::new(model);
@@ -198,6 +219,7 @@ pub fn solve_static_from(
         message: e.0,
         last_converged: q0.clone(),
         iterations: vec![],
+        interrupted: false,
     })?;
     let roundoff = model.roundoff_forces();
     let mut q = q0;
@@ -216,6 +238,7 @@ pub fn solve_static_from(
             &mut trial,
             settings,
             &roundoff,
+            cancel,
         ) {
             Ok((its, u)) => {
                 iterations.push(its);
@@ -223,6 +246,17 @@ pub fn solve_static_from(
                 lambda = target;
                 energy = u;
                 dl = (1.5 * dl).min(base);
+            }
+            Err(_) if cancel.is_some_and(CancelToken::is_cancelled) => {
+                return Err(StaticError {
+                    message: format!(
+                        "static solve stopped by Ctrl-C or a termination signal at load factor \
+                         {lambda:.4} (the last converged)"
+                    ),
+                    last_converged: q,
+                    iterations,
+                    interrupted: true,
+                });
             }
             Err(msg) if dl > base / 256.0 => {
                 let _ = msg;
@@ -235,6 +269,7 @@ pub fn solve_static_from(
                     ),
                     last_converged: q,
                     iterations,
+                    interrupted: false,
                 });
             }
         }

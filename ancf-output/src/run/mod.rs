@@ -24,7 +24,7 @@ use ancf_core::scene::{Analysis, Scene};
 use ancf_core::solve::cancel::CancelToken;
 use ancf_core::solve::dynamics::{DynamicSettings, Energies};
 use ancf_core::solve::simulation::{Initial, Simulation, SimulationError, Snapshot};
-use ancf_core::solve::statics::{StaticSettings, solve_static};
+use ancf_core::solve::statics::{StaticSettings, solve_static_cancellable};
 use files::{Checkpoint, Files, SupportLoads, io_err, write_final};
 use history::History;
 use observations::Observations;
@@ -362,7 +362,12 @@ fn execute(
                 residual_tolerance: *tolerance,
                 increment_tolerance: *tolerance,
             };
-            match solve_static(model, &settings) {
+            match solve_static_cancellable(
+                model,
+                &settings,
+                model.initial_coordinates(),
+                Some(cancel),
+            ) {
                 Ok(res) => {
                     summary.status = RunStatus::Completed;
                     summary.message = format!(
@@ -391,6 +396,13 @@ fn execute(
                         }
                     }
                     res.q
+                }
+                Err(e) if e.interrupted => {
+                    summary.status = RunStatus::Interrupted;
+                    summary.message = format!("{}; the last converged state is kept", e.message);
+                    summary.steps = e.iterations.len();
+                    summary.newton_iterations = e.iterations.iter().sum();
+                    e.last_converged
                 }
                 Err(e) => {
                     summary.status = RunStatus::Failed;
@@ -516,8 +528,21 @@ fn run_dynamic(
         None => {
             let mut files = out.map(|dir| Files::open(dir, scene, None)).transpose()?;
             let from_static = matches!(initial, Initial::Static { .. });
-            let sim = match Simulation::new(model, settings.clone(), initial) {
+            let sim = match Simulation::new_cancellable(
+                model,
+                settings.clone(),
+                initial,
+                Some(watch.cancel),
+            ) {
                 Ok(sim) => sim,
+                Err(SimulationError::Static(e)) if e.interrupted => {
+                    summary.status = RunStatus::Interrupted;
+                    summary.message = format!(
+                        "initial static equilibrium: {}; nothing was stepped",
+                        e.message
+                    );
+                    return Ok((e.last_converged, History::default()));
+                }
                 Err(SimulationError::Static(e)) => {
                     summary.status = RunStatus::Failed;
                     summary.message = format!(

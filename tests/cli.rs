@@ -1300,3 +1300,33 @@ fn with_analysis_line(text: &str, key: &str, line: &str) -> String {
     }
     out.join("\n") + "\n"
 }
+
+/// A Newton failure that Newton's own settings cause is blamed on them,
+/// not on the time step.
+#[test]
+fn a_newton_failure_names_newtons_settings_when_they_are_the_cause() {
+    let dir = tmp("newton-settings");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("scenes/pendulum.toml").unwrap();
+    for (settings, field) in [
+        (
+            "max_iterations = 1\ntolerance = 1e-15",
+            "analysis.tolerance",
+        ),
+        ("max_iterations = 1", "analysis.max_iterations"),
+    ] {
+        let scene = text.replace("[analysis]", &format!("[analysis]\n{settings}"));
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, scene).unwrap();
+        let out = dir.join("out");
+        let _ = run_quiet(&path, &out).status().unwrap();
+        let s = summary(&out);
+        let message = s["message"].as_str().unwrap();
+        assert_eq!(s["status"], "failed", "{settings}: {message}");
+        assert!(
+            message.contains(field) && !message.contains("reduce analysis.time_step"),
+            "{settings}: {message}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

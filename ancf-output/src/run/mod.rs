@@ -638,16 +638,21 @@ fn run_dynamic(
             }
             Err(e @ SimulationError::Step { .. }) => {
                 summary.status = RunStatus::Failed;
-                let cause = match (&e, model.ill_conditioning()) {
-                    (
-                        SimulationError::Step {
-                            error:
-                                ancf_core::solve::dynamics::StepError::Halved { .. }
-                                | ancf_core::solve::dynamics::StepError::NotConverged { .. },
-                            ..
-                        },
-                        Some(note),
-                    ) => note,
+                let newton_failed = matches!(
+                    &e,
+                    SimulationError::Step {
+                        error: ancf_core::solve::dynamics::StepError::Halved { .. }
+                            | ancf_core::solve::dynamics::StepError::NotConverged { .. },
+                        ..
+                    }
+                );
+                // Newton's own settings first, then the model's conditioning.
+                let cause = match (
+                    newton_failed,
+                    settings.newton_note(),
+                    model.ill_conditioning(),
+                ) {
+                    (true, Some(note), _) | (true, None, Some(note)) => note,
                     _ => e.likely_cause().to_string(),
                 };
                 summary.message =

@@ -55,7 +55,37 @@ pub const DEFAULT_SPECTRAL_RADIUS: f64 = 0.9;
 /// The most time steps a run may ask for (a run of this length takes days).
 pub const MAX_STEPS: f64 = 1e8;
 
+/// Below this relative tolerance Newton's residual is at double
+/// precision's round-off on a beam model: it cannot be met reliably.
+pub const ROUNDOFF_TOLERANCE: f64 = 1e-12;
+
+/// Fewer Newton iterations a step than this leave a contact step no room.
+pub const FEW_ITERATIONS: usize = 4;
+
 impl DynamicSettings {
+    /// When Newton fails to converge: whether its own settings are the
+    /// likely cause (a tolerance below round-off, too few iterations), and
+    /// what to change, naming the fields; `None` when they are sound.
+    pub fn newton_note(&self) -> Option<String> {
+        if self.tolerance < ROUNDOFF_TOLERANCE {
+            return Some(format!(
+                "analysis.tolerance = {:e} lies below what double precision resolves in the \
+                 residual (about {ROUNDOFF_TOLERANCE:e}); loosen it (the default is {:e})",
+                self.tolerance,
+                DynamicSettings::default().tolerance
+            ));
+        }
+        if self.max_iterations < FEW_ITERATIONS {
+            return Some(format!(
+                "analysis.max_iterations = {} leaves Newton too few iterations a step; raise it \
+                 (the default is {})",
+                self.max_iterations,
+                DynamicSettings::default().max_iterations
+            ));
+        }
+        None
+    }
+
     /// Whether the integrator can run with these settings: h and the end
     /// time > 0, h ≤ end time, at most [`MAX_STEPS`] steps, ρ∞ ∈ [0, 1], a
     /// relative tolerance in (0, 1), at least one Newton iteration, Broyden

@@ -1330,3 +1330,34 @@ fn a_newton_failure_names_newtons_settings_when_they_are_the_cause() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A folder under the name of a file the run writes is refused, not
+/// deleted with its contents; an --out that is a link to nothing says so.
+#[cfg(unix)]
+#[test]
+fn a_run_does_not_delete_a_folder_and_names_a_dangling_out() {
+    let dir = tmp("owned-folder");
+    let out = dir.join("out");
+    let keep = out.join("final_nodes_tube.csv");
+    std::fs::create_dir_all(&keep).unwrap();
+    std::fs::write(keep.join("mine.txt"), "mine").unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/pendulum.toml");
+    let run = run_quiet(&scene, &out).output().unwrap();
+    assert!(!run.status.success());
+    let message = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        message.contains("final_nodes_tube.csv is a folder"),
+        "{message}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(keep.join("mine.txt")).unwrap(),
+        "mine"
+    );
+    let dangling = dir.join("dangling");
+    std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
+    let run = run_quiet(&scene, &dangling).output().unwrap();
+    assert!(!run.status.success());
+    let message = String::from_utf8_lossy(&run.stderr);
+    assert!(message.contains("does not exist"), "{message}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

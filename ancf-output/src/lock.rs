@@ -56,6 +56,17 @@ impl OutputLock {
     }
 
     fn acquire_once(dir: &Path) -> Result<Self, String> {
+        if std::fs::symlink_metadata(dir).is_ok_and(|m| m.file_type().is_symlink())
+            && std::fs::metadata(dir).is_err()
+        {
+            let target =
+                std::fs::read_link(dir).map_or(String::from("?"), |t| t.display().to_string());
+            return Err(format!(
+                "{}: a symbolic link to {target}, which does not exist; create that folder or \
+                 choose another --out",
+                dir.display()
+            ));
+        }
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let path = dir.join(LOCK_FILE);
         // A symbolic link planted there is removed, never written through

@@ -157,10 +157,20 @@ fn clear_owned_outputs(dir: &Path) -> Result<(), String> {
             continue;
         }
         let path = entry.path();
-        let removed = if path.is_dir() {
-            std::fs::remove_dir_all(&path)
-        } else {
-            std::fs::remove_file(&path)
+        // Only `vtk` is a folder of ours; a folder under a file's name is
+        // someone's, and is refused rather than deleted with its contents.
+        let is_folder = entry.file_type().is_ok_and(|t| t.is_dir());
+        let removed = match (is_folder, name.as_ref()) {
+            (true, "vtk") => std::fs::remove_dir_all(&path),
+            (true, _) => {
+                return Err(format!(
+                    "{} is a folder where the run writes a file; move or rename it (it is not \
+                     deleted)",
+                    path.display()
+                ));
+            }
+            // Files, and links of any kind: the link goes, never its target.
+            (false, _) => std::fs::remove_file(&path),
         };
         removed.map_err(|e| io_err(&path, e))?;
     }

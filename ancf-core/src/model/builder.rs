@@ -802,11 +802,10 @@ impl Model {
         let (wire, wire_radius) = self.starting_wire(&self.initial_coordinates());
         contact.rods.iter().enumerate().find_map(|(i, rod)| {
             if rod.is_ground() {
-                let height = |p: &[f64; 3]| -> f64 {
-                    (0..3).map(|k| (p[k] - rod.center[k]) * rod.axis[k]).sum()
-                };
-                let p = *wire.iter().min_by(|a, b| height(a).total_cmp(&height(b)))?;
-                let depth = wire_radius - height(&p);
+                let p = *wire
+                    .iter()
+                    .min_by(|a, b| rod.height(a).total_cmp(&rod.height(b)))?;
+                let depth = wire_radius - rod.height(&p);
                 return (depth > 0.1 * wire_radius).then_some((i, depth, p));
             }
             // An endless rod: a segment far beyond the wire on both sides.

@@ -1107,6 +1107,12 @@ impl Model {
             .unwrap_or(&[])
     }
 
+    /// Support `i`'s spring when it carries a moment (a rotational or a
+    /// torsional spring).
+    pub fn moment_spring(&self, i: usize) -> Option<&spring::SpringAt> {
+        (self.springs().iter()).find(|s| s.support == i && s.carries_moment())
+    }
+
     /// The elastic supports' energy at coordinates `q` (J), which counts as
     /// strain energy.
     pub fn spring_energy(&self, q: &[f64]) -> f64 {

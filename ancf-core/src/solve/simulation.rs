@@ -192,6 +192,18 @@ fn moment_supports(model: &Model) -> usize {
     }
 }
 
+/// Each support's springs' moment at coordinates `q` and time `t` (s) onto
+/// its history (zero for a support without such springs; none kept when
+/// `histories` is empty).
+fn push_support_moments(model: &Model, q: &[f64], t: f64, histories: &mut [LoadHistory]) {
+    for (i, history) in histories.iter_mut().enumerate() {
+        let m = model
+            .moment_spring(i)
+            .map_or([0.0; 3], |s| s.moment_on_body(q));
+        history.push(t, m);
+    }
+}
+
 /// A running dynamic simulation.
 pub struct Simulation {
     /// Newton iterations per load step of the initial static equilibrium
@@ -256,12 +268,7 @@ impl Simulation {
         let members = model.contact().map_or(0, |c| c.members.len());
         // The springs' moments start with the initial state's (t = 0).
         let mut support_moments = vec![LoadHistory::default(); moment_supports(model)];
-        let springs = model.springs();
-        for (i, history) in support_moments.iter_mut().enumerate() {
-            let m = (springs.iter().find(|s| s.support == i))
-                .map_or([0.0; 3], |s| s.moment_on_body(&state.q));
-            history.push(0.0, m);
-        }
+        push_support_moments(model, &state.q, 0.0, &mut support_moments);
         Ok(Simulation {
             static_iterations,
             steps: Self::step_count(&settings),
@@ -562,14 +569,8 @@ impl Simulation {
         for (history, force) in p.support_loads.iter_mut().zip(&info.reactions) {
             history.push(p.state.time, *force);
         }
-        if !p.support_moments.is_empty() {
-            let springs = self.integrator.model.springs();
-            for (i, history) in p.support_moments.iter_mut().enumerate() {
-                let m = (springs.iter().find(|s| s.support == i))
-                    .map_or([0.0; 3], |s| s.moment_on_body(&p.state.q));
-                history.push(p.state.time, m);
-            }
-        }
+        let model = &self.integrator.model;
+        push_support_moments(model, &p.state.q, p.state.time, &mut p.support_moments);
         if let Some(record) = p.contact.as_mut() {
             record.push(p.state.time, &info.contact, info.deepest);
         }

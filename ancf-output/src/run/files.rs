@@ -399,9 +399,8 @@ fn write_supports(
 ) -> std::io::Result<()> {
     let loads = supports.loads;
     // The supports whose springs carry a moment: their `s{i}_m…` columns.
-    let springs = model.springs();
     let moments: Vec<usize> = (0..supports.moments.len())
-        .filter(|&i| springs.iter().any(|s| s.support == i && s.carries_moment()))
+        .filter(|&i| model.moment_spring(i).is_some())
         .collect();
     let mut s = String::from("time");
     for i in 0..loads.len() {

@@ -17,15 +17,12 @@ pub fn static_supports(
     reactions: &[(usize, [f64; 3])],
     q: &[f64],
 ) -> Vec<SupportSummary> {
-    let springs = model.springs();
     reactions
         .iter()
         .enumerate()
         .map(|(i, (node, f))| {
             let (beam, node) = beam_and_node(model, *node);
-            let moment = (springs.iter().find(|s| s.support == i))
-                .filter(|s| s.carries_moment())
-                .map(|s| norm(s.moment_on_body(q)));
+            let moment = model.moment_spring(i).map(|s| norm(s.moment_on_body(q)));
             SupportSummary {
                 beam,
                 node,
@@ -41,9 +38,8 @@ pub fn static_supports(
 /// largest moment over `moments` (the simulation's histories, empty when no
 /// support carries one).
 pub fn add_peak_moments(model: &Model, supports: &mut [SupportSummary], moments: &[LoadHistory]) {
-    let springs = model.springs();
     for (i, (summary, h)) in supports.iter_mut().zip(moments).enumerate() {
-        if !springs.iter().any(|s| s.support == i && s.carries_moment()) {
+        if model.moment_spring(i).is_none() {
             continue;
         }
         let peak = (h.time.iter().zip(&h.force))

@@ -177,23 +177,13 @@ impl ContactEvaluator {
         let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0 + margin;
         if rod.is_ground() {
             // A plane: the signed distance of the sphere, then of the samples.
-            let height = |p: &[f64; 3]| {
-                dot(
-                    [
-                        p[0] - rod.center[0],
-                        p[1] - rod.center[1],
-                        p[2] - rod.center[2],
-                    ],
-                    rod.axis,
-                )
-            };
-            if height(&centre) > reach + radius {
+            if rod.height(&centre) > reach + radius {
                 return false;
             }
             return geometry.broad_phase.iter().any(|s| {
                 let p: [f64; 3] =
                     std::array::from_fn(|c| (0..8).map(|i| s[i] * e[3 * i + c]).sum());
-                height(&p) < reach
+                rod.height(&p) < reach
             });
         }
         // First the sphere holding the centerline: if even that is out of

@@ -103,8 +103,7 @@ impl GapFunction for RodGap<'_> {
             // A plane: the signed distance less the wire's radius, a cubic
             // in ξ (not squared: its sign is the side).
             let n = self.rod.axis;
-            let rel: [f64; 3] = std::array::from_fn(|c| r[c] - self.rod.center[c]);
-            return [dot(rel, n) - self.reach, dot(r1, n), dot(r2, n)];
+            return [self.rod.height(&r) - self.reach, dot(r1, n), dot(r2, n)];
         }
         let (w, inside) = axis_offset(self.rod, &r, true).expect("caps always give an offset");
         // ∂w/∂ξ = Π r′ with Π = I − d dᵀ inside the rod's length, I on a cap.

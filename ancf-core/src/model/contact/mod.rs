@@ -297,6 +297,13 @@ impl Rod {
         self.shape == RigidShape::Plane
     }
 
+    /// A plane's signed distance to `p` (m): along its normal from its
+    /// point, negative below it.
+    pub fn height(&self, p: &[f64; 3]) -> f64 {
+        let rel = std::array::from_fn(|k| p[k] - self.center[k]);
+        crate::math::vec3::dot(rel, self.axis)
+    }
+
     /// Whether the rod can be built: a finite centre, a non-zero axis,
     /// radius, length and stiffness > 0, friction μ ≥ 0 and restitution in
     /// (0, 1].

@@ -319,7 +319,7 @@ impl Material {
                 return refuse(
                     "yield_stress",
                     "a Mooney–Rivlin material does not yield: yield_stress is for steel and \
-                     aluminium (st-venant-kirchhoff)",
+                     aluminium (st-venant-kirchhoff, elastic-plastic)",
                 );
             }
         }
@@ -340,6 +340,50 @@ impl Material {
                         "bending_factor",
                         format!("ω must lie in [0, 1], got {omega}"),
                     );
+                }
+            }
+            MaterialModel::ElasticPlastic {
+                youngs_modulus,
+                poisson_ratio,
+                hardening_modulus,
+                rate,
+                ..
+            } => {
+                positive("youngs_modulus", youngs_modulus)?;
+                let nu = finite("poisson_ratio", poisson_ratio)?;
+                if !(nu > -1.0 && nu < 0.5) {
+                    return refuse("poisson_ratio", format!("must lie in (−1, 0.5), got {nu}"));
+                }
+                if self.locking == Locking::None {
+                    return refuse(
+                        "locking",
+                        "an elastic-plastic layer needs the centerline split (its beam stresses \
+                         yield, its transverse stresses stay elastic on the section's diagonal \
+                         law): leave locking at its default",
+                    );
+                }
+                let Some(fy) = self.yield_stress else {
+                    return refuse(
+                        "yield_stress",
+                        "an elastic-plastic material needs its yield stress (Pa)",
+                    );
+                };
+                let h = finite("hardening_modulus", hardening_modulus)?;
+                if !(0.0..youngs_modulus).contains(&h) {
+                    return refuse(
+                        "hardening_modulus",
+                        format!("must lie in [0, E) = [0, {youngs_modulus:e}) Pa, got {h}"),
+                    );
+                }
+                if fy >= youngs_modulus {
+                    return refuse(
+                        "yield_stress",
+                        format!("must be below Young's modulus {youngs_modulus:e} Pa, got {fy}"),
+                    );
+                }
+                if let Some(r) = rate {
+                    positive("rate.d", r.d)?;
+                    positive("rate.q", r.q)?;
                 }
             }
             MaterialModel::MooneyRivlin {
@@ -366,7 +410,61 @@ impl Material {
 
     /// How this layer integrates its energy (see [`MaterialModel::layer_laws`]).
     pub fn layer_laws(&self) -> LayerLaws {
-        self.model.layer_laws(self.locking)
+        let mut laws = self.model.layer_laws(self.locking);
+        laws.plastic = self.plasticity();
+        laws
+    }
+
+    /// The beam plasticity of an elastic–plastic material (`None` for the
+    /// others, and for one without its yield stress, which `check` refuses).
+    pub fn plasticity(&self) -> Option<beam_plasticity::BeamPlasticity> {
+        match self.model {
+            MaterialModel::ElasticPlastic {
+                youngs_modulus,
+                poisson_ratio,
+                hardening_modulus,
+                hardening,
+                rate,
+            } => Some(beam_plasticity::BeamPlasticity {
+                youngs_modulus,
+                shear_modulus: lame(youngs_modulus, poisson_ratio).1,
+                yield_stress: self.yield_stress?,
+                hardening_modulus,
+                hardening,
+                rate,
+            }),
+            _ => None,
+        }
+    }
+
+    /// Elastic–plastic (beam-type J2 in the beam stresses): density (kg/m³),
+    /// Young's modulus E (Pa), Poisson's ratio, yield stress f_y (Pa) and
+    /// linear hardening modulus H (Pa, 0: perfectly plastic), kinematic;
+    /// rate-independent.
+    pub fn elastic_plastic(
+        density: f64,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        yield_stress: f64,
+        hardening_modulus: f64,
+    ) -> Self {
+        Material {
+            density,
+            model: MaterialModel::ElasticPlastic {
+                youngs_modulus,
+                poisson_ratio,
+                hardening_modulus,
+                hardening: Default::default(),
+                rate: None,
+            },
+            locking: Default::default(),
+            yield_stress: Some(yield_stress),
+        }
+    }
+
+    /// Whether its beam stresses yield (an elastic–plastic material).
+    pub fn is_plastic(&self) -> bool {
+        matches!(self.model, MaterialModel::ElasticPlastic { .. })
     }
 }
 
@@ -394,6 +492,23 @@ pub enum MaterialModel {
         /// κ (dimensionless).
         penalty: f64,
     },
+    /// St. Venant–Kirchhoff's elasticity (ω = 1) whose beam stresses yield
+    /// at the material's `yield_stress` (beam-type J2, see
+    /// [`beam_plasticity`]): Young's modulus (Pa), Poisson's ratio, the
+    /// linear hardening modulus H (Pa, 0: perfectly plastic), how it acts,
+    /// and the rate law.
+    ElasticPlastic {
+        /// E (Pa).
+        youngs_modulus: f64,
+        /// ν.
+        poisson_ratio: f64,
+        /// H (Pa).
+        hardening_modulus: f64,
+        /// Kinematic or isotropic.
+        hardening: beam_plasticity::Hardening,
+        /// Cowper–Symonds (`None`: rate-independent).
+        rate: Option<beam_plasticity::CowperSymonds>,
+    },
 }
 
 /// How one layer's energy is integrated: a law over the section points and,
@@ -405,6 +520,9 @@ pub struct LayerLaws {
     pub section: Law,
     /// The law integrated on the centerline (weighted by the layer's area), if any.
     pub centerline: Option<Law>,
+    /// The plasticity of the section points' beam stresses (`section` is
+    /// then their elastic law, which the transverse stresses keep), if any.
+    pub plastic: Option<beam_plasticity::BeamPlasticity>,
 }
 
 impl MaterialModel {
@@ -414,6 +532,11 @@ impl MaterialModel {
     pub fn elastic_constants(&self) -> (f64, f64) {
         match *self {
             MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                ..
+            }
+            | MaterialModel::ElasticPlastic {
                 youngs_modulus,
                 poisson_ratio,
                 ..
@@ -428,6 +551,20 @@ impl MaterialModel {
     /// treatment is described at [`Locking`]. A layer needing no centerline
     /// term (ω = 1 and no remainder) gets none.
     pub fn layer_laws(&self, locking: Locking) -> LayerLaws {
+        if let MaterialModel::ElasticPlastic {
+            youngs_modulus,
+            poisson_ratio,
+            ..
+        } = *self
+        {
+            // Its elasticity is St. Venant–Kirchhoff's, split alike.
+            let svk = MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                bending_factor: 1.0,
+            };
+            return svk.layer_laws(locking);
+        }
         let (mut section, mut centerline) = match (*self, locking) {
             (
                 MaterialModel::StVenantKirchhoff {
@@ -471,6 +608,7 @@ impl MaterialModel {
                 return LayerLaws {
                     section: Law::mooney_rivlin(mu10, mu01, penalty),
                     centerline: None,
+                    plastic: None,
                 };
             }
             (
@@ -488,11 +626,15 @@ impl MaterialModel {
                         Box::new(Law::mooney_rivlin(mu10, mu01, penalty)),
                         Box::new(svk),
                     )),
+                    plastic: None,
                 };
+            }
+            (MaterialModel::ElasticPlastic { .. }, _) => {
+                unreachable!("elastic-plastic returned above")
             }
         };
         let MaterialModel::StVenantKirchhoff { bending_factor, .. } = *self else {
-            unreachable!()
+            unreachable!("Mooney–Rivlin and elastic–plastic returned above")
         };
         if bending_factor != 1.0 {
             let axial = section[(0, 0)];
@@ -507,13 +649,15 @@ impl MaterialModel {
         LayerLaws {
             section: Law::Linear(section),
             centerline,
+            plastic: None,
         }
     }
 
     /// Small-strain Young's modulus (Pa): E for SVK, 6(μ10 + μ01) for Mooney–Rivlin.
     pub fn small_strain_youngs_modulus(&self) -> f64 {
         match *self {
-            MaterialModel::StVenantKirchhoff { youngs_modulus, .. } => youngs_modulus,
+            MaterialModel::StVenantKirchhoff { youngs_modulus, .. }
+            | MaterialModel::ElasticPlastic { youngs_modulus, .. } => youngs_modulus,
             MaterialModel::MooneyRivlin { mu10, mu01, .. } => 6.0 * (mu10 + mu01),
         }
     }
@@ -523,6 +667,11 @@ impl MaterialModel {
     pub fn small_strain_shear_modulus(&self) -> f64 {
         match *self {
             MaterialModel::StVenantKirchhoff {
+                youngs_modulus,
+                poisson_ratio,
+                ..
+            }
+            | MaterialModel::ElasticPlastic {
                 youngs_modulus,
                 poisson_ratio,
                 ..

@@ -68,7 +68,8 @@ pub fn material_warnings(field: &str, material: &Material) -> Vec<String> {
         "solids (kg/m³, foam to osmium)",
     );
     match material.model {
-        MaterialModel::StVenantKirchhoff { youngs_modulus, .. } => outside(
+        MaterialModel::StVenantKirchhoff { youngs_modulus, .. }
+        | MaterialModel::ElasticPlastic { youngs_modulus, .. } => outside(
             "youngs_modulus",
             youngs_modulus,
             &SVK_YOUNGS_MODULUS,

@@ -272,3 +272,67 @@ fn a_tube_and_a_solid_circle_follow_the_elastic_perfectly_plastic_moment_curvatu
         }
     }
 }
+
+/// The incremental potential's derivative in the strain is the stress the
+/// return map gives (the variational structure the static line search
+/// relies on), for perfect plasticity and both hardenings.
+#[test]
+fn the_incremental_potential_derives_to_the_stress() {
+    let old_path = [[3e-3, 1e-3, -5e-4]];
+    let strain = [4e-3, 2e-3, -1e-3];
+    for (h, hardening) in [
+        (0.0, Hardening::Kinematic),
+        (E / 50.0, Hardening::Kinematic),
+        (E / 50.0, Hardening::Isotropic),
+    ] {
+        let l = law(h, hardening);
+        let old = follow(&l, &old_path, None)[0].state;
+        let psi = |e: [f64; 3]| l.incremental_energy(e, &old, &l.respond(e, &old, None).state);
+        let r = l.respond(strain, &old, None);
+        assert!(r.yielding);
+        let step = 1e-8;
+        for m in 0..3 {
+            let (mut ep, mut em) = (strain, strain);
+            ep[m] += step;
+            em[m] -= step;
+            let fd = (psi(ep) - psi(em)) / (2.0 * step);
+            assert!(
+                (fd - r.stress[m]).abs() < 1e-6 * FY,
+                "H = {h:e} {hardening:?}: ∂ψ/∂ε{m} = {fd:e}, σ = {:e}",
+                r.stress[m]
+            );
+        }
+    }
+}
+
+/// Along a cyclic path the stresses' trapezoid work equals the change of
+/// the stored energy plus the plastic work, step by step.
+#[test]
+fn stored_energy_and_plastic_work_balance_the_stress_work() {
+    let path: Vec<[f64; 3]> = (1..=600)
+        .map(|k| {
+            let t = k as f64 / 600.0 * 4.0 * std::f64::consts::PI;
+            [4e-3 * t.sin(), 2e-3 * (0.7 * t).sin(), -1e-3 * t.cos()]
+        })
+        .collect();
+    for hardening in [Hardening::Kinematic, Hardening::Isotropic] {
+        let l = law(E / 80.0, hardening);
+        let mut state = PlasticState::default();
+        let mut before = [0.0; 3];
+        let (mut work, mut dissipated) = (0.0, 0.0);
+        for &e in &path {
+            let next = l.respond(e, &state, None).state;
+            work += (0..3)
+                .map(|i| 0.5 * (state.stress[i] + next.stress[i]) * (e[i] - before[i]))
+                .sum::<f64>();
+            dissipated += l.plastic_work(&state, &next);
+            (state, before) = (next, e);
+        }
+        let stored = l.incremental_energy(before, &state, &state);
+        assert!(dissipated > 0.0);
+        assert!(
+            (work - stored - dissipated).abs() < 1e-9 * work.abs(),
+            "{hardening:?}: work {work:e}, stored {stored:e} + plastic {dissipated:e}"
+        );
+    }
+}

@@ -247,6 +247,8 @@ fn predictor_is_exact_for_constant_and_stiff_parts() {
             dissipated: 0.0,
             previous: Some(PreviousStep { h: 1e-3, a: a_prev }),
             contact_events: Vec::new(),
+            plastic: Vec::new(),
+            plastic_work: Vec::new(),
         };
         let a1 = predict(&model, &state, 1e-3, rho);
         for i in 0..n {

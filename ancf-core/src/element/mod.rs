@@ -26,7 +26,9 @@ pub type ElementMatrix = [f64; 576];
 pub(crate) type ElementKernelFn =
     fn(&ElementIntegration, &ElementVector, &mut ElementVector, Option<&mut ElementMatrix>) -> f64;
 
+mod plastic;
 pub(crate) mod preintegration;
+pub use plastic::{PlasticGroup, PlasticInput, PlasticStep};
 
 mod generated {
     include!(concat!(env!("OUT_DIR"), "/generated_kernels.rs"));
@@ -137,21 +139,35 @@ pub(crate) fn point_kernel_generic(
 ) -> f64 {
     let f = deformation_gradient(e, g);
     let eps = green_lagrange(&f);
-    let b = strain_matrix(&f, g);
-    let (sigma, tangent) = match k {
-        Some(_) => {
+    match k {
+        Some(k) => {
             let st = law.stress_tangent(&eps);
-            (st.stress, Some(st.tangent))
+            add_point_stress(&f, g, w, &st.stress, Some((&st.tangent, k)), q);
         }
-        None => (law.stress(&eps), None),
-    };
+        None => add_point_stress(&f, g, w, &law.stress(&eps), None, q),
+    }
+    w * law.energy(&eps)
+}
+
+/// A point's share of the force, w Bᵀσ, added to `q`, and with a tangent D
+/// its share of the Jacobian, w (BᵀDB + geometric part), added to the
+/// matrix beside it: what every law's point adds once it has its stress.
+pub(crate) fn add_point_stress(
+    f: &[[f64; 3]; 3],
+    g: &[[f64; 3]; 8],
+    w: f64,
+    sigma: &Vector6<f64>,
+    tangent: Option<(&nalgebra::Matrix6<f64>, &mut ElementMatrix)>,
+    q: &mut ElementVector,
+) {
+    let b = strain_matrix(f, g);
     let force = b.transpose() * sigma;
     for (qi, fi) in q.iter_mut().zip(force.iter()) {
         *qi += w * fi;
     }
-    if let (Some(k), Some(d)) = (k, tangent) {
+    if let Some((d, k)) = tangent {
         let kmat = b.transpose() * d * b;
-        let s = crate::material::tensor_from_stress(&sigma);
+        let s = crate::material::tensor_from_stress(sigma);
         for r in 0..24 {
             for c in 0..24 {
                 let (i, kk, j, m) = (r / 3, r % 3, c / 3, c % 3);
@@ -167,7 +183,6 @@ pub(crate) fn point_kernel_generic(
             }
         }
     }
-    w * law.energy(&eps)
 }
 
 /// Which element kernel a model runs: reported, never silent.
@@ -247,12 +262,16 @@ pub struct IntegrationPlan {
     pub groups: Vec<PointGroup>,
     /// Centerline laws with their weights (m²).
     pub centerline: Vec<(Law, f64)>,
+    /// The layers whose beam stresses yield, point by point with their
+    /// history (see `plastic.rs`).
+    pub plastic: Vec<PlasticGroup>,
 }
 
 impl IntegrationPlan {
     /// The plan for `section`: linear laws pre-integrated, the rest by points.
     pub fn new(section: &Section) -> Self {
         let mut groups: Vec<PointGroup> = Vec::new();
+        let mut plastic = Vec::new();
         // Proportional linear circular layers: (D̂, pieces (r1, r2, c)).
         let mut merged: Vec<(nalgebra::Matrix6<f64>, Vec<RadialPiece>)> = Vec::new();
         let radii = match &section.shape {
@@ -260,6 +279,14 @@ impl IntegrationPlan {
             _ => None,
         };
         for (i, layer) in section.layers.iter().enumerate() {
+            if let Some(law) = layer.laws.plastic {
+                plastic.push(PlasticGroup {
+                    points: layer.points.clone(),
+                    law,
+                    elastic: layer.laws.section.clone(),
+                });
+                continue;
+            }
             match (&layer.laws.section, radii) {
                 (Law::Linear(d), Some(radii)) => {
                     let (r1, r2) = radii[i];
@@ -319,6 +346,7 @@ impl IntegrationPlan {
             preintegrated: any.then_some(pre),
             groups,
             centerline,
+            plastic,
         }
     }
 
@@ -333,9 +361,16 @@ impl IntegrationPlan {
         self.is_preintegrated() && self.points() == 0
     }
 
-    /// Points per axial station.
+    /// Points per axial station (the yielding layers' included).
     pub fn points(&self) -> usize {
-        self.groups.iter().map(|g| g.points.len()).sum::<usize>() + self.centerline.len()
+        self.groups.iter().map(|g| g.points.len()).sum::<usize>()
+            + self.plastic.iter().map(|g| g.points.len()).sum::<usize>()
+            + self.centerline.len()
+    }
+
+    /// Whether a layer yields (its points carry a history).
+    pub fn is_plastic(&self) -> bool {
+        !self.plastic.is_empty()
     }
 }
 
@@ -376,16 +411,33 @@ impl ElementIntegration {
     }
 
     /// Elastic force (added to `q`), Jacobian (added to `k` when given) and
-    /// strain energy of one element with coordinates `e`.
+    /// strain energy of one element with coordinates `e`; a yielding layer
+    /// from its virgin state (see [`Self::evaluate_with`]).
     pub fn evaluate(
         &self,
         e: &ElementVector,
         q: &mut ElementVector,
         k: Option<&mut ElementMatrix>,
     ) -> f64 {
-        match self.kernel {
-            Some(kernel) => kernel(self, e, q, k),
-            None => self.evaluate_generic(e, q, k),
+        self.evaluate_with(e, PlasticInput::default(), q, k)
+    }
+
+    /// [`Self::evaluate`] with the yielding layers' points evaluated from
+    /// the history `plastic` (their stored energy is the elastic part).
+    pub fn evaluate_with(
+        &self,
+        e: &ElementVector,
+        plastic: PlasticInput<'_>,
+        q: &mut ElementVector,
+        mut k: Option<&mut ElementMatrix>,
+    ) -> f64 {
+        let u = match self.kernel {
+            Some(kernel) => kernel(self, e, q, k.as_deref_mut()),
+            None => self.evaluate_generic(e, q, k.as_deref_mut()),
+        };
+        match self.plan.is_plastic() {
+            true => u + self.add_plastic(e, plastic, q, k),
+            false => u,
         }
     }
 
@@ -508,21 +560,33 @@ impl ElementIntegration {
         mut k: Option<&mut ElementMatrix>,
     ) -> f64 {
         let mut energy = 0.0;
-        self.for_each_point(|g, w, law| {
-            energy += point_kernel_generic(e, g, w, law, q, k.as_deref_mut())
-        });
+        self.for_each_point_where(
+            |layer| layer.laws.plastic.is_none(),
+            |g, w, law| energy += point_kernel_generic(e, g, w, law, q, k.as_deref_mut()),
+        );
         energy
     }
 
     /// Visit every integration point with the shape gradients there, its
     /// weight (m³) and its law: the section points of each layer and, where a
     /// layer has one, its centerline point (weighted by the layer's area).
-    pub fn for_each_point(&self, mut visit: impl FnMut(&[[f64; 3]; 8], f64, &Law)) {
+    /// A yielding layer's section points are visited with its elastic law.
+    pub fn for_each_point(&self, visit: impl FnMut(&[[f64; 3]; 8], f64, &Law)) {
+        self.for_each_point_where(|_| true, visit);
+    }
+
+    /// [`Self::for_each_point`], the section points of the layers `take`
+    /// accepts only (every centerline point is visited).
+    fn for_each_point_where(
+        &self,
+        take: impl Fn(&crate::section::SectionLayer) -> bool,
+        mut visit: impl FnMut(&[[f64; 3]; 8], f64, &Law),
+    ) {
         let l = self.length;
         for (xi, wx) in self.axial.nodes.iter().zip(&self.axial.weights) {
             let wx = wx * l;
             for layer in &self.section.layers {
-                for p in &layer.points {
+                for p in layer.points.iter().filter(|_| take(layer)) {
                     visit(
                         &shape_gradients(*xi, p.y, p.z, l),
                         wx * p.weight,

@@ -3,6 +3,7 @@
 //! ([`pattern`]); each Newton iteration only refills values in place
 //! ([`assemble`]).
 
+use super::plastic::History;
 use crate::element::ElementVector;
 use crate::linalg::pattern::Pattern;
 use crate::model::{Model, NODE_DOFS};
@@ -46,6 +47,21 @@ pub fn assemble_into(
     force: &mut [f64],
     energy: &mut [f64],
 ) -> f64 {
+    let virgin = History::default();
+    assemble_into_with(model, pattern, q, virgin, jacobian, force, energy)
+}
+
+/// [`assemble_into`] with the yielding points evaluated from `plastic`
+/// (their stored energy is the elastic part).
+pub fn assemble_into_with(
+    model: &Model,
+    pattern: &Pattern,
+    q: &[f64],
+    plastic: History<'_>,
+    jacobian: Option<&mut [f64]>,
+    force: &mut [f64],
+    energy: &mut [f64],
+) -> f64 {
     force.fill(0.0);
     // Per-element energies, summed in element order at the end.
     energy.fill(0.0);
@@ -55,9 +71,10 @@ pub fn assemble_into(
             (v, 0)
         });
         let all = 0..model.n_elements;
-        add_whole_elements(model, pattern, q, all, 0, force, energy, values.as_mut());
+        let at = (q, plastic);
+        add_whole_elements(model, pattern, at, all, 0, force, energy, values.as_mut());
     } else {
-        assemble_chunks(model, pattern, q, force, energy, jacobian);
+        assemble_chunks(model, pattern, (q, plastic), force, energy, jacobian);
     }
     energy.iter().sum()
 }
@@ -73,7 +90,7 @@ pub fn assemble_into(
 fn add_whole_elements(
     model: &Model,
     pattern: &Pattern,
-    q: &[f64],
+    (q, plastic): (&[f64], History<'_>),
     els: Range<usize>,
     node0: usize,
     force: &mut [f64],
@@ -130,7 +147,7 @@ fn add_whole_elements(
             energy[el - e0] = add_element_window(
                 model,
                 pattern,
-                q,
+                (q, plastic),
                 el,
                 part,
                 node0,
@@ -173,9 +190,14 @@ fn add_lanes<const W: usize>(
 /// A group whose energies are worth it is split in halves
 /// (`per_element_in_halves`): the same bits.
 pub fn strain_energy(model: &Model, q: &[f64]) -> f64 {
+    strain_energy_with(model, q, History::default())
+}
+
+/// [`strain_energy`] with the yielding points' elastic energy from `plastic`.
+pub fn strain_energy_with(model: &Model, q: &[f64], plastic: History<'_>) -> f64 {
     let mut energy = vec![0.0; model.n_elements];
     per_element_in_halves(model, &mut energy, |group, els, out| {
-        group_energies(model, group, q, els, out)
+        group_energies(model, group, (q, plastic), els, out)
     });
     energy.iter().sum()
 }
@@ -211,7 +233,7 @@ pub(crate) fn per_element_in_halves<T: Send>(
 fn group_energies(
     model: &Model,
     group: &crate::model::ElementGroup,
-    q: &[f64],
+    (q, plastic): (&[f64], History<'_>),
     els: Range<usize>,
     out: &mut [f64],
 ) {
@@ -232,7 +254,9 @@ fn group_energies(
         first += 4;
     }
     for el in first..end {
-        out[at(el)] = group.integration.energy(&model.element_coordinates(q, el));
+        let e = model.element_coordinates(q, el);
+        let input = plastic.element(el);
+        out[at(el)] = (group.integration).evaluate_with(&e, input, &mut [0.0; 24], None);
     }
 }
 
@@ -355,7 +379,7 @@ impl Part {
 fn assemble_chunks(
     model: &Model,
     pattern: &Pattern,
-    q: &[f64],
+    at: (&[f64], History<'_>),
     force: &mut [f64],
     energy: &mut [f64],
     values: Option<&mut [f64]>,
@@ -408,13 +432,13 @@ fn assemble_chunks(
         let (node0, el0) = (c.nodes.start, c.interior.start);
         // Window-relative: force rows from our first node on.
         if let Some(b) = c.lead {
-            add_element_window(model, pattern, q, b, Part::SecondNode, node0, f, v.as_mut());
+            add_element_window(model, pattern, at, b, Part::SecondNode, node0, f, v.as_mut());
         }
         let interior = c.interior.clone();
-        add_whole_elements(model, pattern, q, interior, node0, f, e, v.as_mut());
+        add_whole_elements(model, pattern, at, interior, node0, f, e, v.as_mut());
         if let Some(b) = c.trail {
             let part = Part::FirstNode;
-            e[b - el0] = add_element_window(model, pattern, q, b, part, node0, f, v.as_mut());
+            e[b - el0] = add_element_window(model, pattern, at, b, part, node0, f, v.as_mut());
         }
     });
 }
@@ -434,7 +458,7 @@ type ChunkTask<'c, 'w> = (
 fn add_element_window(
     model: &Model,
     pattern: &Pattern,
-    q: &[f64],
+    (q, plastic): (&[f64], History<'_>),
     el: usize,
     part: Part,
     node0: usize,
@@ -446,16 +470,17 @@ fn add_element_window(
         return 0.0;
     }
     let e = model.element_coordinates(q, el);
+    let input = plastic.element(el);
     let mut qe = [0.0; 24];
     let local = part.local();
     let u = match values {
         Some((values, offset)) => {
             let mut ke = [0.0; 576];
-            let u = model.element(el).evaluate(&e, &mut qe, Some(&mut ke));
+            let u = (model.element(el)).evaluate_with(&e, input, &mut qe, Some(&mut ke));
             pattern.add_element_columns(values, *offset, el, &ke, local.clone());
             u
         }
-        None => model.element(el).evaluate(&e, &mut qe, None),
+        None => model.element(el).evaluate_with(&e, input, &mut qe, None),
     };
     let base = NODE_DOFS * (el - node0);
     for i in local {

@@ -6,4 +6,5 @@ pub mod assembly;
 pub mod contact;
 pub mod coupling;
 pub mod damping;
+pub mod plastic;
 pub mod sum;

@@ -20,12 +20,14 @@
 //! (overwritten), ∂(Q + Q_d)/∂v added to `kv`.
 
 use super::assembly::{
-    ContactForces, assemble, assemble_contact_reusing, assemble_into, mass_values, pattern,
-    strain_energy,
+    ContactForces, assemble, assemble_contact_reusing, assemble_into_with, mass_values, pattern,
+    strain_energy_with,
 };
 use super::contact::ContactEvaluator;
 use super::coupling::Coupling;
 use super::damping::{KelvinVoigtWork, kelvin_voigt_force_into};
+use super::plastic::{History, PlasticLayout};
+use crate::material::beam_plasticity::PlasticState;
 use crate::linalg::pattern::Pattern;
 use crate::model::damping::Damping;
 use crate::model::{Model, NODE_DOFS};
@@ -43,6 +45,11 @@ pub struct At<'a> {
     /// The (element, rod) pairs contact may visit (see
     /// [`super::assembly::contact_candidates`]); `None`: all.
     pub pairs: Option<&'a [usize]>,
+    /// The yielding points' states at the last accepted step (see
+    /// [`crate::forces::plastic::PlasticLayout`]); empty: virgin.
+    pub plastic: &'a [PlasticState],
+    /// The step being taken (s), for the rate law; `None`: statics.
+    pub dt: Option<f64>,
 }
 
 impl<'a> At<'a> {
@@ -53,6 +60,8 @@ impl<'a> At<'a> {
             v: None,
             events: &[],
             pairs: None,
+            plastic: &[],
+            dt: None,
         }
     }
 
@@ -63,6 +72,8 @@ impl<'a> At<'a> {
             v: Some(v),
             events: &[],
             pairs: None,
+            plastic: &[],
+            dt: None,
         }
     }
 }
@@ -114,6 +125,8 @@ pub struct ForceSum {
     /// evaluation ([`ForceSum::potentials_visiting`], once a step) reuses,
     /// instead of allocating and clearing a whole force vector each time.
     energy_buffer: std::sync::Mutex<(Vec<f64>, Vec<usize>)>,
+    /// Where the yielding points' states sit (empty without any).
+    plastic: PlasticLayout,
 }
 
 impl ForceSum {
@@ -149,6 +162,7 @@ impl ForceSum {
             damping: Vec::new(),
             damping_power: 0.0,
             energy_buffer: Default::default(),
+            plastic: PlasticLayout::of(model),
         }
     }
 
@@ -216,10 +230,11 @@ impl ForceSum {
         mut kq: Option<&mut [f64]>,
         mut kv: Option<&mut [f64]>,
     ) {
-        self.strain_energy = assemble_into(
+        self.strain_energy = assemble_into_with(
             model,
             &self.pattern,
             at.q,
+            History::of(&self.plastic, at.plastic, at.dt),
             kq.as_deref_mut(),
             &mut self.internal,
             &mut self.element_energy,
@@ -306,6 +321,17 @@ impl ForceSum {
         }
     }
 
+    /// Where the yielding points' states sit (empty without any).
+    pub fn plastic_layout(&self) -> &PlasticLayout {
+        &self.plastic
+    }
+
+    /// The history the forces read: `states` placed by the layout, over
+    /// a step `dt`.
+    pub fn history<'a>(&'a self, states: &'a [PlasticState], dt: Option<f64>) -> History<'a> {
+        History::of(&self.plastic, states, dt)
+    }
+
     /// Q = Q_e − Q_c of the last evaluation (all coordinates, N).
     pub fn internal(&self) -> &[f64] {
         &self.internal
@@ -342,22 +368,25 @@ impl ForceSum {
     /// The effects' potential energies at (q, v) (contact outside any
     /// event). Leaves the last evaluation's buffers alone.
     pub fn potentials(&self, model: &Model, q: &[f64], v: &[f64]) -> Potentials {
-        self.potentials_visiting(model, q, v, None)
+        self.potentials_visiting(model, q, v, None, &[])
     }
 
     /// [`ForceSum::potentials`] with the contact energy summed over the
     /// (element, rod) pairs `pairs` only (see
     /// [`crate::forces::assembly::contact_candidates`]; `None`: all pairs).
     /// With candidates that hold at `q`, the same sum: a pair outside them
-    /// cannot touch and adds nothing.
+    /// cannot touch and adds nothing. The yielding points' elastic energy is
+    /// taken from `plastic`, the states accepted at `q`.
     pub fn potentials_visiting(
         &self,
         model: &Model,
         q: &[f64],
         v: &[f64],
         pairs: Option<&[usize]>,
+        plastic: &[PlasticState],
     ) -> Potentials {
-        let strain = strain_energy(model, q) + model.spring_energy(q);
+        let history = self.history(plastic, None);
+        let strain = strain_energy_with(model, q, history) + model.spring_energy(q);
         let (gravity, loads) = model.external_potential(q);
         let contact = self.evaluator.as_ref().map_or(0.0, |c| {
             let mut kept = self.energy_buffer.lock().unwrap_or_else(|p| p.into_inner());

@@ -78,6 +78,10 @@ pub struct PlasticState {
     pub back_stress: [f64; 3],
     /// Equivalent plastic strain ē.
     pub equivalent: f64,
+    /// The stress (σ, τ₂, τ₃) it was left at, Pa: the start of the next
+    /// step's plastic-work trapezoid.
+    #[serde(default)]
+    pub stress: [f64; 3],
 }
 
 /// The response of a point to a strain.
@@ -97,6 +101,50 @@ pub struct PointResponse {
 const W: [f64; 3] = [1.0, 3.0, 3.0];
 
 impl BeamPlasticity {
+    /// The incremental potential ψ (J/m³) of a step from `old` that the
+    /// return map took to `new` at `strain`: the elastic energy
+    /// ½ Σ C_i (ε_i − ε_i^p)², the kinematic hardening's stored energy
+    /// ½ H_kin Σ (ε_i^p)² / w_i, and the work of the yield stress over the
+    /// step, (f_y + H_iso ē) Δē + ½ H_iso Δē² (rate-independent part). The
+    /// return map minimizes it over the plastic strain, so its derivative
+    /// in the strain is the stress (Ortiz & Stainier's variational
+    /// update): the static solver's line search descends on it. At a
+    /// state the step left (Δē = 0) it is the stored energy.
+    pub fn incremental_energy(&self, strain: [f64; 3], old: &PlasticState, new: &PlasticState) -> f64 {
+        let c = self.moduli();
+        let (h_iso, h_kin) = self.split();
+        let elastic: f64 = (0..3)
+            .map(|i| 0.5 * c[i] * (strain[i] - new.plastic_strain[i]).powi(2))
+            .sum();
+        let dl = new.equivalent - old.equivalent;
+        let yield_work = (self.yield_stress + h_iso * old.equivalent) * dl + 0.5 * h_iso * dl * dl;
+        elastic + self.kinematic_energy(new) + yield_work
+    }
+
+    /// The kinematic hardening's stored energy ½ H_kin Σ (ε_i^p)² / w_i
+    /// (J/m³): the back stress is α_i = H_kin ε_i^p / w_i.
+    fn kinematic_energy(&self, state: &PlasticState) -> f64 {
+        let (_, h_kin) = self.split();
+        (0..3)
+            .map(|i| 0.5 * h_kin * state.plastic_strain[i].powi(2) / W[i])
+            .sum()
+    }
+
+    /// The work density dissipated by the step from `old` to `new`
+    /// (J/m³): the trapezoid ½ (σ_old + σ_new) · Δε^p less what the
+    /// kinematic hardening stored, so that the stored energy
+    /// ([`Self::incremental_energy`] at Δē = 0) and this balance the
+    /// stresses' trapezoid work ½ (σ_old + σ_new) · Δε.
+    pub fn plastic_work(&self, old: &PlasticState, new: &PlasticState) -> f64 {
+        let trapezoid: f64 = (0..3)
+            .map(|i| {
+                0.5 * (old.stress[i] + new.stress[i])
+                    * (new.plastic_strain[i] - old.plastic_strain[i])
+            })
+            .sum();
+        trapezoid - (self.kinematic_energy(new) - self.kinematic_energy(old))
+    }
+
     fn moduli(&self) -> [f64; 3] {
         [self.youngs_modulus, self.shear_modulus, self.shear_modulus]
     }
@@ -145,7 +193,7 @@ impl BeamPlasticity {
             return PointResponse {
                 stress,
                 tangent,
-                state: *old,
+                state: PlasticState { stress, ..*old },
                 yielding: false,
             };
         }
@@ -209,6 +257,7 @@ impl BeamPlasticity {
         }
         state.equivalent += dl;
         let stress: [f64; 3] = std::array::from_fn(|i| xi[i] + state.back_stress[i]);
+        state.stress = stress;
         // Consistent tangent: the equations F_i = ξ_i − t_i + k_i Δλ ξ_i / q
         // = 0 and G = q − Y(Δλ) = 0 in (ξ, Δλ), with ∂t_i/∂ε_j = C_i δ_ij.
         let mut j = [[0.0; 4]; 4];

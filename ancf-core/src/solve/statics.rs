@@ -1,7 +1,9 @@
 //! Static equilibrium Q_e(q) = λ Q_ext by Newton–Raphson with load
 //! increments and a backtracking line search (SPEC §5).
 
+use crate::forces::plastic::{History, plastic_step};
 use crate::forces::sum::{At, ForceSum};
+use crate::material::beam_plasticity::PlasticState;
 use crate::linalg::linear_solver::SparseSolver;
 use crate::model::Model;
 use crate::solve::cancel::CancelToken;
@@ -57,6 +59,13 @@ pub struct StaticResult {
     /// The contact at equilibrium (`None` without rods): each rod's force,
     /// the normal force and penetration, the deepest point.
     pub contact: Option<crate::forces::assembly::ContactForces>,
+    /// The yielding points' states at equilibrium (see
+    /// [`crate::forces::plastic::PlasticLayout`]); empty without a yielding
+    /// layer.
+    pub plastic: Vec<PlasticState>,
+    /// Plastic work per beam over the load path (J); empty without a
+    /// yielding layer.
+    pub plastic_work: Vec<f64>,
 }
 
 /// A static solve that did not converge.
@@ -102,10 +111,14 @@ fn norm(v: &[f64]) -> f64 {
 fn residual(
     model: &Model,
     forces: &mut ForceSum,
-    q: &[f64],
+    (q, plastic): (&[f64], &[PlasticState]),
     k: Option<&mut [f64]>,
 ) -> (Vec<f64>, f64, f64) {
-    forces.evaluate(model, At::rest(q), k, None);
+    let at = At {
+        plastic,
+        ..At::rest(q)
+    };
+    forces.evaluate(model, at, k, None);
     let (internal, ext) = (forces.internal(), forces.external());
     let full: Vec<f64> = internal.iter().zip(ext).map(|(a, b)| a - b).collect();
     let r = model.gather(&full);
@@ -126,7 +139,7 @@ fn newton(
     model: &Model,
     forces: &mut ForceSum,
     solver: &mut SparseSolver,
-    q: &mut Vec<f64>,
+    (q, plastic): (&mut Vec<f64>, &[PlasticState]),
     settings: &StaticSettings,
     roundoff: &[f64],
     cancel: Option<&CancelToken>,
@@ -137,7 +150,7 @@ fn newton(
             return Err("stopped".into());
         }
         let mut kv = forces.pattern().zeros();
-        let (r, scale, u) = residual(model, forces, q, Some(&mut kv));
+        let (r, scale, u) = residual(model, forces, (q, plastic), Some(&mut kv));
         let rn = norm(&r);
         if !rn.is_finite() {
             return Err(
@@ -163,7 +176,9 @@ fn newton(
         // Backtracking line search on the total potential energy
         // Π = U − Q_extᵀ(q − q_ref): a full Newton step on a stiff beam can
         // raise ‖R‖ (a linearized rotation stretches r_x) while Π falls, so
-        // the residual norm alone is the wrong merit function here.
+        // the residual norm alone is the wrong merit function here. With
+        // yielding points U is the increment's potential (the return map's
+        // incremental energy), whose gradient is the force all the same.
         let pi0 = u - forces.external_work(model, q);
         let slope: f64 = r.iter().zip(&dq).map(|(a, b)| a * b).sum();
         let mut alpha = 1.0;
@@ -171,10 +186,10 @@ fn newton(
         for _ in 0..12 {
             trial.copy_from_slice(q);
             model.scatter_add(&dq, alpha, &mut trial);
-            let (rt, _, ut) = residual(model, forces, &trial, None);
+            let (rt, _, ut) = residual(model, forces, (&trial, plastic), None);
             let pit = ut - forces.external_work(model, &trial);
-            let ok_energy =
-                pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
+            let ok_energy = pit.is_finite()
+                && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
             if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {
                 break;
             }
@@ -206,6 +221,19 @@ pub fn solve_static_cancellable(
     q0: Vec<f64>,
     cancel: Option<&CancelToken>,
 ) -> Result<StaticResult, StaticError> {
+    solve_static_continuing(model, settings, (q0, Vec::new()), cancel)
+}
+
+/// [`solve_static_cancellable`] from coordinates and the yielding points'
+/// states a path already reached (`start.1`: a [`StaticResult::plastic`];
+/// empty: virgin): the load of `model` is applied from there, so an
+/// unloading or a second load case continues the plastic history.
+pub fn solve_static_continuing(
+    model: &Model,
+    settings: &StaticSettings,
+    (q0, plastic0): (Vec<f64>, Vec<PlasticState>),
+    cancel: Option<&CancelToken>,
+) -> Result<StaticResult, StaticError> {
     if let Some(message) = model.static_holding_error() {
         return Err(StaticError {
             message,
@@ -227,6 +255,24 @@ pub fn solve_static_cancellable(
     let base = 1.0 / settings.load_steps.max(1) as f64;
     let (mut lambda, mut dl) = (0.0f64, base);
     let mut energy = 0.0;
+    let layout = forces.plastic_layout().clone();
+    let mut plastic = match plastic0.len() {
+        0 => layout.virgin(),
+        n if n == layout.len() => plastic0,
+        n => {
+            return Err(StaticError {
+                message: format!(
+                    "the yielding points' states given are another model's ({n} states; this \
+                     model has {})",
+                    layout.len()
+                ),
+                last_converged: q,
+                iterations: vec![],
+                interrupted: false,
+            });
+        }
+    };
+    let mut plastic_work = vec![0.0; if layout.is_empty() { 0 } else { model.beams.len() }];
     while lambda < 1.0 {
         let target = (lambda + dl).min(1.0);
         forces.set_load_factor(model, target);
@@ -235,7 +281,7 @@ pub fn solve_static_cancellable(
             model,
             &mut forces,
             &mut solver,
-            &mut trial,
+            (&mut trial, &plastic),
             settings,
             &roundoff,
             cancel,
@@ -246,6 +292,16 @@ pub fn solve_static_cancellable(
                 lambda = target;
                 energy = u;
                 dl = (1.5 * dl).min(base);
+                if !layout.is_empty() {
+                    // The increment is accepted: its points keep their states.
+                    let history = History::of(&layout, &plastic, None);
+                    let mut next = Vec::new();
+                    let steps = plastic_step(model, &layout, &q, history, &mut next);
+                    plastic = next;
+                    for (w, step) in plastic_work.iter_mut().zip(&steps) {
+                        *w += step.work;
+                    }
+                }
             }
             Err(_) if cancel.is_some_and(CancelToken::is_cancelled) => {
                 return Err(StaticError {
@@ -263,9 +319,18 @@ pub fn solve_static_cancellable(
                 dl *= 0.5;
             }
             Err(msg) => {
+                let yielded = plastic.iter().any(|p| p.equivalent > 0.0);
+                let mechanism = match yielded {
+                    true => {
+                        "; the structure had yielded: past its collapse load a plastic \
+                         mechanism has no equilibrium (the load exceeds what the yielding \
+                         members carry)"
+                    }
+                    false => "",
+                };
                 return Err(StaticError {
                     message: format!(
-                        "static solve at load factor {target:.4} (last converged {lambda:.4}, increment {dl:.2e}): {msg}"
+                        "static solve at load factor {target:.4} (last converged {lambda:.4}, increment {dl:.2e}): {msg}{mechanism}"
                     ),
                     last_converged: q,
                     iterations,
@@ -276,7 +341,11 @@ pub fn solve_static_cancellable(
     }
     // Reactions: at equilibrium Q_e − Q_ext − Q_c is the support force on the held coordinates.
     forces.set_load_factor(model, 1.0);
-    forces.evaluate(model, At::rest(&q), None, None);
+    let at = At {
+        plastic: &plastic,
+        ..At::rest(&q)
+    };
+    forces.evaluate(model, at, None, None);
     let mut forces_on_body = Vec::new();
     let (qe, ext) = (forces.internal(), forces.external());
     support_forces(model, (&q, None), None, qe, ext, &mut forces_on_body);
@@ -288,5 +357,7 @@ pub fn solve_static_cancellable(
         iterations,
         strain_energy: energy,
         reactions,
+        plastic,
+        plastic_work,
     })
 }

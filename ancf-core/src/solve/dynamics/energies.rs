@@ -15,9 +15,18 @@ pub struct Energies {
     pub contact: f64,
     /// Dissipated by friction and damping since t = 0 (not part of `total`).
     pub dissipated: f64,
+    /// Plastic work since t = 0 (not part of `total`).
+    #[serde(default)]
+    pub plastic: f64,
 }
 
 impl Energies {
+    /// What the balance keeps: the mechanical energy plus what friction,
+    /// damping and plastic flow took out of it (J).
+    pub fn balance(&self) -> f64 {
+        self.total() + self.dissipated + self.plastic
+    }
+
     /// Mechanical energy: kinetic + strain + potentials + contact penalty.
     pub fn total(&self) -> f64 {
         self.kinetic + self.strain + self.gravity + self.loads + self.contact

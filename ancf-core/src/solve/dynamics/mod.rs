@@ -36,6 +36,8 @@ use crate::model::Model;
 use crate::solve::reactions::support_forces;
 use broyden::Broyden;
 use kept_rotation::KeptRotation;
+use crate::forces::plastic::plastic_step;
+use crate::material::beam_plasticity::PlasticState;
 use state::next_contact_events;
 use std::sync::Arc;
 use step_info::CutLog;
@@ -206,6 +208,8 @@ impl Integrator {
             dissipated: 0.0,
             previous: None,
             contact_events: Vec::new(),
+            plastic: Vec::new(),
+            plastic_work: Vec::new(),
         };
         self.set_energy_reference(&state);
         Ok(state)
@@ -308,7 +312,7 @@ impl Integrator {
     /// state carrying dissipation (a release phase).
     pub fn set_energy_reference(&mut self, s: &State) {
         let e = self.energies(s);
-        self.energy_start = e.total() + e.dissipated;
+        self.energy_start = e.balance();
         self.energy_scale = self.energy_scale.max(e.in_play());
     }
 
@@ -378,7 +382,7 @@ impl Integrator {
     fn energies_visiting(&self, s: &State, pairs: Option<&[usize]>) -> Energies {
         let p = self
             .forces
-            .potentials_visiting(&self.model, &s.q, &s.v, pairs);
+            .potentials_visiting(&self.model, &s.q, &s.v, pairs, &s.plastic);
         let mv = self.model.mass_times(&s.v);
         let kinetic = 0.5 * s.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
         Energies {
@@ -388,6 +392,7 @@ impl Integrator {
             loads: p.loads,
             contact: p.contact,
             dissipated: s.dissipated,
+            plastic: s.plastic_work.iter().sum(),
         }
     }
 
@@ -483,7 +488,7 @@ impl Integrator {
             let pairs = self.work.candidates_at(&self.model, &next.q, margin);
             let e1 = self.energies_visiting(&next, pairs);
             let scale = self.energy_scale.max(e1.in_play());
-            let gain = (e1.total() + e1.dissipated) - self.energy_start;
+            let gain = e1.balance() - self.energy_start;
             if !gain.is_finite() {
                 return Err(StepError::NonFiniteEnergy);
             }
@@ -516,6 +521,23 @@ impl Integrator {
                 cause: Box::new(e),
             }),
         }
+    }
+
+    /// The yielding points' states at the end `q1` of a step of `h` from
+    /// `s`, and the plastic work per beam since t = 0 (both empty without
+    /// a yielding layer).
+    fn plastic_step(&self, s: &State, q1: &[f64], h: f64) -> (Vec<PlasticState>, Vec<f64>) {
+        let layout = self.forces.plastic_layout();
+        if layout.is_empty() {
+            return (Vec::new(), Vec::new());
+        }
+        let history = self.forces.history(&s.plastic, Some(h));
+        let mut states = Vec::new();
+        let steps = plastic_step(&self.model, layout, q1, history, &mut states);
+        let work = (steps.iter().enumerate())
+            .map(|(b, step)| s.plastic_work.get(b).copied().unwrap_or(0.0) + step.work)
+            .collect();
+        (states, work)
     }
 
     /// Find the contact candidates for the step from `s` (see
@@ -579,6 +601,8 @@ impl Integrator {
             v: Some(vm),
             events: &s.contact_events,
             pairs,
+            plastic: &s.plastic,
+            dt: Some(h),
         };
         let with_jacobian = kq.is_some();
         let started = std::time::Instant::now();
@@ -715,9 +739,10 @@ impl Integrator {
                     }
                     _ => Vec::new(),
                 };
-                let (q1, v1) = AlphaParameters::coordinates(s, &a1)
+                let (q1, v1): (Vec<f64>, Vec<f64>) = AlphaParameters::coordinates(s, &a1)
                     .map(|(q, v, a, a1)| self.params.newmark(h, q, v, a, a1))
                     .unzip();
+                let (plastic, plastic_work) = self.plastic_step(s, &q1, h);
                 return Ok(State {
                     time: s.time + h,
                     q: q1,
@@ -726,6 +751,8 @@ impl Integrator {
                     dissipated,
                     previous: Some(PreviousStep { h, a: s.a.clone() }),
                     contact_events,
+                    plastic,
+                    plastic_work,
                 });
             }
             if evaluations >= max_evaluations || iterations >= self.settings.max_iterations {

@@ -30,6 +30,15 @@ pub struct State {
     /// which it does not.
     #[serde(default)]
     pub contact_events: Vec<f64>,
+    /// The yielding points' states (see
+    /// [`crate::forces::plastic::PlasticLayout`]); empty without a
+    /// yielding layer.
+    #[serde(default)]
+    pub plastic: Vec<crate::material::beam_plasticity::PlasticState>,
+    /// Plastic work since t = 0 per beam (J); empty without a yielding
+    /// layer.
+    #[serde(default)]
+    pub plastic_work: Vec<f64>,
 }
 
 /// The contact events after a step: `old` carried where the pair still

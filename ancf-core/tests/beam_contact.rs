@@ -58,6 +58,7 @@ fn force(sum: &mut ForceSum, model: &Model, q: &[f64], v: &[f64], events: &[f64]
         v: Some(v),
         events,
         pairs: None,
+        ..At::moving(q, v)
     };
     sum.evaluate(model, at, None, None);
     model.gather(sum.internal())
@@ -103,6 +104,7 @@ fn jacobians_match_differences(contact: BeamContact) {
         v: Some(&v),
         events: &events,
         pairs: None,
+        ..At::moving(&q, &v)
     };
     let (mut kq, mut kv) = (sum.pattern().zeros(), sum.pattern().zeros());
     sum.evaluate(&model, at, Some(&mut kq), Some(&mut kv));

@@ -66,6 +66,7 @@ fn total(sum: &mut ForceSum, model: &Model, q: &[f64], v: &[f64], events: &[f64]
         v: Some(v),
         events,
         pairs: None,
+        ..At::moving(q, v)
     };
     sum.evaluate(model, at, None, None);
     let mut f = model.gather(sum.internal());
@@ -87,6 +88,7 @@ fn jacobians_are_the_derivatives_of_the_sum() {
         v: Some(&v),
         events: &events,
         pairs: None,
+        ..At::moving(&q, &v)
     };
     let (mut kq, mut kv) = (sum.pattern().zeros(), sum.pattern().zeros());
     sum.evaluate(&model, at, Some(&mut kq), Some(&mut kv));

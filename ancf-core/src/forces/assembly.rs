@@ -1036,7 +1036,7 @@ mod tests {
             let mut f_chunked = vec![0.0; q.len()];
             let mut u = vec![0.0; n];
             let k = Some(&mut k_chunked[..]);
-            assemble_chunks(&model, &pattern, &q, &mut f_chunked, &mut u, k);
+            assemble_chunks(&model, &pattern, (&q, History::default()), &mut f_chunked, &mut u, k);
             let u_chunked: f64 = u.iter().sum();
             let mut k_serial = pattern.zeros();
             let mut f_serial = vec![0.0; q.len()];
@@ -1046,7 +1046,7 @@ mod tests {
                 let f = &mut f_serial;
                 let whole = Part::Whole;
                 u_serial[el] =
-                    add_element_window(&model, &pattern, &q, el, whole, 0, f, Some(&mut all));
+                    add_element_window(&model, &pattern, (&q, History::default()), el, whole, 0, f, Some(&mut all));
             }
             let same =
                 |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
@@ -1056,7 +1056,7 @@ mod tests {
             assert!(k_serial.iter().all(|v| v.is_finite()) && u_chunked > 0.0);
             // The force alone, in its own (larger) chunks.
             let mut f_alone = vec![0.0; q.len()];
-            assemble_chunks(&model, &pattern, &q, &mut f_alone, &mut u, None);
+            assemble_chunks(&model, &pattern, (&q, History::default()), &mut f_alone, &mut u, None);
             assert!(same(&f_alone, &f_serial), "n = {n}: force alone differs");
             assert_eq!(u.iter().sum::<f64>().to_bits(), u_chunked.to_bits());
             // The energy alone (the energy balance's) has the force-only

@@ -112,7 +112,7 @@ impl BeamPlasticity {
     /// state the step left (Δē = 0) it is the stored energy.
     pub fn incremental_energy(&self, strain: [f64; 3], old: &PlasticState, new: &PlasticState) -> f64 {
         let c = self.moduli();
-        let (h_iso, h_kin) = self.split();
+        let (h_iso, _) = self.split();
         let elastic: f64 = (0..3)
             .map(|i| 0.5 * c[i] * (strain[i] - new.plastic_strain[i]).powi(2))
             .sum();

@@ -65,6 +65,7 @@ fn the_schema_has_exactly_the_declared_keys() {
         (&["analysis"], fields::<scene::AnalysisSpec>()),
         (&["gravity"], fields::<scene::GravitySpec>()),
         (&["material"], fields::<scene::MaterialSpec>()),
+        (&["material.rate"], fields::<scene::RateSpec>()),
         (&["wire", "beam"], fields::<scene::WireSpec>()),
         (&["wire.layers"], fields::<scene::LayerSpec>()),
         (&["wire.rectangle"], fields::<scene::RectangleSpec>()),
@@ -250,6 +251,13 @@ mu10 = 1e5
 mu01 = 2e4
 penalty = 1e3
 
+[[material]]
+name = "s235"
+model = "elastic-plastic"
+density = 7850.0
+youngs_modulus = 2.1e11
+yield_stress = 2.35e8
+
 [wire]
 length = 1.0
 elements = 4
@@ -350,7 +358,13 @@ fn place<'a>(doc: &'a mut Value, k: &Key) -> &'a mut toml::Table {
         .as_slice(),
         _ => &[],
     };
-    let index = usize::from(second.contains(&k.name));
+    let plastic = head == "material"
+        && (["hardening_modulus", "hardening", "rate"].contains(&k.name)
+            || k.table == "material.rate");
+    let index = match plastic {
+        true => 2,
+        false => usize::from(second.contains(&k.name)),
+    };
     let table = match root.get_mut(head).unwrap() {
         Value::Array(items) => items[index].as_table_mut().unwrap(),
         other => other.as_table_mut().unwrap(),
@@ -396,6 +410,15 @@ fn place<'a>(doc: &'a mut Value, k: &Key) -> &'a mut toml::Table {
                 height = 0.02 }),
             );
             table["rectangle"].as_table_mut().unwrap()
+        }
+        Some("rate") => {
+            table.insert(
+                "rate".into(),
+                Value::Table(toml::toml! { kind = "cowper-symonds"
+                d = 40.4
+                q = 5.0 }),
+            );
+            table["rate"].as_table_mut().unwrap()
         }
         Some(other) => panic!("no place for {other}"),
     }

@@ -265,6 +265,62 @@ impl Material {
         Ok(Material { inner })
     }
 
+    /// Elastic–plastic (beam-type J2 in the beam stresses): density
+    /// (kg/m³), Young's modulus (Pa), yield stress f_y (Pa), Poisson's
+    /// ratio, linear hardening modulus H (Pa, default 0: perfectly
+    /// plastic), `hardening` "kinematic" (default) or "isotropic", and the
+    /// Cowper–Symonds rate law's D (1/s) and q, both or neither.
+    #[staticmethod]
+    #[pyo3(signature = (density, youngs_modulus, yield_stress, poisson_ratio=None, hardening_modulus=None, hardening=None, rate_d=None, rate_q=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn elastic_plastic(
+        density: f64,
+        youngs_modulus: f64,
+        yield_stress: f64,
+        poisson_ratio: Option<f64>,
+        hardening_modulus: Option<f64>,
+        hardening: Option<String>,
+        rate_d: Option<f64>,
+        rate_q: Option<f64>,
+    ) -> PyResult<Material> {
+        use ancf_core::material::beam_plasticity::{CowperSymonds, Hardening};
+        let hardening = match hardening.as_deref() {
+            None | Some("kinematic") => Hardening::Kinematic,
+            Some("isotropic") => Hardening::Isotropic,
+            Some(other) => {
+                return Err(value_error(
+                    "hardening",
+                    &format!("unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"),
+                ));
+            }
+        };
+        let rate = match (rate_d, rate_q) {
+            (None, None) => None,
+            (Some(d), Some(q)) => Some(CowperSymonds { d, q }),
+            (None, Some(_)) => return Err(value_error("rate_d", "needed with rate_q")),
+            (Some(_), None) => return Err(value_error("rate_q", "needed with rate_d")),
+        };
+        let inner = ancf_core::material::Material {
+            model: ancf_core::material::MaterialModel::ElasticPlastic {
+                youngs_modulus,
+                poisson_ratio: poisson_ratio.unwrap_or(ancf_core::material::DEFAULT_POISSON_RATIO),
+                hardening_modulus: hardening_modulus.unwrap_or(0.0),
+                hardening,
+                rate,
+            },
+            ..ancf_core::material::Material::elastic_plastic(density, youngs_modulus, 0.0, yield_stress, 0.0)
+        };
+        inner.check().map_err(|e| {
+            let field = match e.field.as_str() {
+                "rate.d" => "rate_d",
+                "rate.q" => "rate_q",
+                other => other,
+            };
+            value_error(field, &e.message)
+        })?;
+        Ok(Material { inner })
+    }
+
     /// Nearly incompressible Mooney–Rivlin: density (kg/m³), μ10, μ01 (Pa),
     /// volume penalty κ (1e3 – 1e7; required, as in a scene).
     #[staticmethod]

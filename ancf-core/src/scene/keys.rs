@@ -269,7 +269,7 @@ pub const KEYS: &[Key] = &[
     key(
         "material",
         "model",
-        Choice(&["st-venant-kirchhoff", "mooney-rivlin"]),
+        Choice(&["st-venant-kirchhoff", "mooney-rivlin", "elastic-plastic"]),
     )
     .required()
     .doc("the law"),
@@ -280,18 +280,25 @@ pub const KEYS: &[Key] = &[
         .python(&[
             "Material.st_venant_kirchhoff(density)",
             "Material.mooney_rivlin(density)",
+            "Material.elastic_plastic(density)",
         ])
         .doc("ρ"),
     key("material", "youngs_modulus", Float)
         .unit("Pa")
-        .default(RequiredWhen("required (SVK)"))
+        .default(RequiredWhen("required (SVK, elastic-plastic)"))
         .range(Positive)
-        .python(&["Material.st_venant_kirchhoff(youngs_modulus)"])
+        .python(&[
+            "Material.st_venant_kirchhoff(youngs_modulus)",
+            "Material.elastic_plastic(youngs_modulus)",
+        ])
         .doc("E"),
     key("material", "poisson_ratio", Float)
-        .default(Means("0 (SVK)"))
+        .default(Means("0 (SVK, elastic-plastic)"))
         .range(open(-1.0, 0.5))
-        .python(&["Material.st_venant_kirchhoff(poisson_ratio)"])
+        .python(&[
+            "Material.st_venant_kirchhoff(poisson_ratio)",
+            "Material.elastic_plastic(poisson_ratio)",
+        ])
         .doc("ν"),
     key("material", "bending_factor", Float)
         .default(Means("1 (SVK)"))
@@ -317,10 +324,40 @@ pub const KEYS: &[Key] = &[
         .doc("Mooney–Rivlin volume penalty κ"),
     key("material", "yield_stress", Float)
         .unit("Pa")
-        .default(Means("none: not checked"))
+        .default(Means("none: not checked; required (elastic-plastic)"))
         .range(Positive)
-        .python(&["Material.st_venant_kirchhoff(yield_stress)"])
+        .python(&[
+            "Material.st_venant_kirchhoff(yield_stress)",
+            "Material.elastic_plastic(yield_stress)",
+        ])
         .doc("f_y: a stress past it is warned of, members get their utilization"),
+    key("material", "hardening_modulus", Float)
+        .unit("Pa")
+        .default(Means("0: perfectly plastic (elastic-plastic)"))
+        .range(NonNegative)
+        .python(&["Material.elastic_plastic(hardening_modulus)"])
+        .doc("H, linear hardening of an elastic-plastic material"),
+    key("material", "hardening", Choice(&["kinematic", "isotropic"]))
+        .default(Literal("\"kinematic\""))
+        .python(&["Material.elastic_plastic(hardening)"])
+        .doc("how H acts: the yield surface translates or grows"),
+    key("material", "rate", Table)
+        .default(Means("none: rate-independent"))
+        .doc("the rate law of an elastic-plastic material"),
+    key("material.rate", "kind", Choice(&["cowper-symonds"]))
+        .required()
+        .doc("f_y (1 + (ε̇ / D)^(1/q))"),
+    key("material.rate", "d", Float)
+        .unit("1/s")
+        .required()
+        .range(Positive)
+        .python(&["Material.elastic_plastic(rate_d)"])
+        .doc("D (mild steel: 40.4)"),
+    key("material.rate", "q", Float)
+        .required()
+        .range(Positive)
+        .python(&["Material.elastic_plastic(rate_q)"])
+        .doc("q (mild steel: 5)"),
     key("material", "locking", Choice(&["centerline", "none"]))
         .default(Literal("\"centerline\""))
         .doc("the locking remedy"),

@@ -1255,6 +1255,7 @@ fn beam_contact(b: &WireSpec, table: &str) -> Result<BeamContact, SceneError> {
 /// `[[material]]`: names, the model's name and which constants go with
 /// it; the constants are checked by [`Material::check`].
 fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>, SceneError> {
+    use crate::material::beam_plasticity::{CowperSymonds, Hardening};
     let mut out: Vec<(String, Material)> = Vec::new();
     for (i, m) in specs.iter().enumerate() {
         let at = |k: &str| format!("material[{i}].{k}");
@@ -1282,6 +1283,11 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
             }
             Ok(())
         };
+        let plastic_keys = [
+            ("hardening_modulus", m.hardening_modulus.is_some()),
+            ("hardening", m.hardening.is_some()),
+            ("rate", m.rate.is_some()),
+        ];
         let model = match m.model.as_str() {
             "st-venant-kirchhoff" => {
                 reject(
@@ -1292,6 +1298,7 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
                     ],
                     &m.model,
                 )?;
+                reject(&plastic_keys, &m.model)?;
                 MaterialModel::StVenantKirchhoff {
                     youngs_modulus: m
                         .youngs_modulus
@@ -1313,6 +1320,7 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
                     ],
                     &m.model,
                 )?;
+                reject(&plastic_keys, &m.model)?;
                 MaterialModel::MooneyRivlin {
                     mu10: m.mu10.ok_or_else(|| err(at("mu10"), "missing (Pa)"))?,
                     mu01: m.mu01.ok_or_else(|| err(at("mu01"), "missing (Pa)"))?,
@@ -1321,11 +1329,56 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
                         .ok_or_else(|| err(at("penalty"), "missing (κ, e.g. 1e3)"))?,
                 }
             }
+            "elastic-plastic" => {
+                reject(
+                    &[
+                        ("mu10", m.mu10.is_some()),
+                        ("mu01", m.mu01.is_some()),
+                        ("penalty", m.penalty.is_some()),
+                        ("bending_factor", m.bending_factor.is_some()),
+                    ],
+                    &m.model,
+                )?;
+                if m.yield_stress.is_none() {
+                    return Err(err(at("yield_stress"), "missing (Pa), e.g. 235e6 for S235"));
+                }
+                let hardening = match m.hardening.as_deref() {
+                    None | Some("kinematic") => Hardening::Kinematic,
+                    Some("isotropic") => Hardening::Isotropic,
+                    Some(other) => {
+                        return Err(err(
+                            at("hardening"),
+                            format!("unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"),
+                        ));
+                    }
+                };
+                let rate = match &m.rate {
+                    None => None,
+                    Some(r) if r.kind == "cowper-symonds" => Some(CowperSymonds { d: r.d, q: r.q }),
+                    Some(r) => {
+                        return Err(err(
+                            at("rate.kind"),
+                            format!("unknown rate law \"{}\" (use \"cowper-symonds\")", r.kind),
+                        ));
+                    }
+                };
+                MaterialModel::ElasticPlastic {
+                    youngs_modulus: m
+                        .youngs_modulus
+                        .ok_or_else(|| err(at("youngs_modulus"), "missing (Pa)"))?,
+                    poisson_ratio: m
+                        .poisson_ratio
+                        .unwrap_or(crate::material::DEFAULT_POISSON_RATIO),
+                    hardening_modulus: m.hardening_modulus.unwrap_or(0.0),
+                    hardening,
+                    rate,
+                }
+            }
             other => {
                 return Err(err(
                     at("model"),
                     format!(
-                        "unknown model \"{other}\" (use \"st-venant-kirchhoff\" or \"mooney-rivlin\")"
+                        "unknown model \"{other}\" (use \"st-venant-kirchhoff\", \"mooney-rivlin\" or \"elastic-plastic\")"
                     ),
                 ));
             }

@@ -191,8 +191,27 @@ pub struct MaterialSpec {
     pub mu01: Option<f64>,
     /// Mooney–Rivlin: volume penalty κ.
     pub penalty: Option<f64>,
-    /// SVK: the yield stress f_y (Pa), checked against (the law stays elastic).
+    /// SVK: the yield stress f_y (Pa), checked against (the law stays
+    /// elastic); elastic–plastic: where it yields.
     pub yield_stress: Option<f64>,
+    /// Elastic–plastic: the linear hardening modulus H (Pa).
+    pub hardening_modulus: Option<f64>,
+    /// Elastic–plastic: `"kinematic"` or `"isotropic"`.
+    pub hardening: Option<String>,
+    /// Elastic–plastic: the rate law.
+    pub rate: Option<RateSpec>,
+}
+
+/// `[[material]] rate = { kind = "cowper-symonds", d, q }`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RateSpec {
+    /// `"cowper-symonds"`.
+    pub kind: String,
+    /// D (1/s).
+    pub d: f64,
+    /// q.
+    pub q: f64,
 }
 
 /// One concentric layer of `[wire] layers`.

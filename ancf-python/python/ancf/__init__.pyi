@@ -52,6 +52,17 @@ class Material:
         yield_stress: Optional[float] = None,
     ) -> Material: ...
     @staticmethod
+    def elastic_plastic(
+        density: float,
+        youngs_modulus: float,
+        yield_stress: float,
+        poisson_ratio: Optional[float] = None,
+        hardening_modulus: Optional[float] = None,
+        hardening: Optional[str] = None,
+        rate_d: Optional[float] = None,
+        rate_q: Optional[float] = None,
+    ) -> Material: ...
+    @staticmethod
     def mooney_rivlin(density: float, mu10: float, mu01: float, penalty: float) -> Material: ...
 
 class Wire:

@@ -9,15 +9,17 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 /// Energies reported in the summary (J): the last written state's
-/// kinetic, strain, gravity, loads, contact and dissipated energies (the
-/// keys of [`Energies`]), then `total` and `max_drift`.
+/// kinetic, strain, gravity, loads, contact and dissipated energies and,
+/// with a yielding layer, the plastic work (the keys of [`Energies`]),
+/// then `total` and `max_drift`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct EnergySummary {
     #[serde(flatten)]
     pub last: Energies,
     /// Mechanical energy: kinetic + strain + gravity + loads + contact.
     pub total: f64,
-    /// Largest |E(t) + dissipated(t) − E(0)| over the written steps, J.
+    /// Largest |E(t) + dissipated(t) + plastic(t) − E(0)| over the written
+    /// steps, J.
     pub max_drift: f64,
 }
 

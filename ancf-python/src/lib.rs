@@ -819,6 +819,7 @@ impl Simulation {
     fn observe_state(&mut self, member_forces: &[[f64; 3]]) {
         let state = self.sim.state();
         (self.observed).observe(&self.scene, &state.q, state.time, member_forces);
+        (self.observed).observe_plastic(&self.scene, &state.plastic, &state.plastic_work, state.time);
     }
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
@@ -1082,6 +1083,7 @@ impl Simulation {
                         cost.add(&info);
                         let state = sim.state();
                         observed.observe(scene, &state.q, state.time, &info.member_forces);
+                        observed.observe_plastic(scene, &state.plastic, &state.plastic_work, state.time);
                         track_drift(sim, scene.output.every, drift);
                     }
                     Ok(())

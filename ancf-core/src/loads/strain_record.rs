@@ -55,6 +55,48 @@ pub struct StrainRecord {
     pub max_stretch: f64,
     /// … and its time (s).
     pub max_stretch_time: f64,
+    /// A beam with a yielding layer: its largest equivalent plastic strain
+    /// (−) with time and place (at an axial Gauss point); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_plastic_strain: Option<PeakStrain>,
+    /// … and the plastic work done on it since t = 0 (J).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plastic_work: Option<f64>,
+}
+
+impl StrainRecord {
+    /// Observe the yielding points' `states` of `beam` (the model's
+    /// history, placed by `layout`) and its plastic work `work` (J) at time
+    /// `t` (s); nothing for a beam without a yielding layer.
+    pub fn observe_plastic(
+        &mut self,
+        model: &Model,
+        beam: &Beam,
+        (layout, states): (&crate::forces::plastic::PlasticLayout, &[crate::material::beam_plasticity::PlasticState]),
+        work: f64,
+        t: f64,
+    ) {
+        let mut peak = self.max_plastic_strain.unwrap_or_default();
+        let mut any = false;
+        for el in beam.elements.clone() {
+            let points = layout.element(states, el);
+            if points.is_empty() {
+                continue;
+            }
+            any = true;
+            let ei = model.element(el);
+            let per_station = points.len() / ei.axial.nodes.len();
+            for (i, p) in points.iter().enumerate() {
+                let xi = ei.axial.nodes[i / per_station];
+                let at = model.node_arc(el) - model.node_arc(beam.nodes.start) + xi * ei.length;
+                peak.visit(p.equivalent, t, at);
+            }
+        }
+        if any {
+            self.max_plastic_strain = Some(peak);
+            self.plastic_work = Some(work);
+        }
+    }
 }
 
 /// The centerline's gradient a = r_x at ξ = 0, ½ and 1 of element

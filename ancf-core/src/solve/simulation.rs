@@ -236,8 +236,8 @@ impl Simulation {
         initial: Initial,
         cancel: Option<&CancelToken>,
     ) -> Result<Self, SimulationError> {
-        let (q0, static_iterations, static_reactions) = match initial {
-            Initial::Reference => (model.initial_coordinates(), Vec::new(), None),
+        let (q0, static_iterations, static_reactions, plastic) = match initial {
+            Initial::Reference => (model.initial_coordinates(), Vec::new(), None, Default::default()),
             Initial::Static { load_steps } => {
                 let st = StaticSettings {
                     load_steps,
@@ -246,7 +246,8 @@ impl Simulation {
                 let res = solve_static_cancellable(model, &st, model.initial_coordinates(), cancel)
                     .map_err(SimulationError::Static)?;
                 let reactions = res.reactions.iter().map(|(_, f)| *f).collect::<Vec<_>>();
-                (res.q, res.iterations, Some(reactions))
+                let plastic = (res.plastic, res.plastic_work);
+                (res.q, res.iterations, Some(reactions), plastic)
             }
         };
         let (phases, phase_starts) = Self::phases(model, &settings);
@@ -259,7 +260,7 @@ impl Simulation {
             })?;
         let v0 = vec![0.0; q0.len()];
         let state = integrator
-            .initial_state(q0, v0)
+            .initial_state_with(q0, v0, plastic)
             .map_err(|error| SimulationError::Setup {
                 what: "initial acceleration",
                 error,
@@ -510,7 +511,11 @@ impl Simulation {
                     error,
                 })?;
             let mut s = integrator
-                .initial_state(p.state.q.clone(), p.state.v.clone())
+                .initial_state_with(
+                    p.state.q.clone(),
+                    p.state.v.clone(),
+                    (p.state.plastic.clone(), p.state.plastic_work.clone()),
+                )
                 .map_err(|error| SimulationError::Setup {
                     what: "acceleration after a release",
                     error,

@@ -393,6 +393,7 @@ fn execute(
                         .as_ref()
                         .map_or(&[][..], |c| &c.member_forces[..]);
                     observed.observe(scene, &res.q, 0.0, forces);
+                    observed.observe_plastic(scene, &res.plastic, &res.plastic_work, 0.0);
                     observed.fill(scene, &mut summary);
                     summary.contact = res
                         .contact
@@ -678,6 +679,8 @@ fn run_dynamic(
         let state = sim.state();
         p.observed
             .observe(scene, &state.q, state.time, &info.member_forces);
+        p.observed
+            .observe_plastic(scene, &state.plastic, &state.plastic_work, state.time);
         let last = sim.is_finished();
         // A ParaView frame is due, with a row (every `vtk_every`-th step is
         // a row already).
@@ -696,10 +699,10 @@ fn run_dynamic(
                 );
                 break;
             }
-            p.max_drift = p
-                .max_drift
-                .max((e.total() + e.dissipated - p.e0.total()).abs());
-            p.max_gain = p.max_gain.max(e.total() + e.dissipated - p.e0.total());
+            // Plastic work leaves the mechanical energy as friction does.
+            let kept = e.total() + e.dissipated + e.plastic;
+            p.max_drift = p.max_drift.max((kept - p.e0.total()).abs());
+            p.max_gain = p.max_gain.max(kept - p.e0.total());
             p.max_in_play = p.max_in_play.max(e.in_play());
             p.last = e;
             if let Some(f) = files.as_mut() {

@@ -15,8 +15,9 @@ pub struct Energies {
     pub contact: f64,
     /// Dissipated by friction and damping since t = 0 (not part of `total`).
     pub dissipated: f64,
-    /// Plastic work since t = 0 (not part of `total`).
-    #[serde(default)]
+    /// Plastic work since t = 0 (not part of `total`; written only where
+    /// a layer yields).
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub plastic: f64,
 }
 
@@ -37,4 +38,9 @@ impl Energies {
     pub fn in_play(&self) -> f64 {
         self.kinetic + self.strain + self.gravity.abs() + self.loads.abs() + self.contact
     }
+}
+
+/// Whether an energy is exactly zero (one nothing contributed to).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }

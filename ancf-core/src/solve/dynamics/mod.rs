@@ -167,9 +167,24 @@ impl Integrator {
     /// State at `q0` with velocities `v0` and the consistent initial
     /// acceleration M a₀ = Q_ext − Q(q₀, v₀) − Q_d(q₀, v₀).
     pub fn initial_state(&mut self, q0: Vec<f64>, v0: Vec<f64>) -> Result<State, StepError> {
+        self.initial_state_with(q0, v0, (Vec::new(), Vec::new()))
+    }
+
+    /// [`Integrator::initial_state`] with the yielding points' states and
+    /// the plastic work per beam a path already reached (a static start's,
+    /// the state before a release; empty: virgin).
+    pub fn initial_state_with(
+        &mut self,
+        q0: Vec<f64>,
+        v0: Vec<f64>,
+        (plastic, plastic_work): (Vec<PlasticState>, Vec<f64>),
+    ) -> Result<State, StepError> {
         let model = Arc::clone(&self.model);
-        self.forces
-            .evaluate(&model, At::moving(&q0, &v0), None, None);
+        let at = At {
+            plastic: &plastic,
+            ..At::moving(&q0, &v0)
+        };
+        self.forces.evaluate(&model, at, None, None);
         let rhs_full: Vec<f64> = (self.forces.external().iter())
             .zip(self.forces.internal())
             .map(|(a, b)| a - b)
@@ -208,8 +223,8 @@ impl Integrator {
             dissipated: 0.0,
             previous: None,
             contact_events: Vec::new(),
-            plastic: Vec::new(),
-            plastic_work: Vec::new(),
+            plastic,
+            plastic_work,
         };
         self.set_energy_reference(&state);
         Ok(state)

@@ -61,7 +61,11 @@ fn tube_curvature(m: f64) -> f64 {
     }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if tube_moment(mid) < m { lo = mid } else { hi = mid }
+        if tube_moment(mid) < m {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     0.5 * (lo + hi)
 }
@@ -129,10 +133,20 @@ fn the_tangent_of_a_yielding_element_is_consistent() {
         // (curvature θ / l), r_y, r_z turned with it.
         let bend = |theta: f64| {
             let (c, s) = (theta.cos(), theta.sin());
-            let mut e = reference_coordinates([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], l);
+            let mut e = reference_coordinates(
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                l,
+            );
             e[15..18].copy_from_slice(&[c, 0.0, s]);
             e[21..24].copy_from_slice(&[-s, 0.0, c]);
-            e[12..15].copy_from_slice(&[l * (1.0 - theta * theta / 6.0), 0.02 * theta * l, l * theta / 2.0]);
+            e[12..15].copy_from_slice(&[
+                l * (1.0 - theta * theta / 6.0),
+                0.02 * theta * l,
+                l * theta / 2.0,
+            ]);
             e
         };
         let ky = FY / (E * R);
@@ -166,7 +180,10 @@ fn the_tangent_of_a_yielding_element_is_consistent() {
                 worst = worst.max((fd - k[i * 24 + j]).abs() / scale);
             }
         }
-        assert!(worst < 1e-6, "H = {hardening:e}: tangent off its differences by {worst:e} of its largest entry");
+        assert!(
+            worst < 1e-6,
+            "H = {hardening:e}: tangent off its differences by {worst:e} of its largest entry"
+        );
     }
 }
 
@@ -181,12 +198,19 @@ fn a_yielding_cantilever_deflects_as_the_beam_solution() {
     let p = 0.95 * mp / l;
     let elastic = p * l.powi(3) / (3.0 * E * second_moment());
     let exact = cantilever_tip(l, p);
-    assert!(exact > 1.05 * elastic, "the root yields: {exact} vs elastic {elastic}");
+    assert!(
+        exact > 1.05 * elastic,
+        "the root yields: {exact} vs elastic {elastic}"
+    );
     let model = cantilever(l, 24, p);
     let r = solve_static(&model, &settings(10)).unwrap();
     let tip = -tip_z(&model, &r);
     let error = tip / exact - 1.0;
-    assert!(error.abs() < 0.02, "tip {tip} m vs beam solution {exact} m ({:+.2} %)", 100.0 * error);
+    assert!(
+        error.abs() < 0.02,
+        "tip {tip} m vs beam solution {exact} m ({:+.2} %)",
+        100.0 * error
+    );
     assert!(r.plastic.iter().any(|s| s.equivalent > 0.0));
     assert!(r.plastic_work[0] > 0.0);
     // Quadratic convergence: no step needs many iterations.
@@ -208,7 +232,11 @@ fn an_unloaded_cantilever_keeps_its_permanent_set() {
     let set = -tip_z(&unloaded_model, &unloaded);
     let exact = cantilever_tip(l, p) - p * l.powi(3) / (3.0 * E * second_moment());
     let error = set / exact - 1.0;
-    assert!(error.abs() < 0.05, "permanent set {set} m vs {exact} m ({:+.2} %)", 100.0 * error);
+    assert!(
+        error.abs() < 0.05,
+        "permanent set {set} m vs {exact} m ({:+.2} %)",
+        100.0 * error
+    );
     // Elastic unloading: no further plastic work.
     assert!(loaded.plastic_work[0] > 0.0);
     assert!(unloaded.plastic_work[0].abs() < 1e-9 * loaded.plastic_work[0]);
@@ -235,12 +263,23 @@ fn a_cantilever_past_its_plastic_moment_hinges_at_the_root() {
         let peak = |el: usize| {
             (layout.element(&r.plastic, el).iter()).fold(0.0f64, |m, s| m.max(s.equivalent))
         };
-        assert!(peak(0) > 10.0 * peak(n / 4), "n = {n}: root {} vs a quarter along {}", peak(0), peak(n / 4));
+        assert!(
+            peak(0) > 10.0 * peak(n / 4),
+            "n = {n}: root {} vs a quarter along {}",
+            peak(0),
+            peak(n / 4)
+        );
         p * arm / mp
     };
     let (coarse, fine) = (root_moment(12), root_moment(48));
-    assert!(fine < coarse, "the overshoot shrinks: {coarse} → {fine} M_p");
-    assert!((0.97..=1.03).contains(&fine), "root moment {fine} M_p at 48 elements");
+    assert!(
+        fine < coarse,
+        "the overshoot shrinks: {coarse} → {fine} M_p"
+    );
+    assert!(
+        (0.97..=1.03).contains(&fine),
+        "root moment {fine} M_p at 48 elements"
+    );
 }
 
 /// A simply supported tube under a midspan load carries 4 M_p / l at small
@@ -282,12 +321,22 @@ fn a_simply_supported_tube_collapses_at_four_plastic_moments_over_its_span() {
         let above = beam(n, 1.05 * pc);
         let ra = solve_static(&above, &settings(20)).unwrap();
         let [x, _, z] = above.node_position(&ra.q, n / 2);
-        assert!(-z > 3.0 * sag_below, "n = {n}: sag {} m vs {sag_below} m below collapse", -z);
+        assert!(
+            -z > 3.0 * sag_below,
+            "n = {n}: sag {} m vs {sag_below} m below collapse",
+            -z
+        );
         0.5 * 1.05 * pc * x / mp
     };
     let (coarse, fine) = (folded(24), folded(48));
-    assert!(fine < coarse, "the overshoot shrinks: {coarse} → {fine} M_p");
-    assert!((0.97..=1.04).contains(&fine), "midspan moment {fine} M_p at 48 elements");
+    assert!(
+        fine < coarse,
+        "the overshoot shrinks: {coarse} → {fine} M_p"
+    );
+    assert!(
+        (0.97..=1.04).contains(&fine),
+        "midspan moment {fine} M_p at 48 elements"
+    );
 }
 
 /// A tube cantilever under a tip load applied suddenly (twice the static
@@ -310,7 +359,9 @@ fn a_yielding_swing_conserves_energy_with_its_plastic_work() {
         };
         let mut integ = Integrator::new(model.clone(), settings).unwrap();
         let n = model.reference.len();
-        let mut s = integ.initial_state(model.reference.clone(), vec![0.0; n]).unwrap();
+        let mut s = integ
+            .initial_state(model.reference.clone(), vec![0.0; n])
+            .unwrap();
         let e0 = integ.energies(&s).balance();
         let mut drift = 0.0f64;
         let steps = (0.06 / h).round() as usize;
@@ -325,6 +376,12 @@ fn a_yielding_swing_conserves_energy_with_its_plastic_work() {
     let (fine, _) = run(2e-4);
     eprintln!("drift {coarse:e} -> {fine:e} J, plastic work {work:e} J");
     assert!(work > 0.0, "the swing yields");
-    assert!(fine < 0.01 * work, "drift {fine:e} J against {work:e} J of plastic work");
-    assert!(fine < 0.5 * coarse, "the drift falls with the step: {coarse:e} → {fine:e} J");
+    assert!(
+        fine < 0.01 * work,
+        "drift {fine:e} J against {work:e} J of plastic work"
+    );
+    assert!(
+        fine < 0.5 * coarse,
+        "the drift falls with the step: {coarse:e} → {fine:e} J"
+    );
 }

@@ -4,8 +4,8 @@
 //! exception (a Rust panic becomes `pyo3_runtime.PanicException`).
 
 use ancf_core::model::damping::Damping;
-use ancf_core::solve::dynamics::StepControl;
 use ancf_core::scene::{Analysis, Scene as CoreScene, SceneError as CoreSceneError};
+use ancf_core::solve::dynamics::StepControl;
 use ancf_core::solve::simulation::{
     Initial, Simulation as CoreSimulation, SimulationError as CoreSimError,
 };
@@ -308,7 +308,13 @@ impl Material {
                 hardening,
                 rate,
             },
-            ..ancf_core::material::Material::elastic_plastic(density, youngs_modulus, 0.0, yield_stress, 0.0)
+            ..ancf_core::material::Material::elastic_plastic(
+                density,
+                youngs_modulus,
+                0.0,
+                yield_stress,
+                0.0,
+            )
         };
         inner.check().map_err(|e| {
             let field = match e.field.as_str() {
@@ -526,7 +532,9 @@ impl Wire {
         restitution: Option<f64>,
         restitution_model: Option<&str>,
     ) -> PyResult<Wire> {
-        use ancf_core::model::contact::{BeamContact, ContactDamping, ContactLaw, RestitutionModel};
+        use ancf_core::model::contact::{
+            BeamContact, ContactDamping, ContactLaw, RestitutionModel,
+        };
         let model = restitution_model
             .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
             .map_err(|message| value_error("restitution_model", &message))?;
@@ -757,9 +765,7 @@ impl Wire {
                 Some(name) => {
                     return Err(value_error(
                         "beam",
-                        &format!(
-                            "no beam is named \"{name}\" (\"wire\" or a member added before)"
-                        ),
+                        &format!("no beam is named \"{name}\" (\"wire\" or a member added before)"),
                     ));
                 }
             },
@@ -819,7 +825,12 @@ impl Simulation {
     fn observe_state(&mut self, member_forces: &[[f64; 3]]) {
         let state = self.sim.state();
         (self.observed).observe(&self.scene, &state.q, state.time, member_forces);
-        (self.observed).observe_plastic(&self.scene, &state.plastic, &state.plastic_work, state.time);
+        (self.observed).observe_plastic(
+            &self.scene,
+            &state.plastic,
+            &state.plastic_work,
+            state.time,
+        );
     }
 
     fn positions(&self, v: &[f64]) -> Vec<[f64; 3]> {
@@ -1083,7 +1094,12 @@ impl Simulation {
                         cost.add(&info);
                         let state = sim.state();
                         observed.observe(scene, &state.q, state.time, &info.member_forces);
-                        observed.observe_plastic(scene, &state.plastic, &state.plastic_work, state.time);
+                        observed.observe_plastic(
+                            scene,
+                            &state.plastic,
+                            &state.plastic_work,
+                            state.time,
+                        );
                         track_drift(sim, scene.output.every, drift);
                     }
                     Ok(())

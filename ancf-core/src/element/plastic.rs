@@ -115,7 +115,13 @@ impl ElementIntegration {
     /// The yielding points of one element: axial stations times the
     /// plastic groups' points (0 without a yielding layer).
     pub fn plastic_points(&self) -> usize {
-        self.axial.nodes.len() * self.plan.plastic.iter().map(|g| g.points.len()).sum::<usize>()
+        self.axial.nodes.len()
+            * self
+                .plan
+                .plastic
+                .iter()
+                .map(|g| g.points.len())
+                .sum::<usize>()
     }
 
     /// Visit every yielding point — its index in the element's history,

@@ -432,7 +432,16 @@ fn assemble_chunks(
         let (node0, el0) = (c.nodes.start, c.interior.start);
         // Window-relative: force rows from our first node on.
         if let Some(b) = c.lead {
-            add_element_window(model, pattern, at, b, Part::SecondNode, node0, f, v.as_mut());
+            add_element_window(
+                model,
+                pattern,
+                at,
+                b,
+                Part::SecondNode,
+                node0,
+                f,
+                v.as_mut(),
+            );
         }
         let interior = c.interior.clone();
         add_whole_elements(model, pattern, at, interior, node0, f, e, v.as_mut());
@@ -1036,7 +1045,14 @@ mod tests {
             let mut f_chunked = vec![0.0; q.len()];
             let mut u = vec![0.0; n];
             let k = Some(&mut k_chunked[..]);
-            assemble_chunks(&model, &pattern, (&q, History::default()), &mut f_chunked, &mut u, k);
+            assemble_chunks(
+                &model,
+                &pattern,
+                (&q, History::default()),
+                &mut f_chunked,
+                &mut u,
+                k,
+            );
             let u_chunked: f64 = u.iter().sum();
             let mut k_serial = pattern.zeros();
             let mut f_serial = vec![0.0; q.len()];
@@ -1045,8 +1061,16 @@ mod tests {
             for el in 0..n {
                 let f = &mut f_serial;
                 let whole = Part::Whole;
-                u_serial[el] =
-                    add_element_window(&model, &pattern, (&q, History::default()), el, whole, 0, f, Some(&mut all));
+                u_serial[el] = add_element_window(
+                    &model,
+                    &pattern,
+                    (&q, History::default()),
+                    el,
+                    whole,
+                    0,
+                    f,
+                    Some(&mut all),
+                );
             }
             let same =
                 |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
@@ -1056,7 +1080,14 @@ mod tests {
             assert!(k_serial.iter().all(|v| v.is_finite()) && u_chunked > 0.0);
             // The force alone, in its own (larger) chunks.
             let mut f_alone = vec![0.0; q.len()];
-            assemble_chunks(&model, &pattern, (&q, History::default()), &mut f_alone, &mut u, None);
+            assemble_chunks(
+                &model,
+                &pattern,
+                (&q, History::default()),
+                &mut f_alone,
+                &mut u,
+                None,
+            );
             assert!(same(&f_alone, &f_serial), "n = {n}: force alone differs");
             assert_eq!(u.iter().sum::<f64>().to_bits(), u_chunked.to_bits());
             // The energy alone (the energy balance's) has the force-only

@@ -129,8 +129,17 @@ fn kelvin_voigt_point_laws(
             for p in &group.points {
                 let g = crate::element::shape_gradients(*xi, p.y, p.z, l);
                 let (w, law) = (wx * l * p.weight, &group.elastic);
-                power +=
-                    kelvin_voigt_point(e, v, &g, w, law, c, q, kq.as_deref_mut(), kv.as_deref_mut());
+                power += kelvin_voigt_point(
+                    e,
+                    v,
+                    &g,
+                    w,
+                    law,
+                    c,
+                    q,
+                    kq.as_deref_mut(),
+                    kv.as_deref_mut(),
+                );
             }
         }
     }

@@ -27,8 +27,8 @@ use super::contact::ContactEvaluator;
 use super::coupling::Coupling;
 use super::damping::{KelvinVoigtWork, kelvin_voigt_force_into};
 use super::plastic::{History, PlasticLayout};
-use crate::material::beam_plasticity::PlasticState;
 use crate::linalg::pattern::Pattern;
+use crate::material::beam_plasticity::PlasticState;
 use crate::model::damping::Damping;
 use crate::model::{Model, NODE_DOFS};
 

@@ -72,7 +72,10 @@ impl StrainRecord {
         &mut self,
         model: &Model,
         beam: &Beam,
-        (layout, states): (&crate::forces::plastic::PlasticLayout, &[crate::material::beam_plasticity::PlasticState]),
+        (layout, states): (
+            &crate::forces::plastic::PlasticLayout,
+            &[crate::material::beam_plasticity::PlasticState],
+        ),
         work: f64,
         t: f64,
     ) {

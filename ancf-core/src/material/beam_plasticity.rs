@@ -110,7 +110,12 @@ impl BeamPlasticity {
     /// in the strain is the stress (Ortiz & Stainier's variational
     /// update): the static solver's line search descends on it. At a
     /// state the step left (Δē = 0) it is the stored energy.
-    pub fn incremental_energy(&self, strain: [f64; 3], old: &PlasticState, new: &PlasticState) -> f64 {
+    pub fn incremental_energy(
+        &self,
+        strain: [f64; 3],
+        old: &PlasticState,
+        new: &PlasticState,
+    ) -> f64 {
         let c = self.moduli();
         let (h_iso, _) = self.split();
         let elastic: f64 = (0..3)

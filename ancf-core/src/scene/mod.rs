@@ -1348,7 +1348,9 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
                     Some(other) => {
                         return Err(err(
                             at("hardening"),
-                            format!("unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"),
+                            format!(
+                                "unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"
+                            ),
                         ));
                     }
                 };

@@ -237,7 +237,12 @@ impl Simulation {
         cancel: Option<&CancelToken>,
     ) -> Result<Self, SimulationError> {
         let (q0, static_iterations, static_reactions, plastic) = match initial {
-            Initial::Reference => (model.initial_coordinates(), Vec::new(), None, Default::default()),
+            Initial::Reference => (
+                model.initial_coordinates(),
+                Vec::new(),
+                None,
+                Default::default(),
+            ),
             Initial::Static { load_steps } => {
                 let st = StaticSettings {
                     load_steps,

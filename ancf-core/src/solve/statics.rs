@@ -3,8 +3,8 @@
 
 use crate::forces::plastic::{History, plastic_step};
 use crate::forces::sum::{At, ForceSum};
-use crate::material::beam_plasticity::PlasticState;
 use crate::linalg::linear_solver::SparseSolver;
+use crate::material::beam_plasticity::PlasticState;
 use crate::model::Model;
 use crate::solve::cancel::CancelToken;
 use crate::solve::reactions::support_forces;
@@ -188,8 +188,8 @@ fn newton(
             model.scatter_add(&dq, alpha, &mut trial);
             let (rt, _, ut) = residual(model, forces, (&trial, plastic), None);
             let pit = ut - forces.external_work(model, &trial);
-            let ok_energy = pit.is_finite()
-                && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
+            let ok_energy =
+                pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
             if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {
                 break;
             }
@@ -272,7 +272,14 @@ pub fn solve_static_continuing(
             });
         }
     };
-    let mut plastic_work = vec![0.0; if layout.is_empty() { 0 } else { model.beams.len() }];
+    let mut plastic_work = vec![
+        0.0;
+        if layout.is_empty() {
+            0
+        } else {
+            model.beams.len()
+        }
+    ];
     while lambda < 1.0 {
         let target = (lambda + dl).min(1.0);
         forces.set_load_factor(model, target);

@@ -115,7 +115,13 @@ impl Observations {
     /// Observe the yielding points of a state (`states`, `work` per beam:
     /// [`ancf_core::solve::dynamics::State::plastic`], `plastic_work`) at
     /// time `t` (s): each beam's largest plastic strain and its plastic work.
-    pub fn observe_plastic(&mut self, scene: &Scene, states: &[PlasticState], work: &[f64], t: f64) {
+    pub fn observe_plastic(
+        &mut self,
+        scene: &Scene,
+        states: &[PlasticState],
+        work: &[f64],
+        t: f64,
+    ) {
         if states.is_empty() {
             return;
         }

@@ -764,3 +764,26 @@ def test_adaptive_step_arguments_that_do_not_fit_name_the_argument(arguments, fi
     wire = ancf.Wire(1.0, 4).layer(ancf.Material.st_venant_kirchhoff(7800.0, 2e11), 0.01)
     with pytest.raises(ValueError, match=f"^{field}: "):
         ancf.Simulation.from_wire(wire, end_time=0.1, **arguments)
+
+
+def test_a_yielding_cantilever_in_code():
+    s235 = ancf.Material.elastic_plastic(7850.0, 2.1e11, 2.35e8, poisson_ratio=0.3, rate_d=40.4, rate_q=5.0)
+    wire = (
+        ancf.Wire(3.0, 8)
+        .layer(s235, 0.05)
+        .bore(0.046)
+        .support(0, "clamp")
+        .load(8, [0.0, 0.0, -1733.0])
+    )
+    sim = ancf.Simulation.from_wire(wire, time_step=5e-4, end_time=0.03)
+    sim.run()
+    summary = sim.summary()
+    assert summary["energy"]["plastic"] > 0.0
+    assert summary["strains"][0]["plastic_work"] > 0.0
+    assert summary["strains"][0]["max_plastic_strain"]["max_strain"] > 0.0
+    with pytest.raises(ValueError, match="rate_q"):
+        ancf.Material.elastic_plastic(7850.0, 2.1e11, 2.35e8, rate_d=40.4)
+    with pytest.raises(ValueError, match="hardening"):
+        ancf.Material.elastic_plastic(7850.0, 2.1e11, 2.35e8, hardening="linear")
+    with pytest.raises(ValueError, match="hardening_modulus"):
+        ancf.Material.elastic_plastic(7850.0, 2.1e11, 2.35e8, hardening_modulus=-1.0)

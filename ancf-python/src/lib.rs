@@ -795,7 +795,9 @@ fn track_drift(sim: &CoreSimulation, every: usize, drift: &mut (f64, f64)) {
     let (k, n) = sim.steps();
     if k % every.max(1) == 0 || k == n {
         let e = sim.energies();
-        drift.1 = drift.1.max((e.total() + e.dissipated - drift.0).abs());
+        drift.1 = drift
+            .1
+            .max((e.total() + e.dissipated + e.plastic - drift.0).abs());
     }
 }
 
@@ -1154,7 +1156,8 @@ impl Simulation {
     }
 
     /// Energies of the current state, J: kinetic, strain, gravity, loads,
-    /// contact, total (their sum) and dissipated (friction, damping, contact damping).
+    /// contact, total (their sum), dissipated (friction, damping, contact
+    /// damping) and, where a layer yields, plastic (its plastic work).
     #[getter]
     fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let e = self.sim.energies();
@@ -1169,6 +1172,10 @@ impl Simulation {
             ("dissipated", e.dissipated),
         ] {
             d.set_item(k, v)?;
+        }
+        // As summary.json: only where a layer yields.
+        if e.plastic != 0.0 {
+            d.set_item("plastic", e.plastic)?;
         }
         Ok(d)
     }

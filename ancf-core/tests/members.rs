@@ -81,7 +81,8 @@ fn a_propped_tube_member_bends_as_beam_theory_says() {
     // and its fiber stress M R / I, plus N / A: the pin cannot slide, so the
     // bent tube also stretches (N ≈ 160 N, +0.5 %).
     let mut record = ancf_core::loads::member_load::MemberRecord::default();
-    record.observe(&model, tube_beam, &res.q, 0.0, None);
+    let virgin = ancf_core::forces::plastic::History::default();
+    record.observe(&model, tube_beam, (&res.q, virgin), 0.0, None);
     let m_clamp = 3.0 * p * l / 16.0;
     assert!(
         (record.max_bending_moment / m_clamp - 1.0).abs() < 0.005,

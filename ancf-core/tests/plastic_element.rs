@@ -385,3 +385,38 @@ fn a_yielding_swing_conserves_energy_with_its_plastic_work() {
         "the drift falls with the step: {coarse:e} → {fine:e} J"
     );
 }
+
+/// A yielding member's internal loads come from its history: the root of
+/// the cantilever at 0.95 M_p carries P times the tip's lever arm, and once
+/// unloaded it carries nothing, while its bent shape read from the virgin
+/// state (the plastic strain taken for elastic) would claim a moment.
+#[test]
+fn a_yielding_beam_reports_the_moment_it_carries() {
+    use ancf_core::forces::plastic::{History, PlasticLayout};
+    use ancf_core::loads::member_load::end_resultants;
+    let l = 3.0;
+    let mp = plastic_moment();
+    let p = 0.95 * mp / l;
+    let model = cantilever(l, 24, p);
+    let r = solve_static(&model, &settings(10)).unwrap();
+    let layout = PlasticLayout::of(&model);
+    let history = History::of(&layout, &r.plastic, None);
+    let arm = model.node_position(&r.q, 24)[0];
+    let (_, m, _) = end_resultants(&model, 0, 0, &r.q, history);
+    let carried = p * arm;
+    assert!(
+        (m / carried - 1.0).abs() < 0.01,
+        "root moment {m} N m, P × arm = {carried} N m"
+    );
+    let free = cantilever(l, 24, 0.0);
+    let u = solve_static_continuing(&free, &settings(4), (r.q.clone(), r.plastic.clone()), None)
+        .unwrap();
+    let history = History::of(&layout, &u.plastic, None);
+    let (_, residual, _) = end_resultants(&free, 0, 0, &u.q, history);
+    assert!(residual < 1e-3 * mp, "unloaded root moment {residual} N m");
+    let (_, virgin, _) = end_resultants(&free, 0, 0, &u.q, History::default());
+    assert!(
+        virgin > 0.1 * mp,
+        "read from the virgin state: {virgin} N m"
+    );
+}

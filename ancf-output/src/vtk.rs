@@ -17,6 +17,8 @@
 //! future-incompatibility warnings (CRATES.md), for a format this small.
 
 use ancf_core::element::{deformation_gradient, green_lagrange, shape_functions, shape_gradients};
+use ancf_core::forces::plastic::{History, PlasticLayout};
+use ancf_core::material::beam_plasticity::PlasticState;
 use ancf_core::model::Model;
 use ancf_core::model::contact::Rod;
 use std::fmt::Write as _;
@@ -36,6 +38,7 @@ enum Job {
         name: String,
         q: Vec<f64>,
         v: Vec<f64>,
+        plastic: Vec<PlasticState>,
     },
     /// Answer on the channel once everything before is written.
     Sync(std::sync::mpsc::SyncSender<()>),
@@ -235,12 +238,18 @@ impl VtkWriter {
                 let mut result = Ok(());
                 for job in queue {
                     match job {
-                        Job::Frame { t, name, q, v } => {
+                        Job::Frame {
+                            t,
+                            name,
+                            q,
+                            v,
+                            plastic,
+                        } => {
                             written.push((t, name));
                             let name = &written[written.len() - 1].1;
                             if result.is_ok() {
-                                result =
-                                    write_frame(&out.join(name), &model, &q, &v).and_then(|()| {
+                                result = write_frame(&out.join(name), &model, (&q, &v), &plastic)
+                                    .and_then(|()| {
                                         std::fs::write(
                                             out.join("wire.pvd"),
                                             pvd(&written, &rod_files),
@@ -267,9 +276,15 @@ impl VtkWriter {
         &self.frames
     }
 
-    /// Queues the wire at time `t` with coordinates `q` and velocities `v`
-    /// for writing. An error of an earlier frame's write is returned here.
-    pub fn frame(&mut self, t: f64, q: &[f64], v: &[f64]) -> std::io::Result<()> {
+    /// Queues the wire at time `t` with coordinates `q`, velocities `v` and
+    /// the yielding points' states `plastic` (empty: none) for writing. An
+    /// error of an earlier frame's write is returned here.
+    pub fn frame(
+        &mut self,
+        t: f64,
+        (q, v): (&[f64], &[f64]),
+        plastic: &[PlasticState],
+    ) -> std::io::Result<()> {
         let name = format!("wire_{:06}.vtu", self.frames.len());
         self.frames.push((t, name.clone()));
         let job = Job::Frame {
@@ -277,6 +292,7 @@ impl VtkWriter {
             name,
             q: q.to_vec(),
             v: v.to_vec(),
+            plastic: plastic.to_vec(),
         };
         match self.jobs.as_ref().map(|jobs| jobs.send(job)) {
             Some(Ok(())) => Ok(()),
@@ -342,8 +358,18 @@ fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
 /// members, also the outer-fiber von Mises stress the section carries
 /// (Pa, from the element-end resultants as in summary.json's `beams`,
 /// linear along each element; the same around a ring).
-fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Result<()> {
+fn write_frame(
+    path: &Path,
+    model: &Model,
+    (q, v): (&[f64], &[f64]),
+    plastic: &[PlasticState],
+) -> std::io::Result<()> {
     use ancf_core::loads::member_load::{end_resultants, von_mises};
+    let layout = PlasticLayout::of(model);
+    let yielding = History::of(&layout, plastic, None);
+    // A model with a yielding layer: each element's largest equivalent
+    // plastic strain, drawn along it.
+    let mut plastic_strain = Vec::new();
     let mut points = Vec::new();
     let mut quads = Vec::new();
     let (mut disp, mut vel, mut strain) = (Vec::new(), Vec::new(), Vec::new());
@@ -356,12 +382,14 @@ fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Res
             let l = model.element(el).length;
             let ends: [f64; 2] = if members {
                 std::array::from_fn(|end| {
-                    let (n, m, t) = end_resultants(model, el, end, q);
+                    let (n, m, t) = end_resultants(model, el, end, q, yielding);
                     von_mises(&model.element(el).section, n, m, t)
                 })
             } else {
                 [0.0; 2]
             };
+            let element_plastic =
+                (layout.element(plastic, el).iter()).fold(0.0f64, |m, p| m.max(p.equivalent));
             let e = model.element_coordinates(q, el);
             let e0 = model.element_coordinates(&model.reference, el);
             let ev = model.element_coordinates(v, el);
@@ -377,6 +405,9 @@ fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Res
                     let (p, p0, pv) = (at(&e), at(&e0), at(&ev));
                     if members {
                         stress.push((1.0 - xi) * ends[0] + xi * ends[1]);
+                    }
+                    if !layout.is_empty() {
+                        plastic_strain.push(element_plastic);
                     }
                     points.push(p);
                     disp.extend((0..3).map(|c| p[c] - p0[c]));
@@ -409,6 +440,9 @@ fn write_frame(path: &Path, model: &Model, q: &[f64], v: &[f64]) -> std::io::Res
     ];
     if members {
         fields.push(("von_mises_stress", 1, stress));
+    }
+    if !layout.is_empty() {
+        fields.push(("equivalent_plastic_strain", 1, plastic_strain));
     }
     write_vtu(path, &points, &quads, &fields)
 }

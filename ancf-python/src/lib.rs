@@ -826,7 +826,7 @@ impl Simulation {
     /// state, the wire's contact force on each member being `member_forces`.
     fn observe_state(&mut self, member_forces: &[[f64; 3]]) {
         let state = self.sim.state();
-        (self.observed).observe(&self.scene, &state.q, state.time, member_forces);
+        (self.observed).observe(&self.scene, (&state.q, &state.plastic), state.time, member_forces);
         (self.observed).observe_plastic(
             &self.scene,
             &state.plastic,
@@ -1095,7 +1095,7 @@ impl Simulation {
                         cost.stepping += begun.elapsed().as_secs_f64();
                         cost.add(&info);
                         let state = sim.state();
-                        observed.observe(scene, &state.q, state.time, &info.member_forces);
+                        observed.observe(scene, (&state.q, &state.plastic), state.time, &info.member_forces);
                         observed.observe_plastic(
                             scene,
                             &state.plastic,

@@ -11,6 +11,7 @@
 //! where the end resultants stay within 0.1 %.) Stresses follow beam
 //! theory at the outer radius, small strains.
 
+use crate::forces::plastic::History;
 use crate::math::vec3::{cross, dot, norm};
 use crate::model::{Beam, Model};
 
@@ -55,15 +56,22 @@ pub struct MemberRecord {
 }
 
 /// The resultants element `el` carries at its end `end` (0: first node,
-/// 1: second) at coordinates `q`: axial force N (N), bending moment |M|
+/// 1: second) at coordinates `q` (a yielding layer's stresses from the
+/// history `plastic`): axial force N (N), bending moment |M|
 /// (N m) and torque T (N m), from its generalized internal forces (what
 /// the element exerts on the node): a rotation δθ of the node's triad moves
 /// each gradient r_i by δθ × r_i, so the node's moment is Σ_i r_i × Q_{r_i}
 /// and its force the Q on r; split along and across the unit tangent.
-pub fn end_resultants(model: &Model, el: usize, end: usize, q: &[f64]) -> (f64, f64, f64) {
+pub fn end_resultants(
+    model: &Model,
+    el: usize,
+    end: usize,
+    q: &[f64],
+    plastic: History<'_>,
+) -> (f64, f64, f64) {
     let e = model.element_coordinates(q, el);
     let mut qe = [0.0; 24];
-    model.element(el).evaluate(&e, &mut qe, None);
+    (model.element(el)).evaluate_with(&e, plastic.element(el), &mut qe, None);
     let base = 12 * end;
     let v = |x: &[f64], at: usize| [x[at], x[at + 1], x[at + 2]];
     let force = v(&qe, base);
@@ -112,7 +120,7 @@ impl MemberRecord {
         &mut self,
         model: &Model,
         beam: &Beam,
-        q: &[f64],
+        (q, plastic): (&[f64], History<'_>),
         t: f64,
         first_contact: Option<f64>,
     ) -> f64 {
@@ -126,7 +134,7 @@ impl MemberRecord {
         for el in beam.elements.clone() {
             let section = &model.element(el).section;
             for end in 0..2 {
-                let (n, m, torque) = end_resultants(model, el, end, q);
+                let (n, m, torque) = end_resultants(model, el, end, q, plastic);
                 largest = largest.max(m);
                 let stress = von_mises(section, n, m, torque);
                 let at = model.node_arc(el + end) - start;

@@ -172,7 +172,7 @@ impl Files {
         row.push(s.previous.as_ref().map_or(0.0, |p| p.h));
         self.series.row(&row).map_err(|e| io_err(&self.dir, e))?;
         if let Some(v) = self.vtk.as_mut().filter(|_| frame) {
-            v.frame(s.time, &s.q, &s.v)
+            v.frame(s.time, (&s.q, &s.v), &s.plastic)
                 .map_err(|e| io_err(&self.dir, e))?;
         }
         Ok(())

@@ -392,7 +392,7 @@ fn execute(
                         .contact
                         .as_ref()
                         .map_or(&[][..], |c| &c.member_forces[..]);
-                    observed.observe(scene, &res.q, 0.0, forces);
+                    observed.observe(scene, (&res.q, &res.plastic), 0.0, forces);
                     observed.observe_plastic(scene, &res.plastic, &res.plastic_work, 0.0);
                     observed.fill(scene, &mut summary);
                     summary.contact = res
@@ -589,7 +589,7 @@ fn run_dynamic(
             history.push(model, state, &e0);
             history.push_shape(model, state);
             let mut observed = Observations::new(scene);
-            observed.observe(scene, &state.q, state.time, &[]);
+            observed.observe(scene, (&state.q, &state.plastic), state.time, &[]);
             let p = Progress {
                 sim: sim.snapshot(),
                 message,
@@ -677,8 +677,12 @@ fn run_dynamic(
             }
         };
         let state = sim.state();
-        p.observed
-            .observe(scene, &state.q, state.time, &info.member_forces);
+        p.observed.observe(
+            scene,
+            (&state.q, &state.plastic),
+            state.time,
+            &info.member_forces,
+        );
         p.observed
             .observe_plastic(scene, &state.plastic, &state.plastic_work, state.time);
         let last = sim.is_finished();

@@ -36,6 +36,10 @@ pub struct Observations {
     /// `NAME_moment`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub member_moments: Vec<Vec<(f64, f64)>>,
+    /// Where the model's yielding points sit in a state's history (empty
+    /// without any; rebuilt by `fit`, not checkpointed).
+    #[serde(skip)]
+    layout: PlasticLayout,
 }
 
 /// Each ground's plane as the half-space the wire must stay out of (the
@@ -52,7 +56,7 @@ fn ground_zones(scene: &Scene) -> Vec<ClearanceZone> {
     })
 }
 
-use ancf_core::forces::plastic::PlasticLayout;
+use ancf_core::forces::plastic::{History, PlasticLayout};
 use ancf_core::material::beam_plasticity::PlasticState;
 
 impl Observations {
@@ -78,13 +82,25 @@ impl Observations {
             .resize(ground_zones(scene).len(), ClearanceRecord::default());
         self.member_moments
             .resize(scene.model.beams.len() - 1, Vec::new());
+        self.layout = PlasticLayout::of(&scene.model);
     }
 
-    /// Observe `scene`'s model at coordinates `q`, time `t` (s), the wire's
+    /// Observe `scene`'s model at coordinates `q` with the yielding points'
+    /// states `plastic` (empty: none or virgin), time `t` (s), the wire's
     /// contact force on each member that may touch it being
     /// `member_forces` (N, model's member order; empty: none).
-    pub fn observe(&mut self, scene: &Scene, q: &[f64], t: f64, member_forces: &[[f64; 3]]) {
+    pub fn observe(
+        &mut self,
+        scene: &Scene,
+        (q, plastic): (&[f64], &[PlasticState]),
+        t: f64,
+        member_forces: &[[f64; 3]],
+    ) {
         let model = &scene.model;
+        if self.layout.is_empty() && !plastic.is_empty() {
+            self.layout = PlasticLayout::of(model);
+        }
+        let yielding = History::of(&self.layout, plastic, None);
         for (zone, record) in scene.clearance.iter().zip(&mut self.clearance) {
             record.observe(zone, model, q, t);
         }
@@ -104,7 +120,7 @@ impl Observations {
             .zip(&self.member_first_contact)
             .zip(&mut self.member_moments);
         for (((beam, record), first), history) in histories {
-            let m = record.observe(model, beam, q, t, *first);
+            let m = record.observe(model, beam, (q, yielding), t, *first);
             history.push((t, m));
         }
         for (beam, record) in model.beams.iter().zip(&mut self.strains) {
@@ -125,11 +141,13 @@ impl Observations {
         if states.is_empty() {
             return;
         }
-        let layout = PlasticLayout::of(&scene.model);
+        if self.layout.is_empty() {
+            self.layout = PlasticLayout::of(&scene.model);
+        }
         let beams = scene.model.beams.iter().zip(&mut self.strains);
         for (b, (beam, record)) in beams.enumerate() {
             let w = work.get(b).copied().unwrap_or(0.0);
-            record.observe_plastic(&scene.model, beam, (&layout, states), w, t);
+            record.observe_plastic(&scene.model, beam, (&self.layout, states), w, t);
         }
     }
 

@@ -420,3 +420,77 @@ fn a_yielding_beam_reports_the_moment_it_carries() {
         "read from the virgin state: {virgin} N m"
     );
 }
+
+/// The yielding layer's elastic law pre-integrated with corrections at the
+/// points that yield gives the point-by-point evaluation's force, Jacobian
+/// and potential, elastic, yielding and unloading, with a second layer.
+#[test]
+fn corrections_on_the_pre_integrated_law_equal_the_point_by_point_evaluation() {
+    let l = 0.25;
+    let section = Section::circular(
+        &[
+            (0.02, RI, Material::st_venant_kirchhoff(7850.0, E, 0.3, 1.0)),
+            (RI, R, steel(2e9)),
+        ],
+        3,
+    );
+    let el = ElementIntegration::new(l, 4, section);
+    let bend = |theta: f64| {
+        let (c, s) = (theta.cos(), theta.sin());
+        let mut e = reference_coordinates(
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            l,
+        );
+        e[15..18].copy_from_slice(&[c, 0.0, s]);
+        e[21..24].copy_from_slice(&[-s, 0.0, c]);
+        e[12..15].copy_from_slice(&[
+            l * (1.0 - theta * theta / 6.0),
+            0.02 * theta * l,
+            l * theta / 2.0,
+        ]);
+        e
+    };
+    let ky = FY / (E * R);
+    let mut states = vec![PlasticState::default(); el.plastic_points()];
+    el.plastic_step(&bend(6.0 * ky * l), PlasticInput::default(), &mut states);
+    // Elastic (small bend, virgin), yielding (virgin, past yield), and
+    // unloading from the yielded history.
+    for (theta, history) in [
+        (0.3 * ky * l, false),
+        (8.0 * ky * l, false),
+        (2.0 * ky * l, true),
+    ] {
+        let input = PlasticInput {
+            states: if history { &states } else { &[] },
+            dt: None,
+        };
+        let e = bend(theta);
+        let (mut qa, mut qb) = ([0.0; 24], [0.0; 24]);
+        let (mut ka, mut kb) = ([0.0; 576], [0.0; 576]);
+        let ua = el.evaluate_with(&e, input, &mut qa, Some(&mut ka));
+        let ub = el.evaluate_plastic_reference(&e, input, &mut qb, Some(&mut kb));
+        let scale = |x: &[f64]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = |a: &[f64], b: &[f64]| {
+            a.iter()
+                .zip(b)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        };
+        assert!(
+            diff(&qa, &qb) < 1e-10 * scale(&qb),
+            "θ = {theta}: force off by {:e}",
+            diff(&qa, &qb)
+        );
+        assert!(
+            diff(&ka, &kb) < 1e-10 * scale(&kb),
+            "θ = {theta}: Jacobian off by {:e}",
+            diff(&ka, &kb)
+        );
+        assert!(
+            (ua - ub).abs() < 1e-10 * ub.abs(),
+            "θ = {theta}: energy {ua} vs {ub}"
+        );
+    }
+}

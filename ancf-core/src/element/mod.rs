@@ -279,13 +279,14 @@ impl IntegrationPlan {
             _ => None,
         };
         for (i, layer) in section.layers.iter().enumerate() {
+            // A yielding layer: its elastic law integrated as any layer's,
+            // its points kept for the plastic corrections.
             if let Some(law) = layer.laws.plastic {
                 plastic.push(PlasticGroup {
                     points: layer.points.clone(),
                     law,
                     elastic: layer.laws.section.clone(),
                 });
-                continue;
             }
             match (&layer.laws.section, radii) {
                 (Law::Linear(d), Some(radii)) => {
@@ -560,10 +561,9 @@ impl ElementIntegration {
         mut k: Option<&mut ElementMatrix>,
     ) -> f64 {
         let mut energy = 0.0;
-        self.for_each_point_where(
-            |layer| layer.laws.plastic.is_none(),
-            |g, w, law| energy += point_kernel_generic(e, g, w, law, q, k.as_deref_mut()),
-        );
+        self.for_each_point(|g, w, law| {
+            energy += point_kernel_generic(e, g, w, law, q, k.as_deref_mut())
+        });
         energy
     }
 
@@ -577,7 +577,7 @@ impl ElementIntegration {
 
     /// [`Self::for_each_point`], the section points of the layers `take`
     /// accepts only (every centerline point is visited).
-    fn for_each_point_where(
+    pub(crate) fn for_each_point_where(
         &self,
         take: impl Fn(&crate::section::SectionLayer) -> bool,
         mut visit: impl FnMut(&[[f64; 3]; 8], f64, &Law),

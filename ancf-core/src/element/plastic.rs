@@ -144,11 +144,120 @@ impl ElementIntegration {
         }
     }
 
-    /// The yielding layers' force (added to `q`), consistent tangent (added
-    /// to `k`) and incremental potential (J, see
-    /// [`BeamPlasticity::incremental_energy`]; the stored energy at the
-    /// states of an accepted step) at `e` from the history `input`.
+    /// The yielding layers' share beyond their elastic law — which the plan
+    /// pre-integrates with the other layers — at `e` from the history
+    /// `input`: the force Σ w Bᵀ(σ − C ε) (added to `q`), its consistent
+    /// tangent (added to `k`) and the potential's excess over ½ εᵀC ε (J),
+    /// at the points where σ differs from C ε (only the beam stresses can).
+    /// A point still virgin whose trial stress stays inside the yield
+    /// surface adds nothing and costs its three beam strains.
     pub(crate) fn add_plastic(
+        &self,
+        e: &ElementVector,
+        input: PlasticInput<'_>,
+        q: &mut ElementVector,
+        mut k: Option<&mut ElementMatrix>,
+    ) -> f64 {
+        let virgin = PlasticState::default();
+        let mut energy = 0.0;
+        self.for_each_plastic_strain(e, |index, _, (y, z), strain, w, group| {
+            let old = input.states.get(index).unwrap_or(&virgin);
+            if old.is_virgin() && group.law.is_elastic_from_virgin(strain) {
+                return;
+            }
+            let response = group.law.respond(strain, old, input.dt);
+            let c = group.law.beam_moduli();
+            let mut delta = Vector6::zeros();
+            let mut d = Matrix6::zeros();
+            for (a, &va) in BEAM_VOIGT.iter().enumerate() {
+                delta[va] = response.stress[a] - c[a] * strain[a];
+                for (b, &vb) in BEAM_VOIGT.iter().enumerate() {
+                    let diagonal = if a == b { c[a] } else { 0.0 };
+                    d[(va, vb)] = response.tangent[a][b] - diagonal;
+                }
+            }
+            let (xi, l) = (
+                self.axial.nodes[index / self.plastic_points_per_station()],
+                self.length,
+            );
+            let g = shape_gradients(xi, y, z, l);
+            let f = deformation_gradient(e, &g);
+            add_point_stress(&f, &g, w, &delta, k.as_deref_mut().map(|k| (&d, k)), q);
+            let elastic: f64 = (0..3).map(|i| 0.5 * c[i] * strain[i] * strain[i]).sum();
+            let potential = group.law.incremental_energy(strain, old, &response.state);
+            energy += w * (potential - elastic);
+        });
+        energy
+    }
+
+    /// The yielding points at one axial station.
+    fn plastic_points_per_station(&self) -> usize {
+        self.plan.plastic.iter().map(|g| g.points.len()).sum()
+    }
+
+    /// Visit every yielding point with its index in the element's history,
+    /// its ξ, its (y, z) (m), its beam strains (E₁₁, γ₁₂, γ₁₃) at `e`, its
+    /// weight (m³) and its group. The strains come from the centerline's
+    /// r_x = a, the x-derivatives b, c of r_y, r_z and r_y, r_z at the
+    /// station: at (y, z), r_x = a + y b + z c, E₁₁ = ½(|r_x|² − 1),
+    /// γ₁₂ = r_x · r_y, γ₁₃ = r_x · r_z — a few operations a point.
+    fn for_each_plastic_strain(
+        &self,
+        e: &ElementVector,
+        mut visit: impl FnMut(usize, f64, (f64, f64), [f64; 3], f64, &PlasticGroup),
+    ) {
+        let l = self.length;
+        let v = |at: usize| [e[at], e[at + 1], e[at + 2]];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (ra, rxa, rya, rza) = (v(0), v(3), v(6), v(9));
+        let (rb, rxb, ryb, rzb) = (v(12), v(15), v(18), v(21));
+        let b: [f64; 3] = std::array::from_fn(|k| (ryb[k] - rya[k]) / l);
+        let c: [f64; 3] = std::array::from_fn(|k| (rzb[k] - rza[k]) / l);
+        let mut index = 0;
+        for (xi, wx) in self.axial.nodes.iter().zip(&self.axial.weights) {
+            let g = shape_gradients(*xi, 0.0, 0.0, l);
+            let a: [f64; 3] = std::array::from_fn(|k| {
+                g[0][0] * ra[k] + g[1][0] * rxa[k] + g[4][0] * rb[k] + g[5][0] * rxb[k]
+            });
+            let ry: [f64; 3] = std::array::from_fn(|k| (1.0 - xi) * rya[k] + xi * ryb[k]);
+            let rz: [f64; 3] = std::array::from_fn(|k| (1.0 - xi) * rza[k] + xi * rzb[k]);
+            for group in &self.plan.plastic {
+                for p in &group.points {
+                    let rx: [f64; 3] = std::array::from_fn(|k| a[k] + p.y * b[k] + p.z * c[k]);
+                    let strain = [0.5 * (dot(rx, rx) - 1.0), dot(rx, ry), dot(rx, rz)];
+                    visit(index, *xi, (p.y, p.z), strain, wx * l * p.weight, group);
+                    index += 1;
+                }
+            }
+        }
+    }
+
+    /// The force, Jacobian and energy of the element with its yielding
+    /// layers evaluated point by point from the history `input` — every
+    /// other layer by the generic kernel — the reference the pre-integrated
+    /// path with corrections ([`Self::evaluate_with`]) is tested against.
+    pub fn evaluate_plastic_reference(
+        &self,
+        e: &ElementVector,
+        input: PlasticInput<'_>,
+        q: &mut ElementVector,
+        mut k: Option<&mut ElementMatrix>,
+    ) -> f64 {
+        let mut energy = 0.0;
+        self.for_each_point_where(
+            |layer| layer.laws.plastic.is_none(),
+            |g, w, law| {
+                energy += super::point_kernel_generic(e, g, w, law, q, k.as_deref_mut());
+            },
+        );
+        energy + self.add_plastic_points(e, input, q, k)
+    }
+
+    /// The yielding layers' whole force, tangent and potential point by
+    /// point, every stress from the return map: the reference
+    /// [`Self::add_plastic`] is tested against (with the other layers by
+    /// the generic kernel, see [`Self::evaluate_plastic_reference`]).
+    fn add_plastic_points(
         &self,
         e: &ElementVector,
         input: PlasticInput<'_>,
@@ -186,10 +295,18 @@ impl ElementIntegration {
     ) -> PlasticStep {
         let virgin = PlasticState::default();
         let mut step = PlasticStep::default();
-        self.for_each_plastic_point(|index, xi, g, w, group| {
+        self.for_each_plastic_strain(e, |index, xi, _, strain, w, group| {
             let old = input.states.get(index).unwrap_or(&virgin);
-            let eps = green_lagrange(&deformation_gradient(e, g));
-            let new = group.law.respond(beam_strain(&eps), old, input.dt).state;
+            if old.is_virgin() && group.law.is_elastic_from_virgin(strain) {
+                // Still elastic: only the stress it is left at changes.
+                let c = group.law.beam_moduli();
+                out[index] = PlasticState {
+                    stress: std::array::from_fn(|i| c[i] * strain[i]),
+                    ..virgin
+                };
+                return;
+            }
+            let new = group.law.respond(strain, old, input.dt).state;
             step.work += w * group.law.plastic_work(old, &new);
             if new.equivalent > step.max_equivalent {
                 step.max_equivalent = new.equivalent;

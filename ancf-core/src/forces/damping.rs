@@ -122,27 +122,6 @@ fn kelvin_voigt_point_laws(
     ei.for_each_plan_point(&ei.axial.nodes, &ei.axial.weights, |g, w, law| {
         power += kelvin_voigt_point(e, v, g, w, law, c, q, kq.as_deref_mut(), kv.as_deref_mut());
     });
-    // A yielding layer is damped by its elastic law.
-    let l = ei.length;
-    for (xi, wx) in ei.axial.nodes.iter().zip(&ei.axial.weights) {
-        for group in &ei.plan.plastic {
-            for p in &group.points {
-                let g = crate::element::shape_gradients(*xi, p.y, p.z, l);
-                let (w, law) = (wx * l * p.weight, &group.elastic);
-                power += kelvin_voigt_point(
-                    e,
-                    v,
-                    &g,
-                    w,
-                    law,
-                    c,
-                    q,
-                    kq.as_deref_mut(),
-                    kv.as_deref_mut(),
-                );
-            }
-        }
-    }
     power
 }
 

@@ -84,6 +84,16 @@ pub struct PlasticState {
     pub stress: [f64; 3],
 }
 
+impl PlasticState {
+    /// Whether the point never flowed: ē = 0, which every plastic step
+    /// raises (Δē = Δλ > 0), so that its plastic strain and back stress
+    /// are zero too (the stress it was left at aside).
+    #[inline]
+    pub fn is_virgin(&self) -> bool {
+        self.equivalent == 0.0
+    }
+}
+
 /// The response of a point to a strain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointResponse {
@@ -148,6 +158,22 @@ impl BeamPlasticity {
             })
             .sum();
         trapezoid - (self.kinematic_energy(new) - self.kinematic_energy(old))
+    }
+
+    /// (E, G, G), Pa: the moduli of (E₁₁, γ₁₂, γ₁₃).
+    pub fn beam_moduli(&self) -> [f64; 3] {
+        self.moduli()
+    }
+
+    /// Whether a point with no history stays elastic at `strain`: its
+    /// trial stress inside the initial yield surface.
+    #[inline]
+    pub fn is_elastic_from_virgin(&self, strain: [f64; 3]) -> bool {
+        // The rate law scales the yield stress only once the point flows
+        // (Δē > 0), so the initial surface is f_y's.
+        let (e, g) = (self.youngs_modulus, self.shear_modulus);
+        let (s, t2, t3) = (e * strain[0], g * strain[1], g * strain[2]);
+        s * s + 3.0 * (t2 * t2 + t3 * t3) <= self.yield_stress * self.yield_stress
     }
 
     fn moduli(&self) -> [f64; 3] {

@@ -494,3 +494,45 @@ fn corrections_on_the_pre_integrated_law_equal_the_point_by_point_evaluation() {
         );
     }
 }
+
+/// The assembly takes a yielding member's pre-integrated laws eight and
+/// four elements at a time and adds each element's corrections: the force
+/// and energies have the bits of the elements evaluated one by one.
+#[test]
+fn batched_yielding_elements_have_the_bits_of_one_by_one() {
+    use ancf_core::forces::assembly::{assemble_into_with, pattern};
+    use ancf_core::forces::plastic::{History, PlasticLayout};
+    let l = 3.0;
+    let n = 23; // batches of 8 and 4 and a rest
+    let model = cantilever(l, n, 0.95 * plastic_moment() / l);
+    let r = solve_static(&model, &settings(10)).unwrap();
+    let layout = PlasticLayout::of(&model);
+    let history = History::of(&layout, &r.plastic, None);
+    let pattern = pattern(&model);
+    let mut force = vec![0.0; r.q.len()];
+    let mut energy = vec![0.0; model.n_elements];
+    assemble_into_with(
+        &model,
+        &pattern,
+        &r.q,
+        history,
+        None,
+        &mut force,
+        &mut energy,
+    );
+    let mut expected = vec![0.0; r.q.len()];
+    for el in 0..model.n_elements {
+        let e = model.element_coordinates(&r.q, el);
+        let mut qe = [0.0; 24];
+        let u = model
+            .element(el)
+            .evaluate_with(&e, history.element(el), &mut qe, None);
+        assert_eq!(u.to_bits(), energy[el].to_bits(), "element {el}'s energy");
+        for i in 0..24 {
+            expected[12 * el + i] += qe[i];
+        }
+    }
+    for (i, (a, b)) in force.iter().zip(&expected).enumerate() {
+        assert_eq!(a.to_bits(), b.to_bits(), "force {i}: {a} vs {b}");
+    }
+}

@@ -282,10 +282,12 @@ impl IntegrationPlan {
             // A yielding layer: its elastic law integrated as any layer's,
             // its points kept for the plastic corrections.
             if let Some(law) = layer.laws.plastic {
+                let reach = (layer.points.iter()).fold(0.0f64, |m, p| m.max(p.y.hypot(p.z)));
                 plastic.push(PlasticGroup {
                     points: layer.points.clone(),
                     law,
                     elastic: layer.laws.section.clone(),
+                    reach,
                 });
             }
             match (&layer.laws.section, radii) {
@@ -477,6 +479,47 @@ impl ElementIntegration {
         ))
     }
 
+    /// [`Self::forces_x8`] of the pre-integrated laws alone, also for
+    /// elements with a yielding layer, whose corrections the caller adds
+    /// element by element ([`Self::add_plastic`]).
+    pub(crate) fn forces_x8_before_plastic(
+        &self,
+        e: &[[f64; 8]; 24],
+        q: &mut [[f64; 8]; 24],
+    ) -> Option<[f64; 8]> {
+        let (pre, nodes, weights) = self.lane_kernel_data_before_plastic()?;
+        let path = crate::math::simd::path();
+        Some(preintegration::forces_8(
+            path,
+            pre,
+            nodes,
+            weights,
+            self.length,
+            e,
+            q,
+        ))
+    }
+
+    /// [`Self::forces_x4`] of the pre-integrated laws alone (see
+    /// [`Self::forces_x8_before_plastic`]).
+    pub(crate) fn forces_x4_before_plastic(
+        &self,
+        e: &[[f64; 4]; 24],
+        q: &mut [[f64; 4]; 24],
+    ) -> Option<[f64; 4]> {
+        let (pre, nodes, weights) = self.lane_kernel_data_before_plastic()?;
+        let path = crate::math::simd::path();
+        Some(preintegration::forces_4(
+            path,
+            pre,
+            nodes,
+            weights,
+            self.length,
+            e,
+            q,
+        ))
+    }
+
     /// [`Self::energies_x4`] for eight elements at once.
     pub fn energies_x8(&self, e: &[[f64; 8]; 24]) -> Option<[f64; 8]> {
         let (pre, nodes, weights) = self.lane_kernel_data()?;
@@ -525,7 +568,24 @@ impl ElementIntegration {
         &'static [f64],
         &'static [f64],
     )> {
-        if self.kernel.is_none() || !self.plan.is_preintegrated_only() {
+        if !self.plan.is_preintegrated_only() {
+            return None;
+        }
+        self.lane_kernel_data_before_plastic()
+    }
+
+    /// [`Self::lane_kernel_data`] for an element whose only points besides
+    /// the pre-integrated laws are a yielding layer's corrections (the
+    /// caller adds them, [`Self::add_plastic`]).
+    fn lane_kernel_data_before_plastic(
+        &self,
+    ) -> Option<(
+        &preintegration::PreIntegrated,
+        &'static [f64],
+        &'static [f64],
+    )> {
+        let others = self.plan.points() - self.plastic_points_per_station();
+        if self.kernel.is_none() || others != 0 {
             return None;
         }
         let pre = self.plan.preintegrated.as_ref()?;

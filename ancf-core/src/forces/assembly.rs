@@ -105,16 +105,49 @@ fn add_whole_elements(
     for group in &model.groups {
         let end = group.elements.end.min(els.end);
         let mut first = group.elements.start.max(els.start);
+        // A yielding layer's elements: the pre-integrated laws eight or four
+        // at a time, then each element's corrections where it yields.
+        let yielding = group.integration.plan.is_plastic();
         while values.is_none() && first + 8 <= end {
             let mut q8 = [[0.0; 8]; 24];
-            let Some(u) = group
-                .integration
-                .forces_x8(&lanes(model, q, first), &mut q8)
-            else {
+            let e8 = lanes(model, q, first);
+            let u = match yielding {
+                true => group.integration.forces_x8_before_plastic(&e8, &mut q8),
+                false => group.integration.forces_x8(&e8, &mut q8),
+            };
+            let Some(u) = u else {
                 break;
             };
-            add_lanes(&u, &q8, first - e0, first - node0, force, energy);
+            match yielding {
+                true => add_lanes_yielding(
+                    model,
+                    (q, plastic),
+                    first,
+                    (&u, &q8),
+                    (e0, node0),
+                    force,
+                    energy,
+                ),
+                false => add_lanes(&u, &q8, first - e0, first - node0, force, energy),
+            }
             first += 8;
+        }
+        while yielding && values.is_none() && first + 4 <= end {
+            let mut q4 = [[0.0; 4]; 24];
+            let e4 = lanes(model, q, first);
+            let Some(u) = group.integration.forces_x4_before_plastic(&e4, &mut q4) else {
+                break;
+            };
+            add_lanes_yielding(
+                model,
+                (q, plastic),
+                first,
+                (&u, &q4),
+                (e0, node0),
+                force,
+                energy,
+            );
+            first += 4;
         }
         while first + 4 <= end {
             let e4 = lanes(model, q, first);
@@ -154,6 +187,36 @@ fn add_whole_elements(
                 force,
                 values.as_deref_mut(),
             );
+        }
+    }
+}
+
+/// [`add_lanes`] for elements with a yielding layer: each element's lane
+/// of the pre-integrated laws (`u`, `q`) gets its yielding layer's
+/// corrections ([`crate::element::ElementIntegration::add_plastic`]) before
+/// it is added — the sums, in the order, of
+/// [`crate::element::ElementIntegration::evaluate_with`] one by one, so the
+/// bits do not depend on how the elements were batched or chunked.
+fn add_lanes_yielding<const W: usize>(
+    model: &Model,
+    (q, plastic): (&[f64], History<'_>),
+    first: usize,
+    (u, lanes): (&[f64; W], &[[f64; W]; 24]),
+    (e0, node0): (usize, usize),
+    force: &mut [f64],
+    energy: &mut [f64],
+) {
+    for k in 0..W {
+        let el = first + k;
+        let e = model.element_coordinates(q, el);
+        let mut qe: [f64; 24] = std::array::from_fn(|i| lanes[i][k]);
+        let correction = model
+            .element(el)
+            .add_plastic(&e, plastic.element(el), &mut qe, None);
+        energy[el - e0] = u[k] + correction;
+        let base = NODE_DOFS * (el - node0);
+        for (f, v) in force[base..base + 24].iter_mut().zip(&qe) {
+            *f += v;
         }
     }
 }

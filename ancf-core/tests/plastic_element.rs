@@ -492,6 +492,14 @@ fn corrections_on_the_pre_integrated_law_equal_the_point_by_point_evaluation() {
             (ua - ub).abs() < 1e-10 * ub.abs(),
             "θ = {theta}: energy {ua} vs {ub}"
         );
+        // The force alone (its own, lighter form) is the same force.
+        let mut qc = [0.0; 24];
+        el.evaluate_with(&e, input, &mut qc, None);
+        assert!(
+            diff(&qc, &qb) < 1e-10 * scale(&qb),
+            "θ = {theta}: force alone off by {:e}",
+            diff(&qc, &qb)
+        );
     }
 }
 

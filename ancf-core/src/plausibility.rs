@@ -142,12 +142,18 @@ pub fn model_warnings(model: &crate::model::Model) -> Vec<String> {
     out
 }
 
+/// The limit EN 1993-1-5 Annex C (C.8 (1)) sets on the principal strain of
+/// a plastic design by finite elements.
+pub const PLASTIC_DESIGN_STRAIN_LIMIT: f64 = 0.05;
+
 /// What `record`, beam `name`'s strains over a run with `section`, says
 /// was outside the range of its laws: a stretch of an all-metal
 /// (St. Venant–Kirchhoff) beam beyond [`STRETCH_LIMIT`], else a centerline
 /// strain beyond [`SVK_STRAIN_LIMIT`]; and a solid St. Venant–Kirchhoff
 /// layer's fibre strain beyond it. (A stranded layer, ω < 1, bends by its
 /// strands sliding: its fibre strain is no material strain.)
+/// An elastic-plastic layer's outer-fibre strain beyond
+/// [`PLASTIC_DESIGN_STRAIN_LIMIT`] is a warning too.
 pub fn strain_warnings(name: &str, record: &StrainRecord, section: &Section) -> Vec<String> {
     let svk = |m: &Material| matches!(m.model, MaterialModel::StVenantKirchhoff { .. });
     let all_svk = section.layers.iter().all(|l| svk(&l.material));
@@ -173,6 +179,17 @@ pub fn strain_warnings(name: &str, record: &StrainRecord, section: &Section) -> 
         ));
     }
     for (k, (layer, peak)) in section.layers.iter().zip(&record.layers).enumerate() {
+        if layer.material.is_plastic() && peak.max_strain > PLASTIC_DESIGN_STRAIN_LIMIT {
+            out.push(format!(
+                "{name}'s layer {k} strained by {:.1} % in its outer fibres at t = {:.4} s, \
+                 {:.2} m from its start: past the 5 % principal strain EN 1993-1-5 Annex C \
+                 (C.8) allows for plastic design by finite elements (the member has failed by \
+                 that rule)",
+                100.0 * peak.max_strain,
+                peak.time,
+                peak.at,
+            ));
+        }
         let solid = matches!(
             layer.material.model,
             MaterialModel::StVenantKirchhoff { bending_factor, .. } if bending_factor == 1.0
@@ -218,6 +235,40 @@ mod tests {
         let w = material_warnings("m", &bulk_in_pa);
         assert_eq!(w.len(), 1);
         assert!(w[0].starts_with("m.penalty = 2e9"), "{w:?}");
+    }
+
+    #[test]
+    fn a_yielding_layer_past_five_percent_is_named() {
+        use crate::loads::strain_record::PeakStrain;
+        let s235 = Material::elastic_plastic(7850.0, 210e9, 0.3, 235e6, 21e6);
+        let tube = Section::circular(&[(0.02015, 0.02415, s235)], 3);
+        let peak = |max_strain| PeakStrain {
+            max_strain,
+            time: 1.5,
+            at: 2.0,
+        };
+        let mut record = StrainRecord {
+            layers: vec![peak(0.049)],
+            ..Default::default()
+        };
+        assert!(strain_warnings("tube0", &record, &tube).is_empty());
+        record.layers = vec![peak(0.051)];
+        let w = strain_warnings("tube0", &record, &tube);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("5 %") && w[0].contains("EN 1993-1-5"),
+            "{w:?}"
+        );
+        // An elastic layer at the same strain is St. Venant–Kirchhoff's warning.
+        let elastic = Section::circular(
+            &[(
+                0.02015,
+                0.02415,
+                Material::st_venant_kirchhoff(7850.0, 210e9, 0.3, 1.0),
+            )],
+            3,
+        );
+        assert!(!strain_warnings("tube0", &record, &elastic)[0].contains("EN 1993-1-5"));
     }
 
     #[test]

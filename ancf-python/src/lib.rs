@@ -826,7 +826,12 @@ impl Simulation {
     /// state, the wire's contact force on each member being `member_forces`.
     fn observe_state(&mut self, member_forces: &[[f64; 3]]) {
         let state = self.sim.state();
-        (self.observed).observe(&self.scene, (&state.q, &state.plastic), state.time, member_forces);
+        (self.observed).observe(
+            &self.scene,
+            (&state.q, &state.plastic),
+            state.time,
+            member_forces,
+        );
         (self.observed).observe_plastic(
             &self.scene,
             &state.plastic,
@@ -1095,7 +1100,12 @@ impl Simulation {
                         cost.stepping += begun.elapsed().as_secs_f64();
                         cost.add(&info);
                         let state = sim.state();
-                        observed.observe(scene, (&state.q, &state.plastic), state.time, &info.member_forces);
+                        observed.observe(
+                            scene,
+                            (&state.q, &state.plastic),
+                            state.time,
+                            &info.member_forces,
+                        );
                         observed.observe_plastic(
                             scene,
                             &state.plastic,
@@ -1321,7 +1331,13 @@ impl Simulation {
             }
             d.set_item("supports", supports)?;
         }
-        let members = self.observed.member_summary(&self.scene);
+        let mut ended = ancf_output::output::Summary {
+            beams: self.observed.member_summary(&self.scene),
+            ..Default::default()
+        };
+        let state = self.sim.state();
+        Observations::fill_permanent_set(&self.scene, (&state.q, &state.v), &mut ended);
+        let members = ended.beams;
         if !members.is_empty() {
             let beams = PyList::empty(py);
             let cfc = self.scene.output.cfc;
@@ -1346,6 +1362,15 @@ impl Simulation {
                     ("first_impact_max_von_mises", r.first_impact_max_von_mises),
                 ] {
                     b.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("permanent_set", m.permanent_set),
+                    ("permanent_set_at", m.permanent_set_at),
+                    ("permanent_set_speed", m.permanent_set_speed),
+                ] {
+                    if let Some(v) = v {
+                        b.set_item(k, v)?;
+                    }
                 }
                 beams.append(b)?;
             }

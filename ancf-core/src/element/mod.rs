@@ -520,6 +520,28 @@ impl ElementIntegration {
         ))
     }
 
+    /// [`Self::jacobians_x4`] of the pre-integrated laws alone (see
+    /// [`Self::forces_x8_before_plastic`]).
+    pub(crate) fn jacobians_x4_before_plastic(
+        &self,
+        e: &[[f64; 4]; 24],
+        q: &mut [[f64; 4]; 24],
+        k: &mut [[f64; 4]; 576],
+    ) -> Option<[f64; 4]> {
+        let (pre, nodes, weights) = self.lane_kernel_data_before_plastic()?;
+        let path = crate::math::simd::path();
+        Some(preintegration::jacobians_4(
+            path,
+            pre,
+            nodes,
+            weights,
+            self.length,
+            e,
+            q,
+            k,
+        ))
+    }
+
     /// [`Self::energies_x4`] for eight elements at once.
     pub fn energies_x8(&self, e: &[[f64; 8]; 24]) -> Option<[f64; 8]> {
         let (pre, nodes, weights) = self.lane_kernel_data()?;

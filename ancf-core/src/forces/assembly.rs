@@ -149,6 +149,35 @@ fn add_whole_elements(
             );
             first += 4;
         }
+        while yielding && first + 4 <= end {
+            let Some((v, offset)) = values.as_mut() else {
+                break;
+            };
+            let e4 = lanes(model, q, first);
+            let mut q4 = [[0.0; 4]; 24];
+            #[allow(clippy::unnecessary_lazy_evaluations)]
+            let k4 = k4.get_or_insert_with(|| [[0.0; 4]; 576]);
+            let ei = &group.integration;
+            let Some(u) = ei.jacobians_x4_before_plastic(&e4, &mut q4, k4) else {
+                break;
+            };
+            // Each element's lane with its corrections, as one by one.
+            for k in 0..4 {
+                let el = first + k;
+                let e = model.element_coordinates(q, el);
+                let mut qe: [f64; 24] = std::array::from_fn(|i| q4[i][k]);
+                let mut ke: [f64; 576] = std::array::from_fn(|i| k4[i][k]);
+                let input = plastic.element(el);
+                let correction = ei.add_plastic(&e, input, &mut qe, Some(&mut ke));
+                pattern.add_element_columns(v, *offset, el, &ke, 0..24);
+                energy[el - e0] = u[k] + correction;
+                let base = NODE_DOFS * (el - node0);
+                for (f, x) in force[base..base + 24].iter_mut().zip(&qe) {
+                    *f += x;
+                }
+            }
+            first += 4;
+        }
         while first + 4 <= end {
             let e4 = lanes(model, q, first);
             let mut q4 = [[0.0; 4]; 24];

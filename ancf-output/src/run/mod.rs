@@ -767,6 +767,8 @@ fn run_dynamic(
     }
     p.observed.fill(scene, summary);
     Observations::fill_member_contact(summary, sim.member_loads(), scene.output.cfc);
+    let end = sim.state();
+    Observations::fill_permanent_set(scene, (&end.q, &end.v), summary);
     summary.energy = Some(EnergySummary {
         last: p.last,
         total: p.last.total(),

@@ -224,6 +224,9 @@ impl Observations {
                 name: beam.name.clone(),
                 record: *record,
                 contact: Default::default(),
+                permanent_set: None,
+                permanent_set_at: None,
+                permanent_set_speed: None,
             })
             .collect()
     }
@@ -257,6 +260,37 @@ impl Observations {
     ) {
         for (beam, h) in summary.beams.iter_mut().zip(loads) {
             beam.contact = h.summary(&h.filtered(cfc));
+        }
+    }
+
+    /// Into `summary.beams`: each member with an elastic-plastic layer's
+    /// displacement at the run's end (coordinates `q`, velocities `v`):
+    /// its largest, where, and its nodes' largest speed.
+    pub fn fill_permanent_set(scene: &Scene, (q, v): (&[f64], &[f64]), summary: &mut Summary) {
+        let model = &scene.model;
+        let members = model.beams.iter().skip(1).zip(summary.beams.iter_mut());
+        for (beam, out) in members {
+            let section = &model.element(beam.elements.start).section;
+            if !section.layers.iter().any(|l| l.material.is_plastic()) {
+                continue;
+            }
+            let start = model.node_arc(beam.nodes.start);
+            let (mut set, mut at, mut speed) = (0.0f64, 0.0, 0.0f64);
+            for n in beam.nodes.clone() {
+                let (r, r0) = (
+                    model.node_position(q, n),
+                    model.node_position(&model.reference, n),
+                );
+                let d = (0..3).map(|k| (r[k] - r0[k]).powi(2)).sum::<f64>().sqrt();
+                if d > set {
+                    (set, at) = (d, model.node_arc(n) - start);
+                }
+                let u = model.node_position(v, n);
+                speed = speed.max(u.iter().map(|x| x * x).sum::<f64>().sqrt());
+            }
+            out.permanent_set = Some(set);
+            out.permanent_set_at = Some(at);
+            out.permanent_set_speed = Some(speed);
         }
     }
 

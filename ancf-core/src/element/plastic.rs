@@ -141,9 +141,9 @@ fn add_beam_stress(
 /// Whether every point of `group` at a station with centerline gradient
 /// a, x-derivatives b, c of r_y, r_z and section gradients r_y, r_z stays
 /// inside the initial yield surface, by bounds over its disc ρ ≤ R: with
-/// r_x = a + y b + z c, |E₁₁| ≤ |½(|a|² − 1)| + R √((a·b)² + (a·c)²)
-/// + ½ R² (|b|² + |c|²) and |γ₁₂| ≤ |a·r_y| + R √((b·r_y)² + (c·r_y)²)
-/// (γ₁₃ alike with r_z).
+/// r_x = a + y b + z c,
+/// |E₁₁| ≤ |½(|a|² − 1)| + R √((a·b)² + (a·c)²) + ½ R² (|b|² + |c|²)
+/// and |γ₁₂| ≤ |a·r_y| + R √((b·r_y)² + (c·r_y)²) (γ₁₃ alike with r_z).
 fn elastic_over_disc(
     group: &PlasticGroup,
     (a, b, c): ([f64; 3], [f64; 3], [f64; 3]),

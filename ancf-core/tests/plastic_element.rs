@@ -544,3 +544,45 @@ fn batched_yielding_elements_have_the_bits_of_one_by_one() {
         assert_eq!(a.to_bits(), b.to_bits(), "force {i}: {a} vs {b}");
     }
 }
+
+/// A yielding run resumed from a snapshot taken after it yielded, sent
+/// through JSON as a checkpoint file is, ends bit for bit like the
+/// uninterrupted one, its plastic states and work included; a snapshot
+/// whose plastic states do not fit the model is refused naming the field.
+#[test]
+fn a_yielding_run_resumes_bit_for_bit() {
+    use ancf_core::solve::dynamics::DynamicSettings;
+    use ancf_core::solve::simulation::{Initial, Simulation, Snapshot};
+    let l = 3.0;
+    let model = cantilever(l, 8, 0.6 * plastic_moment() / l);
+    let settings = DynamicSettings {
+        time_step: 4e-4,
+        end_time: 0.08,
+        ..Default::default()
+    };
+    let mut sim = Simulation::new(&model, settings.clone(), Initial::Reference).unwrap();
+    let mut snapshot = None;
+    while !sim.is_finished() {
+        sim.step().unwrap();
+        if sim.steps().0 == 130 {
+            assert!(
+                sim.state().plastic.iter().any(|p| p.equivalent > 0.0),
+                "yielded by then"
+            );
+            let json = serde_json::to_string(&sim.snapshot()).unwrap();
+            snapshot = Some(serde_json::from_str::<Snapshot>(&json).unwrap());
+        }
+    }
+    let snapshot = snapshot.unwrap();
+    let mut resumed = Simulation::resume(&model, settings.clone(), snapshot.clone()).unwrap();
+    while !resumed.is_finished() {
+        resumed.step().unwrap();
+    }
+    assert_eq!(resumed.state().q, sim.state().q);
+    assert_eq!(resumed.state().plastic, sim.state().plastic);
+    assert_eq!(resumed.state().plastic_work, sim.state().plastic_work);
+    let mut damaged = snapshot;
+    damaged.state.plastic.pop();
+    let error = Simulation::resume(&model, settings, damaged).err().unwrap();
+    assert!(error.to_string().contains("state.plastic"), "{error}");
+}

@@ -396,6 +396,31 @@ impl Simulation {
                 return Err(format!("{name}[{i}] is not finite"));
             }
         }
+        let points = crate::forces::plastic::PlasticLayout::of(model).len();
+        if !(state.plastic.is_empty() || state.plastic.len() == points) {
+            return Err(format!(
+                "state.plastic has {} points, the model's yielding layers have {points}",
+                state.plastic.len()
+            ));
+        }
+        let finite = |p: &crate::material::beam_plasticity::PlasticState| {
+            (p.plastic_strain
+                .iter()
+                .chain(&p.back_stress)
+                .chain(&p.stress))
+            .chain(std::iter::once(&p.equivalent))
+            .all(|x| x.is_finite())
+        };
+        if let Some(i) = state.plastic.iter().position(|p| !finite(p)) {
+            return Err(format!("state.plastic[{i}] is not finite"));
+        }
+        let beams = model.beams.len();
+        if !(state.plastic_work.is_empty() || state.plastic_work.len() == beams) {
+            return Err(format!(
+                "state.plastic_work has {} entries, the model has {beams} beams",
+                state.plastic_work.len()
+            ));
+        }
         if let Some(p) = &state.previous
             && p.a.len() != n
         {

@@ -329,11 +329,7 @@ impl Material {
                 poisson_ratio,
                 bending_factor,
             } => {
-                positive("youngs_modulus", youngs_modulus)?;
-                let nu = finite("poisson_ratio", poisson_ratio)?;
-                if !(nu > -1.0 && nu < 0.5) {
-                    return refuse("poisson_ratio", format!("must lie in (−1, 0.5), got {nu}"));
-                }
+                check_elasticity(youngs_modulus, poisson_ratio)?;
                 let omega = finite("bending_factor", bending_factor)?;
                 if !(0.0..=1.0).contains(&omega) {
                     return refuse(
@@ -349,11 +345,7 @@ impl Material {
                 rate,
                 ..
             } => {
-                positive("youngs_modulus", youngs_modulus)?;
-                let nu = finite("poisson_ratio", poisson_ratio)?;
-                if !(nu > -1.0 && nu < 0.5) {
-                    return refuse("poisson_ratio", format!("must lie in (−1, 0.5), got {nu}"));
-                }
+                check_elasticity(youngs_modulus, poisson_ratio)?;
                 if self.locking == Locking::None {
                     return refuse(
                         "locking",
@@ -466,6 +458,17 @@ impl Material {
     pub fn is_plastic(&self) -> bool {
         matches!(self.model, MaterialModel::ElasticPlastic { .. })
     }
+}
+
+/// E > 0 and ν in (−1, 0.5), the bounds of a stable isotropic solid: the
+/// elasticity of St. Venant–Kirchhoff and of the elastic-plastic model.
+fn check_elasticity(youngs_modulus: f64, poisson_ratio: f64) -> Result<(), ParameterError> {
+    positive("youngs_modulus", youngs_modulus)?;
+    let nu = finite("poisson_ratio", poisson_ratio)?;
+    if !(nu > -1.0 && nu < 0.5) {
+        return refuse("poisson_ratio", format!("must lie in (−1, 0.5), got {nu}"));
+    }
+    Ok(())
 }
 
 /// A constitutive model with its constants.

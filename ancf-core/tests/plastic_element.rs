@@ -5,7 +5,7 @@
 
 mod common;
 
-use ancf_core::element::{ElementIntegration, PlasticInput, reference_coordinates};
+use ancf_core::element::{ElementIntegration, PlasticInput};
 use ancf_core::material::Material;
 use ancf_core::material::beam_plasticity::PlasticState;
 use ancf_core::model::spring::Spring;
@@ -118,6 +118,22 @@ fn tip_z(model: &ancf_core::Model, r: &StaticResult) -> f64 {
     model.node_position(&r.q, n)[2]
 }
 
+/// An element of length `l` along x bent about y and sheared a little
+/// along y, both growing with θ: r_x at B turned by θ (curvature θ / l),
+/// r_y, r_z turned with it.
+fn bent(l: f64, theta: f64) -> ancf_core::element::ElementVector {
+    let (c, s) = (theta.cos(), theta.sin());
+    let mut e = common::reference(l);
+    e[15..18].copy_from_slice(&[c, 0.0, s]);
+    e[21..24].copy_from_slice(&[-s, 0.0, c]);
+    e[12..15].copy_from_slice(&[
+        l * (1.0 - theta * theta / 6.0),
+        0.02 * theta * l,
+        l * theta / 2.0,
+    ]);
+    e
+}
+
 /// The force's Jacobian of a yielding element equals its central
 /// differences: the return map's tangent is consistent.
 #[test]
@@ -127,28 +143,10 @@ fn the_tangent_of_a_yielding_element_is_consistent() {
         let section = Section::circular(&[(RI, R, steel(hardening))], 3);
         let el = ElementIntegration::new(l, 4, section);
         assert!(el.plan.is_plastic());
-        // Bent past yield about y and sheared a little along y (both grow
-        // from the first configuration to the next, so that no point sits
-        // on its yield surface at the kink): r_x at B turned by θ
-        // (curvature θ / l), r_y, r_z turned with it.
-        let bend = |theta: f64| {
-            let (c, s) = (theta.cos(), theta.sin());
-            let mut e = reference_coordinates(
-                [0.0; 3],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-                l,
-            );
-            e[15..18].copy_from_slice(&[c, 0.0, s]);
-            e[21..24].copy_from_slice(&[-s, 0.0, c]);
-            e[12..15].copy_from_slice(&[
-                l * (1.0 - theta * theta / 6.0),
-                0.02 * theta * l,
-                l * theta / 2.0,
-            ]);
-            e
-        };
+        // Bent past yield (shear and bend both grow from the first
+        // configuration to the next, so that no point sits on its yield
+        // surface at the kink).
+        let bend = |theta: f64| bent(l, theta);
         let ky = FY / (E * R);
         let first = bend(8.0 * ky * l);
         // The history of a first, accepted step there.
@@ -435,24 +433,7 @@ fn corrections_on_the_pre_integrated_law_equal_the_point_by_point_evaluation() {
         3,
     );
     let el = ElementIntegration::new(l, 4, section);
-    let bend = |theta: f64| {
-        let (c, s) = (theta.cos(), theta.sin());
-        let mut e = reference_coordinates(
-            [0.0; 3],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            l,
-        );
-        e[15..18].copy_from_slice(&[c, 0.0, s]);
-        e[21..24].copy_from_slice(&[-s, 0.0, c]);
-        e[12..15].copy_from_slice(&[
-            l * (1.0 - theta * theta / 6.0),
-            0.02 * theta * l,
-            l * theta / 2.0,
-        ]);
-        e
-    };
+    let bend = |theta: f64| bent(l, theta);
     let ky = FY / (E * R);
     let mut states = vec![PlasticState::default(); el.plastic_points()];
     el.plastic_step(&bend(6.0 * ky * l), PlasticInput::default(), &mut states);

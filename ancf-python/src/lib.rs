@@ -284,16 +284,8 @@ impl Material {
         rate_q: Option<f64>,
     ) -> PyResult<Material> {
         use ancf_core::material::beam_plasticity::{CowperSymonds, Hardening};
-        let hardening = match hardening.as_deref() {
-            None | Some("kinematic") => Hardening::Kinematic,
-            Some("isotropic") => Hardening::Isotropic,
-            Some(other) => {
-                return Err(value_error(
-                    "hardening",
-                    &format!("unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"),
-                ));
-            }
-        };
+        let hardening = Hardening::from_name(hardening.as_deref())
+            .map_err(|message| value_error("hardening", &message))?;
         let rate = match (rate_d, rate_q) {
             (None, None) => None,
             (Some(d), Some(q)) => Some(CowperSymonds { d, q }),

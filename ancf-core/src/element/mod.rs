@@ -451,32 +451,19 @@ impl ElementIntegration {
     /// pre-integration alone with a generated axial rule (then evaluate one
     /// by one).
     pub fn forces_x4(&self, e: &[[f64; 4]; 24], q: &mut [[f64; 4]; 24]) -> Option<[f64; 4]> {
-        let (pre, nodes, weights) = self.lane_kernel_data()?;
-        Some(preintegration::forces_4(
-            crate::math::simd::path(),
-            pre,
-            nodes,
-            weights,
-            self.length,
-            e,
-            q,
-        ))
+        if !self.plan.is_preintegrated_only() {
+            return None;
+        }
+        self.forces_x4_before_plastic(e, q)
     }
 
     /// [`Self::forces_x4`] for eight elements at once (the same bits per
     /// element; faster on the AVX-512 path).
     pub fn forces_x8(&self, e: &[[f64; 8]; 24], q: &mut [[f64; 8]; 24]) -> Option<[f64; 8]> {
-        let (pre, nodes, weights) = self.lane_kernel_data()?;
-        let path = crate::math::simd::path();
-        Some(preintegration::forces_8(
-            path,
-            pre,
-            nodes,
-            weights,
-            self.length,
-            e,
-            q,
-        ))
+        if !self.plan.is_preintegrated_only() {
+            return None;
+        }
+        self.forces_x8_before_plastic(e, q)
     }
 
     /// [`Self::forces_x8`] of the pre-integrated laws alone, also for
@@ -567,17 +554,10 @@ impl ElementIntegration {
         q: &mut [[f64; 4]; 24],
         k: &mut [[f64; 4]; 576],
     ) -> Option<[f64; 4]> {
-        let (pre, nodes, weights) = self.lane_kernel_data()?;
-        Some(preintegration::jacobians_4(
-            crate::math::simd::path(),
-            pre,
-            nodes,
-            weights,
-            self.length,
-            e,
-            q,
-            k,
-        ))
+        if !self.plan.is_preintegrated_only() {
+            return None;
+        }
+        self.jacobians_x4_before_plastic(e, q, k)
     }
 
     /// What the lane kernel needs — the pre-integrated section and the

@@ -43,6 +43,20 @@ pub enum Hardening {
     Isotropic,
 }
 
+impl Hardening {
+    /// The hardening a scene or a Python call names (`None`: the default,
+    /// kinematic), or the message refusing an unknown name.
+    pub fn from_name(name: Option<&str>) -> Result<Self, String> {
+        match name {
+            None | Some("kinematic") => Ok(Hardening::Kinematic),
+            Some("isotropic") => Ok(Hardening::Isotropic),
+            Some(other) => Err(format!(
+                "unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"
+            )),
+        }
+    }
+}
+
 /// The Cowper–Symonds rate law: the yield stress times 1 + (ē̇ / D)^(1/q).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CowperSymonds {

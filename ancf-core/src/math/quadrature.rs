@@ -159,46 +159,27 @@ pub fn ring_rule(n: usize, r1: f64, r2: f64) -> Vec<SectionPoint> {
 /// along its circumference): few radial nodes, many angles.
 pub fn ring_rule_with(radial: usize, angles: usize, r1: f64, r2: f64) -> Vec<SectionPoint> {
     let rule = signed_radius_rule_weighted(radial, &[(r1, r2, 1.0)]);
-    let dtheta = std::f64::consts::PI / angles as f64;
-    let mut points = Vec::with_capacity(radial * angles);
-    let mut centre_weight = 0.0;
-    for (s, w) in rule.nodes.iter().zip(&rule.weights) {
-        if *s == 0.0 {
-            centre_weight += dtheta * w * angles as f64;
-            continue;
-        }
-        for m in 0..angles {
-            let theta = m as f64 * dtheta;
-            points.push(SectionPoint {
-                y: s * theta.cos(),
-                z: s * theta.sin(),
-                weight: dtheta * w,
-            });
-        }
-    }
-    if centre_weight > 0.0 {
-        points.push(SectionPoint {
-            y: 0.0,
-            z: 0.0,
-            weight: centre_weight,
-        });
-    }
-    points
+    ring_of(&rule, angles)
 }
 
 /// The ring construction for the radial weight of [`signed_radius_rule_weighted`]:
 /// ∫ f c(ρ) dA exact for f of degree ≤ 2n − 1.
 pub fn ring_rule_weighted(n: usize, pieces: &[(f64, f64, f64)]) -> Vec<SectionPoint> {
-    let radial = signed_radius_rule_weighted(n, pieces);
-    let dtheta = std::f64::consts::PI / n as f64;
-    let mut points = Vec::with_capacity(n * n);
+    ring_of(&signed_radius_rule_weighted(n, pieces), n)
+}
+
+/// The product of a signed-radius rule with `angles` angles θ_m = mπ/angles
+/// over a half turn; its nodes at the centre are merged into one point.
+fn ring_of(radial: &Rule1d, angles: usize) -> Vec<SectionPoint> {
+    let dtheta = std::f64::consts::PI / angles as f64;
+    let mut points = Vec::with_capacity(radial.nodes.len() * angles);
     let mut centre_weight = 0.0;
     for (s, w) in radial.nodes.iter().zip(&radial.weights) {
         if *s == 0.0 {
-            centre_weight += dtheta * w * n as f64;
+            centre_weight += dtheta * w * angles as f64;
             continue;
         }
-        for m in 0..n {
+        for m in 0..angles {
             let theta = m as f64 * dtheta;
             points.push(SectionPoint {
                 y: s * theta.cos(),

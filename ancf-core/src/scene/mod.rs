@@ -1342,18 +1342,8 @@ fn validate_materials(specs: &[MaterialSpec]) -> Result<Vec<(String, Material)>,
                 if m.yield_stress.is_none() {
                     return Err(err(at("yield_stress"), "missing (Pa), e.g. 235e6 for S235"));
                 }
-                let hardening = match m.hardening.as_deref() {
-                    None | Some("kinematic") => Hardening::Kinematic,
-                    Some("isotropic") => Hardening::Isotropic,
-                    Some(other) => {
-                        return Err(err(
-                            at("hardening"),
-                            format!(
-                                "unknown hardening \"{other}\" (use \"kinematic\" or \"isotropic\")"
-                            ),
-                        ));
-                    }
-                };
+                let hardening = Hardening::from_name(m.hardening.as_deref())
+                    .map_err(|message| err(at("hardening"), message))?;
                 let rate = match &m.rate {
                     None => None,
                     Some(r) if r.kind == "cowper-symonds" => Some(CowperSymonds { d: r.d, q: r.q }),

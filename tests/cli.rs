@@ -1135,6 +1135,154 @@ fn a_tube_member_reports_its_utilization_and_warns_past_yield() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A wire's support is read against its static force, a frame member's
+/// against the member's own limit: a post standing on a spring support
+/// reports its base force and moment over its section's N_pl,Rd = A f_y
+/// and M_pl,Rd = W_pl f_y, and no ratio to its self-weight reaction. The
+/// response to the support force is a magnitude, compared as one.
+#[test]
+fn a_post_is_read_against_its_limit_and_the_wire_against_its_static_force() {
+    let dir = tmp("post-limit");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |analysis: &str| {
+        format!(
+            r#"
+[analysis]
+{analysis}
+
+[gravity]
+acceleration = [0.0, 0.0, -9.81]
+
+[[material]]
+name = "steel"
+model = "st-venant-kirchhoff"
+density = 7850.0
+youngs_modulus = 2.1e11
+yield_stress = 235e6
+
+[wire]
+length = 2.0
+elements = 8
+layers = [{{ material = "steel", outer_radius = 0.002 }}]
+
+[[support]]
+node = 0
+kind = "pin"
+
+[[support]]
+node = "last"
+kind = "pin"
+
+[[beam]]
+name = "post"
+length = 1.0
+elements = 4
+origin = [0.5, 1.0, -1.0]
+direction = [0.0, 0.0, 1.0]
+layers = [{{ material = "steel", inner_radius = 0.02015, outer_radius = 0.02415 }}]
+
+[[support]]
+beam = "post"
+node = 0
+kind = "spring"
+stiffness = [1e8, 1e8, 1e8]
+rotational_stiffness = 1e5
+torsional_stiffness = 1e5
+
+[output]
+plots = false
+vtk = false
+response_frequencies = [2.0]
+"#
+        )
+    };
+    let (d, di) = (0.0483f64, 0.0403f64);
+    let area = 0.25 * std::f64::consts::PI * (d * d - di * di);
+    let (axial, moment) = (area * 235e6, (d.powi(3) - di.powi(3)) / 6.0 * 235e6);
+    let weight = 7850.0 * area * 1.0 * 9.81;
+    for (name, analysis) in [
+        ("static", "kind = \"static\""),
+        (
+            "dynamic",
+            "kind = \"dynamic\"\ninitial = \"static\"\nend_time = 0.01\ntime_step = 1e-3",
+        ),
+    ] {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, scene(analysis)).unwrap();
+        let out = dir.join(name);
+        assert!(run_quiet(&path, &out).status().unwrap().success(), "{name}");
+        let s = summary(&out);
+        let get = |i: usize, key: &str| s["supports"][i][key].as_f64();
+        let post = 2;
+        let force: Vec<f64> = (0..3)
+            .map(|c| s["supports"][post]["static_force"][c].as_f64().unwrap())
+            .collect();
+        let static_force = force.iter().map(|f| f * f).sum::<f64>().sqrt();
+        assert!(
+            (static_force / weight - 1.0).abs() < 1e-6,
+            "{name}: {force:?}"
+        );
+        assert_eq!(get(post, "ratio_to_static"), None, "{name}");
+        assert_eq!(get(post, "filtered_ratio_to_static"), None, "{name}");
+        let limit = get(post, "limit_force").unwrap();
+        assert!(
+            (limit / axial - 1.0).abs() < 1e-12,
+            "{name}: {limit} against {axial}"
+        );
+        let limit_moment = get(post, "limit_moment").unwrap();
+        assert!((limit_moment / moment - 1.0).abs() < 1e-12, "{name}");
+        let m = get(post, "peak_moment").unwrap();
+        assert_eq!(get(post, "moment_ratio_to_limit"), Some(m / limit_moment));
+        assert_eq!(
+            get(0, "limit_force"),
+            None,
+            "{name}: the wire has no section check"
+        );
+        if name == "static" {
+            assert_eq!(get(post, "ratio_to_limit"), Some(static_force / limit));
+            continue;
+        }
+        let peak = get(post, "peak_force").unwrap();
+        assert_eq!(get(post, "ratio_to_limit"), Some(peak / limit));
+        let filtered = get(post, "filtered_peak_force").unwrap();
+        assert_eq!(get(post, "filtered_ratio_to_limit"), Some(filtered / limit));
+        // The wire's support keeps its dynamic amplification.
+        let wire_static: f64 = (0..3)
+            .map(|c| {
+                s["supports"][0]["static_force"][c]
+                    .as_f64()
+                    .unwrap()
+                    .powi(2)
+            })
+            .sum::<f64>()
+            .sqrt();
+        let wire_peak = get(0, "peak_force").unwrap();
+        assert_eq!(get(0, "ratio_to_static"), Some(wire_peak / wire_static));
+        // A response is a vector: its magnitude is at least each component
+        // and at most their root sum of squares.
+        for (i, reference) in [(0, wire_static), (post, limit)] {
+            let r = &s["supports"][i]["response"][0];
+            let peak: Vec<f64> = (0..3).map(|c| r["peak"][c].as_f64().unwrap()).collect();
+            let magnitude = r["peak_magnitude"].as_f64().unwrap();
+            let largest = peak.iter().copied().fold(0.0, f64::max);
+            let rss = peak.iter().map(|p| p * p).sum::<f64>().sqrt();
+            assert!(largest <= magnitude * (1.0 + 1e-12) && magnitude <= rss * (1.0 + 1e-12));
+            let key = if i == 0 {
+                "ratio_to_static"
+            } else {
+                "ratio_to_limit"
+            };
+            assert_eq!(r[key].as_f64(), Some(magnitude / reference), "support {i}");
+        }
+        assert!(
+            s["supports"][post]["response"][0]
+                .get("ratio_to_static")
+                .is_none()
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A cantilever held at its root by springs only (translational, a
 /// rotational spring on the tangent and a torsional one): the moment the
 /// springs carry is the weight's w L² / 2, in summary.json and supports.csv.

@@ -118,14 +118,35 @@ pub struct SupportSummary {
     /// … the largest CFC-filtered |F| (N, `output.cfc`) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filtered_peak_force: Option<f64>,
-    /// … and the peak over the static force's magnitude, `peak_force /
-    /// |static_force|` (absent when the static force is zero, and when the
-    /// run does not start from a static equilibrium) …
+    /// … and, for a support of the wire, the peak over the static force's
+    /// magnitude, `peak_force / |static_force|` (absent when the static
+    /// force is zero, and when the run does not start from a static
+    /// equilibrium) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ratio_to_static: Option<f64>,
     /// … and the same for the filtered peak.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filtered_ratio_to_static: Option<f64>,
+    /// A support of a frame member whose section has a design resistance
+    /// ([`ancf_core::loads::design_check`]): the member's own limit, its
+    /// section's N_pl,Rd = A f_y (N). A post's self-weight reaction says
+    /// nothing of how near its limit a blow takes it; this does …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limit_force: Option<f64>,
+    /// … the peak |F| over it (a static run: |static_force|) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio_to_limit: Option<f64>,
+    /// … the filtered peak over it …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered_ratio_to_limit: Option<f64>,
+    /// … its section's bending resistance M_pl,Rd (class 1–2, M_el,Rd
+    /// class 3; N m) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limit_moment: Option<f64>,
+    /// … and, where the support has springs that carry a moment,
+    /// `peak_moment` over it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moment_ratio_to_limit: Option<f64>,
     /// Dynamic runs with `output.response_frequencies`: what a structure
     /// with one mode at each frequency feels from the force.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -151,9 +172,16 @@ pub struct SupportResponse {
     pub damping: f64,
     /// The largest |u| of the x, y and z components' oscillators (N).
     pub peak: [f64; 3],
-    /// The largest of the three over |static_force| (as `ratio_to_static`).
+    /// The largest |u| of the three side by side, a vector (N): the
+    /// response's magnitude, which the ratios compare.
+    #[serde(default)]
+    pub peak_magnitude: f64,
+    /// `peak_magnitude` over |static_force| (as `ratio_to_static`) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ratio_to_static: Option<f64>,
+    /// … or over the member's `limit_force` (as `ratio_to_limit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio_to_limit: Option<f64>,
 }
 
 /// A frame member's largest internal loads over the run (`[[beam]]`).

@@ -902,32 +902,15 @@ fn set_load(d: &Bound<'_, PyDict>, load: &ancf_core::loads::rod_load::RodLoad) -
     Ok(())
 }
 
-/// A support's entry as summary.json has it (absent values left out).
+/// A support's entry as summary.json has it (absent values left out): the
+/// same serialization, so the two cannot drift.
 fn support_dict<'py>(
     py: Python<'py>,
     s: &ancf_output::output::SupportSummary,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("beam", &s.beam)?;
-    d.set_item("node", s.node)?;
-    d.set_item("static_force", s.static_force.to_vec())?;
-    for (k, v) in [
-        ("peak_force", s.peak_force),
-        ("peak_time", s.peak_time),
-        ("filtered_peak_force", s.filtered_peak_force),
-        ("ratio_to_static", s.ratio_to_static),
-        ("filtered_ratio_to_static", s.filtered_ratio_to_static),
-    ] {
-        if let Some(v) = v {
-            d.set_item(k, v)?;
-        }
-    }
-    if !s.response.is_empty() {
-        let json = serde_json::to_string(&s.response).expect("responses serialize");
-        let loads = PyModule::import(py, "json")?.getattr("loads")?;
-        d.set_item("response", loads.call1((json,))?)?;
-    }
-    Ok(d)
+    let json = serde_json::to_string(s).expect("a support's summary serializes");
+    let loads = PyModule::import(py, "json")?.getattr("loads")?;
+    Ok(loads.call1((json,))?.cast_into::<PyDict>()?)
 }
 
 fn matrix<'py>(py: Python<'py>, rows: &[[f64; 3]]) -> Bound<'py, PyArray2<f64>> {

@@ -35,14 +35,16 @@ pub const MEMBER_COLUMNS: [&str; 4] = [
 pub const GROUND_COLUMNS: [&str; 1] = ["max_depth"];
 
 /// Design numbers of one support (summary.json `supports[i]`): the force
-/// it exerts, raw and CFC-filtered (N), and the filtered peak over the
-/// static force (absent unless the run starts from its equilibrium); with
-/// `output.response_frequencies`, one more column per frequency f,
-/// `support{k}_response_{f}hz`: the largest component of its response.
-pub const SUPPORT_COLUMNS: [&str; 3] = [
+/// it exerts, raw and CFC-filtered (N), the filtered peak over the static
+/// force (the wire's supports, when the run starts from its equilibrium)
+/// and over the member's N_pl,Rd (a frame member's, when its section has
+/// one); with `output.response_frequencies`, one more column per frequency
+/// f, `support{k}_response_{f}hz`: its response's magnitude.
+pub const SUPPORT_COLUMNS: [&str; 4] = [
     "peak_force",
     "filtered_peak_force",
     "filtered_ratio_to_static",
+    "filtered_ratio_to_limit",
 ];
 
 /// One frame member's numbers in a variant.
@@ -65,9 +67,9 @@ pub struct SupportRow {
     pub label: String,
     /// [`SUPPORT_COLUMNS`].
     pub loads: [Option<f64>; SUPPORT_COLUMNS.len()],
-    /// With `output.response_frequencies`: per frequency (Hz) the largest
-    /// of its three components' oscillator peaks (N), summary.json
-    /// `supports[i].response`.
+    /// With `output.response_frequencies`: per frequency (Hz) the peak of
+    /// its response's magnitude (N), summary.json
+    /// `supports[i].response[j].peak_magnitude`.
     pub response: Vec<(f64, Option<f64>)>,
 }
 
@@ -185,9 +187,10 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         ),
         loads: SUPPORT_COLUMNS.map(|k| number(&p[k])),
         response: each(&p["response"], |r| {
-            let peaks = each(&r["peak"], number);
-            let largest = peaks.into_iter().flatten().reduce(f64::max);
-            (number(&r["frequency"]).unwrap_or(0.0), largest)
+            (
+                number(&r["frequency"]).unwrap_or(0.0),
+                number(&r["peak_magnitude"]),
+            )
         }),
     });
     let d = &s["tip"]["displacement"];

@@ -1,9 +1,12 @@
 //! The supports' loads as a frame or tower designer reads them: the static
-//! force, the peak over the run (raw and CFC-filtered) and their ratio,
-//! and what a structure with one mode at a given frequency feels from it.
+//! force, the peak over the run (raw and CFC-filtered) and their ratio to
+//! the static force (the wire's supports) or to the member's own limit (a
+//! frame member's), and what a structure with one mode at a given
+//! frequency feels from it.
 
 use crate::output::{SupportResponse, SupportSummary};
-use ancf_core::loads::response::peak_response;
+use ancf_core::loads::design_check::{CircularResistance, section_resistance};
+use ancf_core::loads::response::{peak_response, peak_response_magnitude};
 use ancf_core::loads::rod_load::{Filtered, LoadHistory};
 use ancf_core::math::vec3::norm;
 use ancf_core::model::Model;
@@ -21,6 +24,7 @@ pub fn static_supports(
         .iter()
         .enumerate()
         .map(|(i, (node, f))| {
+            let limit = member_resistance(model, *node);
             let (beam, node) = beam_and_node(model, *node);
             let moment = model.moment_spring(i).map(|s| norm(s.moment_on_body(q)));
             SupportSummary {
@@ -28,6 +32,10 @@ pub fn static_supports(
                 node,
                 static_force: *f,
                 peak_moment: moment,
+                limit_force: limit.map(|r| r.axial),
+                ratio_to_limit: limit.map(|r| norm(*f) / r.axial),
+                limit_moment: limit.map(|r| r.moment),
+                moment_ratio_to_limit: limit.zip(moment).map(|(r, m)| m / r.moment),
                 ..Default::default()
             }
         })
@@ -51,8 +59,19 @@ pub fn add_peak_moments(model: &Model, supports: &mut [SupportSummary], moments:
         if let Some((t, m)) = peak {
             summary.peak_moment = Some(m);
             summary.peak_moment_time = Some(t);
+            summary.moment_ratio_to_limit = summary.limit_moment.map(|limit| m / limit);
         }
     }
+}
+
+/// The design resistance of the frame member that holds the model's node
+/// `n`, read from the section of the element at the node: `None` for the
+/// wire and for a section without one (no f_y, layered, rectangular).
+fn member_resistance(model: &Model, n: usize) -> Option<CircularResistance> {
+    let (b, local) = model.beam_of_node(n)?;
+    let elements = &model.beams[b].elements;
+    let el = (elements.start + local).min(elements.end.checked_sub(1)?);
+    (b > 0).then(|| section_resistance(&model.element(el).section))?
 }
 
 /// The beam holding the model's node `n` (its name) and the node's index on it.
@@ -90,7 +109,12 @@ pub fn dynamic_supports(
             let static_force = initial.get(i).copied().unwrap_or([0.0; 3]);
             let load = h.summary(f);
             let reference = norm(static_force);
-            let ratio = |peak: f64| (from_equilibrium && reference > 0.0).then(|| peak / reference);
+            let of_wire = model.beam_of_node(s.node).is_some_and(|(b, _)| b == 0);
+            let ratio = |peak: f64| {
+                (of_wire && from_equilibrium && reference > 0.0).then(|| peak / reference)
+            };
+            let limit = member_resistance(model, s.node);
+            let to_limit = |peak: f64| limit.map(|r| peak / r.axial);
             let (beam, node) = beam_and_node(model, s.node);
             // The force at t = 0, then the steps' (built only when asked for).
             let series = (!frequencies.is_empty()).then(|| {
@@ -110,6 +134,10 @@ pub fn dynamic_supports(
                 filtered_peak_force: Some(load.filtered_peak_force),
                 ratio_to_static: ratio(load.peak_force),
                 filtered_ratio_to_static: ratio(load.filtered_peak_force),
+                limit_force: limit.map(|r| r.axial),
+                ratio_to_limit: to_limit(load.peak_force),
+                filtered_ratio_to_limit: to_limit(load.filtered_peak_force),
+                limit_moment: limit.map(|r| r.moment),
                 response: (series.iter())
                     .flat_map(|(time, components)| {
                         frequencies.iter().map(move |&f| (time, components, f))
@@ -118,11 +146,15 @@ pub fn dynamic_supports(
                         let peak: [f64; 3] = std::array::from_fn(|c| {
                             peak_response(time, &components[c], frequency, damping)
                         });
+                        let vector = components.each_ref().map(Vec::as_slice);
+                        let magnitude = peak_response_magnitude(time, vector, frequency, damping);
                         SupportResponse {
                             frequency,
                             damping,
                             peak,
-                            ratio_to_static: ratio(peak.into_iter().fold(0.0, f64::max)),
+                            peak_magnitude: magnitude,
+                            ratio_to_static: ratio(magnitude),
+                            ratio_to_limit: to_limit(magnitude),
                         }
                     })
                     .collect(),

@@ -285,29 +285,31 @@ fn draw_panel<DB: DrawingBackend>(
     }
     for (i, s) in p.series.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
-        // A series denser than the pixels with spikes (a raw force at every
-        // step) is drawn one pixel wide: thick joins of its steep spikes
-        // overshoot the data by far (lines below zero on a magnitude).
+        // A series denser than the pixels (a force or a moment at every
+        // step) is drawn segment by segment: a thick polyline's mitred
+        // joins at its steep turns overshoot the data by far (beyond the
+        // largest value, below zero on a magnitude, into the next panel);
+        // separate segments have no joins. With spikes it is drawn thinner,
+        // so that the spikes' fill does not hide the curve over it.
         let dense = s.points.len() > area.dim_in_pixel().0 as usize;
-        let spiky = s
-            .points
-            .windows(3)
-            .any(|w| (w[2].1 - 2.0 * w[1].1 + w[0].1).abs() > 0.3 * (y1 - y0));
+        let spiky =
+            (s.points.windows(3)).any(|w| (w[2].1 - 2.0 * w[1].1 + w[0].1).abs() > 0.3 * (y1 - y0));
         let width = if dense && spiky {
             scale.round().max(1.0) as u32
         } else {
             size(2.0)
         };
+        let style = color.stroke_width(width);
         let legend = size(20.0) as i32;
-        chart
-            .draw_series(LineSeries::new(
-                s.points.iter().copied(),
-                color.stroke_width(width),
-            ))?
+        let drawn = if dense {
+            let segments = (s.points.windows(2)).map(|w| PathElement::new(vec![w[0], w[1]], style));
+            chart.draw_series(segments)?
+        } else {
+            chart.draw_series(LineSeries::new(s.points.iter().copied(), style))?
+        };
+        drawn
             .label(s.label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + legend, y)], color.stroke_width(width))
-            });
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + legend, y)], style));
         if p.markers {
             let dot = size(4.0);
             chart.draw_series(
@@ -605,5 +607,83 @@ mod tests {
             }
         }
         assert_eq!(average_down(&[255; 27], (1, 1), 3), vec![255, 255, 255]);
+    }
+
+    /// A series denser than the pixels with sharp spikes (a raw force at
+    /// every step) stays within its values: nothing of it is drawn above
+    /// a line at its largest value or below one at its smallest.
+    #[test]
+    fn a_dense_spiky_series_stays_within_its_values() {
+        let spikes: Vec<(f64, f64)> = (0..20_000)
+            .map(|k| {
+                let t = k as f64 * 1e-4;
+                let y = if k % 97 == 0 {
+                    1.0
+                } else {
+                    0.2 + 0.1 * (k % 7) as f64 / 7.0
+                };
+                (t, y)
+            })
+            .collect();
+        let end = spikes.last().unwrap().0;
+        let panel = Panel {
+            title: "spikes",
+            x_label: "t",
+            y_label: "y",
+            series: vec![
+                Series {
+                    label: "spiky",
+                    points: spikes,
+                },
+                Series {
+                    label: "top",
+                    points: vec![(0.0, 1.0), (end, 1.0)],
+                },
+                Series {
+                    label: "bottom",
+                    points: vec![(0.0, 0.0), (end, 0.0)],
+                },
+            ],
+            // A mark puts the legend in the upper left, away from the
+            // columns read below.
+            marks: vec![(0.0, 1.0, "peak".into())],
+            markers: false,
+        };
+        let dir = std::env::temp_dir().join(format!("ancf-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("spikes.png");
+        panels_plot(&path, 1, 1, (960, 480), &[panel]).unwrap();
+        let img = image::open(&path).unwrap().to_rgb8();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let (w, h) = img.dimensions();
+        // The series' colours: blue for the spikes, orange and green lines.
+        let is = |p: &image::Rgb<u8>, c: RGBColor| {
+            (0..3).all(|k| (i32::from(p[k]) - i32::from([c.0, c.1, c.2][k])).abs() < 40)
+        };
+        // Columns right of the legend (upper left) and inside the plot.
+        let columns = (w / 2)..(w - 30);
+        let rows_of = |c: RGBColor| -> Vec<u32> {
+            (0..h)
+                .filter(|&y| {
+                    columns
+                        .clone()
+                        .filter(|&x| is(img.get_pixel(x, y), c))
+                        .count()
+                        > 100
+                })
+                .collect()
+        };
+        let (top, bottom) = (rows_of(COLORS[1]), rows_of(COLORS[2]));
+        let (top, bottom) = (*top.first().unwrap(), *bottom.last().unwrap());
+        for x in columns.clone() {
+            for y in 0..h {
+                if is(img.get_pixel(x, y), COLORS[0]) {
+                    assert!(
+                        (top.saturating_sub(1)..=bottom + 1).contains(&y),
+                        "a spike drawn at row {y}, outside rows {top} … {bottom}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -235,8 +235,15 @@ impl Files {
             let names: Vec<&str> = summary.beams.iter().map(|b| b.name.as_str()).collect();
             write_member_forces(dir, &names, members.0, members.1, members.2)
                 .map_err(|e| io_err(dir, e))?;
-            plots.push(Box::new(|| {
-                super::plots::plot_member_loads(dir, members.0, members.1, &summary.beams)
+            // Each member's bending resistance, where its section has one.
+            let limits: Vec<Option<f64>> = (scene.model.beams.iter().skip(1))
+                .map(|b| {
+                    let section = &scene.model.element(b.elements.start).section;
+                    ancf_core::loads::design_check::section_resistance(section).map(|r| r.moment)
+                })
+                .collect();
+            plots.push(Box::new(move || {
+                super::plots::plot_member_loads(dir, members, &limits, &summary.beams)
             }));
         }
         if !history.contact_point.is_empty() {

@@ -210,38 +210,86 @@ pub fn plot_rod_forces(
     )
 }
 
-/// `member_loads.png`: per frame member, the wire's contact force on it,
-/// raw and filtered with both peaks marked, its largest bending moment,
-/// von Mises stress and (with a yield stress) utilization in the title.
+/// `member_loads.png`: per frame member a row, the wire's contact force on
+/// it (raw and filtered, both peaks marked) beside its largest bending
+/// moment over time (`moments`: time s, N m, each member's, as
+/// member_forces.csv's `NAME_moment`) with its section's bending
+/// resistance (`limits`: M_pl,Rd, N m, where the section has one), so a
+/// designer sees when and how often the blows take it to its limit; the
+/// largest moment, von Mises stress and utilization in the titles.
 pub fn plot_member_loads(
     out: &Path,
-    loads: &[LoadHistory],
-    filtered: &[Filtered],
+    (loads, filtered, moments): (&[LoadHistory], &[Filtered], &[Vec<(f64, f64)>]),
+    limits: &[Option<f64>],
     beams: &[crate::output::BeamSummary],
 ) -> Result<(), String> {
-    let titles: Vec<String> = beams
-        .iter()
+    let force_titles: Vec<String> = (beams.iter())
+        .map(|b| format!("Contact force on {} (CFC {:.0})", b.name, b.contact.cfc))
+        .collect();
+    let moment_titles: Vec<String> = (beams.iter())
         .map(|b| {
-            let utilization = b
-                .record
-                .utilization
-                .map_or(String::new(), |u| format!(", utilization {u:.2}"));
+            let utilization =
+                (b.record.utilization).map_or(String::new(), |u| format!(", utilization {u:.2}"));
             format!(
-                "Contact force on {} (CFC {:.0}); max M {:.3} kN m, max von Mises {:.1} MPa{utilization}",
+                "Largest moment in {}: {:.3} kN m, von Mises {:.1} MPa{utilization}",
                 b.name,
-                b.contact.cfc,
                 b.record.max_bending_moment / 1e3,
                 b.record.max_von_mises / 1e6
             )
         })
         .collect();
-    let summaries: Vec<&RodLoad> = beams.iter().map(|b| &b.contact).collect();
-    plot_forces(
+    let mut panels = Vec::with_capacity(2 * beams.len());
+    for (i, b) in beams.iter().enumerate() {
+        let (Some(h), Some(f)) = (loads.get(i), filtered.get(i)) else {
+            break;
+        };
+        panels.push(force_panel(&force_titles[i], h, f, &b.contact));
+        let moment = moments.get(i).map_or(&[][..], Vec::as_slice);
+        let kilo: Vec<(f64, f64)> = moment.iter().map(|&(t, m)| (t, m / 1e3)).collect();
+        let mut series = vec![Series {
+            label: "largest |M| along the member",
+            points: kilo,
+        }];
+        if let (Some(limit), Some(first), Some(last)) = (
+            limits.get(i).copied().flatten(),
+            moment.first(),
+            moment.last(),
+        ) {
+            series.push(Series {
+                label: "M_pl,Rd = W_pl f_y",
+                points: vec![(first.0, limit / 1e3), (last.0, limit / 1e3)],
+            });
+        }
+        let peak = (b.record.max_bending_moment > 0.0).then(|| {
+            let m = b.record.max_bending_moment;
+            (
+                b.record.max_bending_moment_time,
+                m / 1e3,
+                format!("max {:.2} kN m", m / 1e3),
+            )
+        });
+        panels.push(Panel {
+            title: &moment_titles[i],
+            x_label: "time t (s)",
+            y_label: "bending moment (kN m)",
+            series,
+            marks: peak.into_iter().collect(),
+            markers: false,
+        });
+    }
+    if panels
+        .iter()
+        .step_by(2)
+        .all(|p| p.series[0].points.is_empty())
+    {
+        return Ok(());
+    }
+    panels_plot(
         &out.join("member_loads.png"),
-        &titles,
-        loads,
-        filtered,
-        &summaries,
+        panels.len() / 2,
+        2,
+        (960, 480),
+        &panels,
     )
 }
 
@@ -253,58 +301,51 @@ fn plot_forces(
     filtered: &[Filtered],
     summaries: &[&RodLoad],
 ) -> Result<(), String> {
-    let panels: Vec<Panel> = loads
-        .iter()
-        .zip(filtered)
-        .zip(summaries)
-        .zip(titles)
-        .map(|(((h, f), load), title)| {
-            let raw = h
-                .time
-                .iter()
-                .zip(&h.force)
-                .map(|(t, v)| (*t, norm(*v)))
-                .collect();
-            Panel {
-                title,
-                x_label: "time t (s)",
-                y_label: "force (N)",
-                // The filtered force drawn over the raw one.
-                series: vec![
-                    Series {
-                        label: "raw (every step)",
-                        points: raw,
-                    },
-                    Series {
-                        label: "CFC filtered",
-                        points: f
-                            .time
-                            .iter()
-                            .copied()
-                            .zip(f.force.iter().copied())
-                            .collect(),
-                    },
-                ],
-                marks: vec![
-                    (
-                        load.peak_time,
-                        load.peak_force,
-                        format!("raw peak {:.0} N", load.peak_force),
-                    ),
-                    (
-                        load.filtered_peak_time,
-                        load.filtered_peak_force,
-                        format!("filtered peak {:.0} N", load.filtered_peak_force),
-                    ),
-                ],
-                markers: false,
-            }
-        })
+    let panels: Vec<Panel> = (loads.iter().zip(filtered).zip(summaries).zip(titles))
+        .map(|(((h, f), load), title)| force_panel(title, h, f, load))
         .collect();
     if panels.iter().all(|p| p.series[0].points.is_empty()) {
         return Ok(());
     }
     panels_plot(path, panels.len(), 1, (960, 480), &panels)
+}
+
+/// One load's panel: its raw and filtered |F| (N) over time, the filtered
+/// drawn over the raw, with both peaks of `load` marked.
+fn force_panel<'a>(title: &'a str, h: &LoadHistory, f: &Filtered, load: &RodLoad) -> Panel<'a> {
+    let raw = (h.time.iter().zip(&h.force))
+        .map(|(t, v)| (*t, norm(*v)))
+        .collect();
+    Panel {
+        title,
+        x_label: "time t (s)",
+        y_label: "force (N)",
+        series: vec![
+            Series {
+                label: "raw (every step)",
+                points: raw,
+            },
+            Series {
+                label: "CFC filtered",
+                points: (f.time.iter().copied())
+                    .zip(f.force.iter().copied())
+                    .collect(),
+            },
+        ],
+        marks: vec![
+            (
+                load.peak_time,
+                load.peak_force,
+                format!("raw peak {:.0} N", load.peak_force),
+            ),
+            (
+                load.filtered_peak_time,
+                load.filtered_peak_force,
+                format!("filtered peak {:.0} N", load.filtered_peak_force),
+            ),
+        ],
+        markers: false,
+    }
 }
 
 #[cfg(test)]

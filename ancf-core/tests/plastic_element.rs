@@ -211,9 +211,29 @@ fn a_yielding_cantilever_deflects_as_the_beam_solution() {
     );
     assert!(r.plastic.iter().any(|s| s.equivalent > 0.0));
     assert!(r.plastic_work[0] > 0.0);
-    // Quadratic convergence: no step needs many iterations.
+    // Quadratic convergence, the consistent tangent's: few iterations a
+    // step, and once the relative residual is below 1e-2 each iteration
+    // squares it (r_{k+1} ≤ 100 r_k², which a linear rate such as
+    // r_{k+1} = 0.1 r_k fails from r_k < 1e-3 on) until it reaches the
+    // tolerance's round-off floor.
+    assert_eq!(r.iterations.len(), 10, "one increment per load step");
     let most = r.iterations.iter().max().unwrap();
-    assert!(*most <= 8, "iterations per load step {:?}", r.iterations);
+    assert!(*most <= 6, "iterations per load step {:?}", r.iterations);
+    let mut squared = 0;
+    for (step, history) in r.residuals.iter().enumerate() {
+        let shown: Vec<String> = history.iter().map(|r| format!("{r:.1e}")).collect();
+        eprintln!("load step {step}: relative residuals {shown:?}");
+        for pair in history.windows(2) {
+            if pair[0] < 1e-2 && pair[1] > 1e-10 {
+                assert!(
+                    pair[1] <= 100.0 * pair[0] * pair[0],
+                    "step {step}: {shown:?}"
+                );
+                squared += 1;
+            }
+        }
+    }
+    assert!(squared >= 10, "the rate was seen {squared} times");
 }
 
 /// Unloaded elastically, the cantilever keeps the residual deflection
@@ -277,6 +297,44 @@ fn a_cantilever_past_its_plastic_moment_hinges_at_the_root() {
     assert!(
         (0.97..=1.03).contains(&fine),
         "root moment {fine} M_p at 48 elements"
+    );
+}
+
+/// A stocky tube column pushed along its axis past its squash load A f_y
+/// (perfectly plastic, far below its buckling load) has no equilibrium:
+/// the axial stress cannot pass f_y and shortening only lowers the force
+/// it carries. The static solve ends with an error that names the plastic
+/// mechanism and the load factor it reached, about A f_y / P; with the
+/// tube elastic the same load is carried.
+#[test]
+fn a_column_past_its_squash_load_is_a_named_mechanism() {
+    let l = 0.5;
+    let area = PI * (R * R - RI * RI);
+    let squash = area * FY;
+    let column = |material: Material| {
+        WireBuilder::new(l, 4)
+            .layer(material, R)
+            .bore(RI)
+            .quadrature(5, 3)
+            .support(0, SupportKind::Clamp)
+            .load(4, [-1.25 * squash, 0.0, 0.0])
+            .build()
+            .unwrap()
+    };
+    let buckling = PI * PI * E * second_moment() / (4.0 * l * l);
+    assert!(buckling > 5.0 * squash, "{buckling} vs {squash}");
+    let elastic = Material::st_venant_kirchhoff(7850.0, E, 0.3, 1.0);
+    assert!(solve_static(&column(elastic), &settings(8)).is_ok());
+    let err = solve_static(&column(steel(0.0)), &settings(8)).unwrap_err();
+    eprintln!("{} (load factor {})", err.message, err.load_factor);
+    assert!(!err.interrupted);
+    assert!(err.message.contains("plastic mechanism"), "{}", err.message);
+    let carried = 1.0 / 1.25;
+    assert!(
+        (carried - 0.01..=carried).contains(&err.load_factor),
+        "carried {} of the load, A f_y / P = {carried}: {}",
+        err.load_factor,
+        err.message
     );
 }
 

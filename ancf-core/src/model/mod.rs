@@ -1326,6 +1326,23 @@ impl Model {
         &self.free
     }
 
+    /// The first node of `q` whose gradients [r_x r_y r_z] have turned
+    /// over, their determinant's sign no longer the reference's: the
+    /// element there was crushed through itself (its material turned
+    /// inside out). Green–Lagrange strain cannot see it: r_x → −r_x
+    /// strains nothing, so a dead load pushing a member past what it
+    /// carries finds an "equilibrium" in the inverted member, which no
+    /// solid reaches. `None` when every node keeps its handedness.
+    pub fn inverted_node(&self, q: &[f64]) -> Option<usize> {
+        let det = |q: &[f64], n: usize| {
+            let g =
+                |k: usize| -> [f64; 3] { std::array::from_fn(|i| q[NODE_DOFS * n + 3 * k + i]) };
+            let [a, b, c] = [g(1), g(2), g(3)];
+            crate::math::vec3::dot(a, crate::math::vec3::cross(b, c))
+        };
+        (0..self.n_nodes()).find(|&n| det(q, n) * det(&self.reference, n) <= 0.0)
+    }
+
     /// Position of node `n` in a full coordinate vector.
     pub fn node_position(&self, q: &[f64], n: usize) -> [f64; 3] {
         std::array::from_fn(|k| q[NODE_DOFS * n + k])

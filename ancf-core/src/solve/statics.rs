@@ -52,6 +52,12 @@ pub struct StaticResult {
     pub q: Vec<f64>,
     /// Newton iterations per load increment (increments are halved on failure).
     pub iterations: Vec<usize>,
+    /// Per accepted increment, the relative residual ‖R‖ / scale before
+    /// each iteration and at convergence (one more than its iterations):
+    /// whether Newton converged quadratically, as the consistent tangent
+    /// promises, or lost it (a contact or yield pattern that keeps
+    /// changing, a tangent that is not the residual's derivative).
+    pub residuals: Vec<Vec<f64>>,
     /// Strain energy at equilibrium (J).
     pub strain_energy: f64,
     /// Force each support exerts on the wire at its node's position r, N.
@@ -77,6 +83,9 @@ pub struct StaticError {
     pub last_converged: Vec<f64>,
     /// Newton iterations per load increment up to the failure.
     pub iterations: Vec<usize>,
+    /// The load factor of `last_converged` (0: the reference): how much
+    /// of the load the structure was found to carry.
+    pub load_factor: f64,
     /// The solve was stopped by its cancel token (Ctrl-C, a termination
     /// signal), not a failure of Newton.
     pub interrupted: bool,
@@ -132,8 +141,9 @@ pub fn solve_static(model: &Model, settings: &StaticSettings) -> Result<StaticRe
     solve_static_from(model, settings, model.initial_coordinates())
 }
 
-/// Newton at one load level from `q`: returns the iterations and the strain
-/// energy, or a message.
+/// Newton at one load level from `q`: returns the relative residuals (one
+/// per iteration and the converged one) and the strain energy, or a
+/// message.
 #[allow(clippy::too_many_arguments)]
 fn newton(
     model: &Model,
@@ -143,8 +153,9 @@ fn newton(
     settings: &StaticSettings,
     roundoff: &[f64],
     cancel: Option<&CancelToken>,
-) -> Result<(usize, f64), String> {
+) -> Result<(Vec<f64>, f64), String> {
     let mut it = 0;
+    let mut history = Vec::new();
     loop {
         if cancel.is_some_and(CancelToken::is_cancelled) {
             return Err("stopped".into());
@@ -157,9 +168,10 @@ fn newton(
                 "the residual is not finite (NaN or overflow in the element forces)".into(),
             );
         }
+        history.push(rn / scale.max(f64::MIN_POSITIVE));
         let at_roundoff = super::at_roundoff(&r, roundoff);
         if it > 0 && (rn <= settings.residual_tolerance * scale || at_roundoff) {
-            return Ok((it, u));
+            return Ok((history, u));
         }
         if it >= settings.max_iterations {
             return Err(format!(
@@ -239,6 +251,7 @@ pub fn solve_static_continuing(
             message,
             last_converged: q0,
             iterations: vec![],
+            load_factor: 0.0,
             interrupted: false,
         });
     }
@@ -247,11 +260,13 @@ pub fn solve_static_continuing(
         message: e.0,
         last_converged: q0.clone(),
         iterations: vec![],
+        load_factor: 0.0,
         interrupted: false,
     })?;
     let roundoff = model.roundoff_forces();
     let mut q = q0;
     let mut iterations = Vec::new();
+    let mut residuals = Vec::new();
     let base = 1.0 / settings.load_steps.max(1) as f64;
     let (mut lambda, mut dl) = (0.0f64, base);
     let mut energy = 0.0;
@@ -268,6 +283,7 @@ pub fn solve_static_continuing(
                 ),
                 last_converged: q,
                 iterations: vec![],
+                load_factor: 0.0,
                 interrupted: false,
             });
         }
@@ -281,10 +297,15 @@ pub fn solve_static_continuing(
         }
     ];
     while lambda < 1.0 {
-        let target = (lambda + dl).min(1.0);
+        // Equal increments that sum to 1 in round-off (ten of 0.1 make
+        // 0.999…9) end at 1, not with an eleventh of 1e-16.
+        let target = match lambda + dl {
+            end if end > 1.0 - 1e-9 * dl => 1.0,
+            end => end,
+        };
         forces.set_load_factor(model, target);
         let mut trial = q.clone();
-        match newton(
+        let solved = newton(
             model,
             &mut forces,
             &mut solver,
@@ -292,9 +313,19 @@ pub fn solve_static_continuing(
             settings,
             &roundoff,
             cancel,
-        ) {
-            Ok((its, u)) => {
-                iterations.push(its);
+        );
+        // An equilibrium in a member crushed through itself is none.
+        let solved = solved.and_then(|found| match model.inverted_node(&trial) {
+            Some(n) => Err(format!(
+                "the equilibrium found has the element at node {n} crushed through itself \
+                 (its gradients turned over): the load pushes a member past what it carries"
+            )),
+            None => Ok(found),
+        });
+        match solved {
+            Ok((history, u)) => {
+                iterations.push(history.len() - 1);
+                residuals.push(history);
                 q = trial;
                 lambda = target;
                 energy = u;
@@ -318,6 +349,7 @@ pub fn solve_static_continuing(
                     ),
                     last_converged: q,
                     iterations,
+                    load_factor: lambda,
                     interrupted: true,
                 });
             }
@@ -329,9 +361,9 @@ pub fn solve_static_continuing(
                 let yielded = plastic.iter().any(|p| p.equivalent > 0.0);
                 let mechanism = match yielded {
                     true => {
-                        "; the structure had yielded: past its collapse load a plastic \
-                         mechanism has no equilibrium (the load exceeds what the yielding \
-                         members carry)"
+                        "; the structure had yielded, so the likely cause is a plastic \
+                         mechanism: past its collapse load it has no equilibrium (the load \
+                         exceeds what the yielding members carry)"
                     }
                     false => "",
                 };
@@ -341,6 +373,7 @@ pub fn solve_static_continuing(
                     ),
                     last_converged: q,
                     iterations,
+                    load_factor: lambda,
                     interrupted: false,
                 });
             }
@@ -362,6 +395,7 @@ pub fn solve_static_continuing(
         contact: forces.contact().cloned(),
         q,
         iterations,
+        residuals,
         strain_energy: energy,
         reactions,
         plastic,

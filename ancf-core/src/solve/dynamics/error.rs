@@ -29,6 +29,13 @@ pub enum StepError {
     NonFinite,
     /// A converged step's energy is NaN or infinite.
     NonFiniteEnergy,
+    /// A converged step turned a node's gradients over (their
+    /// determinant changed sign, [`crate::model::Model::inverted_node`]):
+    /// the element there was crushed through itself. Rejected.
+    Inverted {
+        /// The node, counted over the model.
+        node: usize,
+    },
     /// A converged step drove the wire `depth` m into a rod, deeper than
     /// `limit` wire radii (`contact.max_penetration`): rejected.
     Penetration {
@@ -94,6 +101,11 @@ impl StepError {
             StepError::NonFinite | StepError::NonFiniteEnergy => {
                 "an element turned inside out or a time step far too large; reduce analysis.time_step"
             }
+            StepError::Inverted { .. } => {
+                "a blow or a load beyond what the member's section carries, or a time step too \
+                 coarse for the blow; reduce analysis.time_step, then check the member's section \
+                 and material"
+            }
             StepError::Penetration { .. } => {
                 "a contact too soft for the blow or a time step too coarse for it; raise the rod's \
                  contact_stiffness or reduce analysis.time_step"
@@ -129,6 +141,10 @@ impl std::fmt::Display for StepError {
             ),
             StepError::NonFinite => f.write_str("non-finite residual (NaN or overflow)"),
             StepError::NonFiniteEnergy => f.write_str("the energy is not finite (NaN or overflow)"),
+            StepError::Inverted { node } => write!(
+                f,
+                "node {node}'s gradients turned over: the element there was crushed through itself"
+            ),
             StepError::Penetration { depth, limit } => write!(
                 f,
                 "penetration {depth:.3e} m exceeds {limit} wire radii (contact.max_penetration)"

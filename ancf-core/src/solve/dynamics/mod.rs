@@ -476,6 +476,11 @@ impl Integrator {
             return self.step_cut(&mid, 0.5 * h, depth + 1, info, log);
         }
         let attempt = self.try_step(s, h, info).and_then(|next| {
+            // A node whose gradients turned over is no state of a solid
+            // (Green–Lagrange strain does not see it).
+            if let Some(node) = self.model.inverted_node(&next.q) {
+                return Err(StepError::Inverted { node });
+            }
             let Some(c) = self.model.contact() else {
                 return Ok(next);
             };

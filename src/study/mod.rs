@@ -111,6 +111,26 @@ pub struct RodOutcome {
     pub max_von_mises: Option<f64>,
     /// A frame member's largest bending moment in its first impact, N m.
     pub first_impact_moment: Option<f64>,
+    /// A frame member's design numbers (`None` for a rod, and where the
+    /// member has none): its utilization by EN 1993-1-1 over the run, …
+    pub utilization: Option<f64>,
+    /// … its plastic work (J) and largest equivalent plastic strain (a
+    /// yielding member), …
+    pub plastic_work: Option<f64>,
+    pub max_plastic_strain: Option<f64>,
+    /// … and the largest displacement of its nodes at the run's end, m
+    /// (its permanent set once it is at rest).
+    pub end_displacement: Option<f64>,
+}
+
+/// A member's design numbers as a run's summary gives them
+/// ([`RodOutcome`]'s last four).
+#[derive(Clone, Copy, Debug, Default)]
+struct MemberDesign {
+    utilization: Option<f64>,
+    plastic_work: Option<f64>,
+    max_plastic_strain: Option<f64>,
+    end_displacement: Option<f64>,
 }
 
 impl Outcome {
@@ -211,7 +231,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
     let contact = summary.contact.as_ref();
     // Rods, grounds, then members: each one's load, and a member's moments and
     // stress (whole run, whole run, first impact).
-    type Member = Option<(f64, f64, f64)>;
+    type Member = Option<(f64, f64, f64, MemberDesign)>;
     let loads: Vec<(String, &ancf_core::loads::rod_load::RodLoad, Member)> = contact
         .map(|c| {
             let rods =
@@ -220,10 +240,21 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
                 .map(|(i, g)| (format!("ground {i}"), &g.contact.load, None));
             let members = summary.beams.iter().map(|b| {
                 let r = &b.record;
+                let strain = (summary.strains.iter())
+                    .find(|s| s.beam == b.name)
+                    .map(|s| &s.record);
+                let design = MemberDesign {
+                    utilization: r.utilization,
+                    plastic_work: strain.and_then(|s| s.plastic_work),
+                    max_plastic_strain: (strain.and_then(|s| s.max_plastic_strain.as_ref()))
+                        .map(|p| p.max_strain),
+                    end_displacement: b.permanent_set,
+                };
                 let m = (
                     r.max_bending_moment,
                     r.max_von_mises,
                     r.first_impact_max_bending_moment,
+                    design,
                 );
                 (b.name.clone(), &b.contact, Some(m))
             });
@@ -262,6 +293,10 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
                 max_bending_moment: member.map(|m| m.0),
                 max_von_mises: member.map(|m| m.1),
                 first_impact_moment: member.map(|m| m.2),
+                utilization: member.and_then(|m| m.3.utilization),
+                plastic_work: member.and_then(|m| m.3.plastic_work),
+                max_plastic_strain: member.and_then(|m| m.3.max_plastic_strain),
+                end_displacement: member.and_then(|m| m.3.end_displacement),
             })
             .collect(),
         partners: loads.iter().map(|(name, ..)| name.clone()).collect(),

@@ -710,6 +710,24 @@ fn quantities(partners: &[String], supports: &[String]) -> Vec<Quantity> {
                     format!("{name}: max von Mises stress, whole run (Pa)"),
                     Box::new(move |o| rod(o).and_then(|r| r.max_von_mises)),
                 ));
+                // Design numbers, where the member has them (a yield
+                // stress; a yielding material for the plastic ones).
+                q.push((
+                    format!("{name}: utilization, whole run"),
+                    Box::new(move |o| rod(o).and_then(|r| r.utilization)),
+                ));
+                q.push((
+                    format!("{name}: plastic work (J)"),
+                    Box::new(move |o| rod(o).and_then(|r| r.plastic_work)),
+                ));
+                q.push((
+                    format!("{name}: largest equivalent plastic strain"),
+                    Box::new(move |o| rod(o).and_then(|r| r.max_plastic_strain)),
+                ));
+                q.push((
+                    format!("{name}: displacement at the end (m)"),
+                    Box::new(move |o| rod(o).and_then(|r| r.end_displacement)),
+                ));
             }
         }
     }

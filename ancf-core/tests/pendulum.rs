@@ -249,6 +249,7 @@ fn predictor_is_exact_for_constant_and_stiff_parts() {
             contact_events: Vec::new(),
             plastic: Vec::new(),
             plastic_work: Vec::new(),
+            moment_work: 0.0,
         };
         let a1 = predict(&model, &state, 1e-3, rho);
         for i in 0..n {

@@ -1,4 +1,4 @@
-//! A tip moment, applied through the tip node's gradient coordinates,
+//! A tip moment, applied through the tip node's section gradients,
 //! twists a straight, solid circular bar by T L / (G J), J = π R⁴ / 2, with
 //! and without Poisson's ratio: the locking remedy keeps the true shear
 //! modulus in the section, where torsion's shear strain lives (on the

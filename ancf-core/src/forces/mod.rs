@@ -6,5 +6,6 @@ pub mod assembly;
 pub mod contact;
 pub mod coupling;
 pub mod damping;
+pub mod moment;
 pub mod plastic;
 pub mod sum;

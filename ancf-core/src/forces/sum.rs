@@ -98,6 +98,11 @@ pub struct ForceSum {
     pattern: Pattern,
     /// λ Q_ext, all coordinates (N).
     external: Vec<f64>,
+    /// λ: the moment loads' factor, as `external`'s.
+    load_factor: f64,
+    /// The moment loads' forces of the last evaluation, per loaded node
+    /// [Q_{r_y}, Q_{r_z}] (N; [`crate::forces::moment`]).
+    moments: Vec<(usize, [f64; 6])>,
     /// Rayleigh damping matrix α M + β K₀ in pattern slots, each beam's
     /// own factors in its slots (empty when no beam has Rayleigh damping).
     rayleigh: Vec<f64>,
@@ -148,6 +153,8 @@ impl ForceSum {
         ForceSum {
             pattern,
             external: model.external_force(1.0),
+            load_factor: 1.0,
+            moments: Vec::new(),
             rayleigh,
             strain_rate,
             kelvin_voigt_work: KelvinVoigtWork::default(),
@@ -174,6 +181,13 @@ impl ForceSum {
     /// Scale the external force to load factor `lambda` (statics' increments).
     pub fn set_load_factor(&mut self, model: &Model, lambda: f64) {
         self.external = model.external_force(lambda);
+        self.load_factor = lambda;
+    }
+
+    /// The moment loads' forces of the last evaluation: per loaded node,
+    /// [Q_{r_y}, Q_{r_z}] (N).
+    pub fn moments(&self) -> &[(usize, [f64; 6])] {
+        &self.moments
     }
 
     /// λ Q_ext, all coordinates (N).
@@ -214,10 +228,12 @@ impl ForceSum {
     }
 
     /// Whether the Jacobian is symmetric: not with friction, contact
-    /// damping or Kelvin–Voigt damping (Rayleigh's constant matrix is).
+    /// damping, Kelvin–Voigt damping (Rayleigh's constant matrix is) or
+    /// moment loads (their load stiffness).
     pub fn symmetric(model: &Model) -> bool {
         !model.contact().is_some_and(|c| c.velocity_dependent())
             && !(model.dampings()).any(|(_, d)| matches!(d, Damping::KelvinVoigt { .. }))
+            && model.moment_loads().next().is_none()
     }
 
     /// Evaluate the forces at `at` into the sum's buffers; with `kq`, write
@@ -245,6 +261,17 @@ impl ForceSum {
                 model,
                 &self.pattern,
                 at.q,
+                &mut self.internal,
+                kq.as_deref_mut(),
+            );
+        }
+        if model.moment_loads().next().is_some() {
+            self.moments = crate::forces::moment::load_forces(model, at.q, self.load_factor);
+            add_moment_loads(
+                model,
+                &self.pattern,
+                (at.q, self.load_factor),
+                &self.moments,
                 &mut self.internal,
                 kq.as_deref_mut(),
             );
@@ -462,6 +489,44 @@ fn add_springs(
         }
     }
     model.spring_energy(q)
+}
+
+/// The moment loads' `forces` (at `q`, factor λ) taken from `internal`
+/// (Q = Q_e − Q_m) and their stiffness −∂Q_m/∂q added to `kq` (pattern
+/// slots, unknowns only): the loaded nodes' section-gradient blocks.
+fn add_moment_loads(
+    model: &Model,
+    pattern: &Pattern,
+    (q, factor): (&[f64], f64),
+    forces: &[(usize, [f64; 6])],
+    internal: &mut [f64],
+    kq: Option<&mut [f64]>,
+) {
+    for (node, f) in forces {
+        let base = NODE_DOFS * node + 6;
+        internal[base..base + 6]
+            .iter_mut()
+            .zip(f)
+            .for_each(|(a, b)| *a -= b);
+    }
+    let Some(kq) = kq else {
+        return;
+    };
+    for ld in model.moment_loads() {
+        let g = model.section_gradients(q, ld.node);
+        let m = ld.moment.map(|m| factor * m);
+        let k = crate::forces::moment::moment_stiffness(m, [g[0], g[1], g[2]], [g[3], g[4], g[5]]);
+        let base = NODE_DOFS * ld.node + 6;
+        for (i, row) in k.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                if let (Some(r), Some(c)) = (model.dof_map[base + i], model.dof_map[base + j]) {
+                    kq[pattern
+                        .slot(r, c)
+                        .expect("a node's block is in the pattern")] -= v;
+                }
+            }
+        }
+    }
 }
 
 /// The Rayleigh matrix α M + β K₀ in pattern slots, each Rayleigh-damped

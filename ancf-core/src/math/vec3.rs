@@ -29,3 +29,8 @@ pub fn unit(a: [f64; 3]) -> [f64; 3] {
     let n = norm(a);
     [a[0] / n, a[1] / n, a[2] / n]
 }
+
+/// s a
+pub fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [s * a[0], s * a[1], s * a[2]]
+}

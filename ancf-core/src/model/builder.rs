@@ -406,8 +406,8 @@ impl WireBuilder {
         })
     }
 
-    /// A constant moment (N m) at a node, applied through its gradient
-    /// coordinates ([`PointLoad::moment_forces`]).
+    /// A constant moment (N m) at a node, of fixed direction in space for
+    /// any rotation of the node ([`crate::forces::moment`]).
     pub fn moment(self, node: usize, moment: [f64; 3]) -> Self {
         self.load_with(PointLoad {
             node,

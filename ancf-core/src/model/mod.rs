@@ -101,7 +101,9 @@ impl Support {
 }
 
 /// A constant force (N) at a node's position r and a constant moment
-/// (N m) at the node, applied through its gradient coordinates.
+/// (N m) at the node. The moment keeps its direction in space as the node
+/// turns, by any angle ([`crate::forces::moment`]: it acts on the node's
+/// current section gradients, with its load stiffness).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PointLoad {
     /// The loaded node.
@@ -113,27 +115,6 @@ pub struct PointLoad {
 }
 
 impl PointLoad {
-    /// The moment's generalized forces on the node's gradient coordinates
-    /// r_x, r_y, r_z (entries 3..12 of the node's twelve), for gradients
-    /// `g` = [r_x, r_y, r_z] of the reference configuration:
-    /// Q_{r_i} = ½ (M × r_i) / |r_i|². A rotation δθ of an orthonormal
-    /// triad moves r_i by δθ × r_i and the three terms do the work
-    /// ½ Σ_i (δθ · M − (δθ · r̂_i)(r̂_i · M)) = δθ · M: the moment's virtual
-    /// work, exactly, for rotations from the reference (a dead load: it
-    /// keeps its direction and its distribution as the node turns, so it
-    /// is the applied moment for small rotations).
-    pub fn moment_forces(&self, g: [[f64; 3]; 3]) -> [f64; 9] {
-        let mut out = [0.0; 9];
-        for (i, r) in g.iter().enumerate() {
-            let m = cross(self.moment, *r);
-            let scale = 0.5 / dot(*r, *r);
-            for c in 0..3 {
-                out[3 * i + c] = scale * m[c];
-            }
-        }
-        out
-    }
-
     /// Whether the load has a moment.
     pub fn has_moment(&self) -> bool {
         self.moment.iter().any(|m| *m != 0.0)
@@ -1205,12 +1186,6 @@ impl Model {
                         for k in 0..3 {
                             f[base + k] += factor * ld.force[k];
                         }
-                        if ld.has_moment() {
-                            let q = ld.moment_forces(self.reference_gradients(ld.node));
-                            for (k, v) in q.iter().enumerate() {
-                                f[base + 3 + k] += factor * v;
-                            }
-                        }
                     }
                 }
                 Effect::Elasticity { .. }
@@ -1238,21 +1213,19 @@ impl Model {
                 let c = NODE_DOFS * ld.node + k;
                 loads -= ld.force[k] * (q[c] - self.reference[c]);
             }
-            if ld.has_moment() {
-                let m = ld.moment_forces(self.reference_gradients(ld.node));
-                for (k, v) in m.iter().enumerate() {
-                    let c = NODE_DOFS * ld.node + 3 + k;
-                    loads -= v * (q[c] - self.reference[c]);
-                }
-            }
         }
         (gravity, loads)
     }
 
-    /// The reference gradients [r_x, r_y, r_z] of node `n`.
-    fn reference_gradients(&self, n: usize) -> [[f64; 3]; 3] {
-        let base = NODE_DOFS * n;
-        std::array::from_fn(|i| std::array::from_fn(|c| self.reference[base + 3 + 3 * i + c]))
+    /// The point loads that carry a moment (their work depends on the
+    /// path: [`crate::forces::moment`]).
+    pub fn moment_loads(&self) -> impl Iterator<Item = &PointLoad> {
+        self.point_loads().iter().filter(|l| l.has_moment())
+    }
+
+    /// The section gradients [r_y, r_z] of node `n` in `q`, as one array.
+    pub fn section_gradients(&self, q: &[f64], n: usize) -> [f64; 6] {
+        std::array::from_fn(|k| q[NODE_DOFS * n + 6 + k])
     }
 
     /// M x for a full coordinate vector x (fixed entries included as given).

@@ -533,7 +533,7 @@ pub const KEYS: &[Key] = &[
         .doc("constant force at the node"),
     key("load", "moment", Vec3)
         .unit("N m")
-        .doc("constant moment at the node"),
+        .doc("constant moment at the node, of fixed direction in space however far the node turns"),
     // [[rod]]
     key("rod", "center", Vec3)
         .unit("m")

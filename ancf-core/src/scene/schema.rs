@@ -354,7 +354,8 @@ pub struct LoadSpec {
     /// The force (N).
     #[serde(default, deserialize_with = "optional_vec3")]
     pub force: Option<[f64; 3]>,
-    /// The moment (N m), applied through the node's gradient coordinates.
+    /// The moment (N m), of fixed direction in space for any rotation of
+    /// the node (`crate::forces::moment`).
     #[serde(default, deserialize_with = "optional_vec3")]
     pub moment: Option<[f64; 3]>,
 }

@@ -181,7 +181,11 @@ fn newton(
         }
         let mut coupling = Vec::new();
         forces.coupling().combined(model, 1.0, 0.0, &mut coupling);
-        (solver.factorize_coupled(&kv, &coupling, true)).map_err(|e| e.0)?;
+        // Moment loads' stiffness is not symmetric (statics has no other
+        // unsymmetric part: no friction, no damping).
+        let symmetric = model.moment_loads().next().is_none();
+        (solver.factorize_coupled(&kv, &coupling, symmetric)).map_err(|e| e.0)?;
+        let moments0 = forces.moments().to_vec();
         let mut dq = r.clone();
         solver.solve_in_place(&mut dq);
         dq.iter_mut().for_each(|v| *v = -*v);
@@ -199,7 +203,17 @@ fn newton(
             trial.copy_from_slice(q);
             model.scatter_add(&dq, alpha, &mut trial);
             let (rt, _, ut) = residual(model, forces, (&trial, plastic), None);
-            let pit = ut - forces.external_work(model, &trial);
+            // A moment load has no potential: its work along the step.
+            let moment_work: f64 = (moments0.iter().zip(forces.moments()))
+                .map(|((node, f0), (_, f1))| {
+                    let (g0, g1) = (
+                        model.section_gradients(q, *node),
+                        model.section_gradients(&trial, *node),
+                    );
+                    crate::forces::moment::work_between(f0, &g0, f1, &g1)
+                })
+                .sum();
+            let pit = ut - forces.external_work(model, &trial) - moment_work;
             let ok_energy =
                 pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();
             if ok_energy || (norm(&rt).is_finite() && norm(&rt) < rn) || at_roundoff {

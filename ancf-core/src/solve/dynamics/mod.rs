@@ -225,6 +225,7 @@ impl Integrator {
             contact_events: Vec::new(),
             plastic,
             plastic_work,
+            moment_work: 0.0,
         };
         self.set_energy_reference(&state);
         Ok(state)
@@ -404,7 +405,7 @@ impl Integrator {
             kinetic,
             strain: p.strain,
             gravity: p.gravity,
-            loads: p.loads,
+            loads: p.loads - s.moment_work,
             contact: p.contact,
             dissipated: s.dissipated,
             plastic: s.plastic_work.iter().sum(),
@@ -541,6 +542,24 @@ impl Integrator {
                 cause: Box::new(e),
             }),
         }
+    }
+
+    /// The moment loads' work (J) from `q0` to `q1`, by the trapezoid
+    /// (0 without moment loads).
+    fn moment_work(&self, q0: &[f64], q1: &[f64]) -> f64 {
+        let (f0, f1) = (
+            crate::forces::moment::load_forces(&self.model, q0, 1.0),
+            crate::forces::moment::load_forces(&self.model, q1, 1.0),
+        );
+        (f0.iter().zip(&f1))
+            .map(|((node, a), (_, b))| {
+                let (g0, g1) = (
+                    self.model.section_gradients(q0, *node),
+                    self.model.section_gradients(q1, *node),
+                );
+                crate::forces::moment::work_between(a, &g0, b, &g1)
+            })
+            .sum()
     }
 
     /// The yielding points' states at the end `q1` of a step of `h` from
@@ -763,6 +782,7 @@ impl Integrator {
                     .map(|(q, v, a, a1)| self.params.newmark(h, q, v, a, a1))
                     .unzip();
                 let (plastic, plastic_work) = self.plastic_step(s, &q1, h);
+                let moment_work = s.moment_work + self.moment_work(&s.q, &q1);
                 return Ok(State {
                     time: s.time + h,
                     q: q1,
@@ -773,6 +793,7 @@ impl Integrator {
                     contact_events,
                     plastic,
                     plastic_work,
+                    moment_work,
                 });
             }
             if evaluations >= max_evaluations || iterations >= self.settings.max_iterations {

@@ -39,6 +39,10 @@ pub struct State {
     /// layer.
     #[serde(default)]
     pub plastic_work: Vec<f64>,
+    /// The moment loads' work since t = 0 (J), summed step by step: a
+    /// moment of fixed direction has no potential ([`crate::forces::moment`]).
+    #[serde(default)]
+    pub moment_work: f64,
 }
 
 /// The contact events after a step: `old` carried where the pair still

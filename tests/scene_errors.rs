@@ -292,6 +292,12 @@ const CASES: &[(&str, &str, &str, &str)] = &[
         "material[1].name",
     ),
     (
+        "a follower without a moment",
+        "force = [0.0, 0.0, -1.0]",
+        "force = [0.0, 0.0, -1.0]\nfollower = true",
+        "load[0].follower",
+    ),
+    (
         "static key in dynamic run",
         "spectral_radius = 1.0",
         "spectral_radius = 1.0\nload_steps = 3",

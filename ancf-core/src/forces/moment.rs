@@ -18,6 +18,10 @@
 //! The load is not conservative in three dimensions (a moment of fixed
 //! direction does work that depends on the path), so its work is summed
 //! along the path ([`work_between`]) and its stiffness is not symmetric.
+//!
+//! A follower moment turns with the node: its components in the section's
+//! frame (n, â, n × â) stay those it had in the reference, and its
+//! stiffness adds the turning, ∂Q/∂M · ∂M/∂[a, b].
 
 use crate::math::vec3::{cross, dot, scale, sub};
 
@@ -92,17 +96,113 @@ pub fn moment_stiffness(m: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [[f64; 6]; 6] 
     std::array::from_fn(|r| std::array::from_fn(|col| blocks[r / 3][col / 3][r % 3][col % 3]))
 }
 
+/// The section's frame from its gradients a = r_y, b = r_z: the normal
+/// n = a × b / |a × b|, â = a / |a| and n × â.
+pub fn section_frame(a: [f64; 3], b: [f64; 3]) -> [[f64; 3]; 3] {
+    let (n, _, _) = carried([0.0; 3], a, b);
+    let ah = scale(a, 1.0 / dot(a, a).sqrt());
+    [n, ah, cross(n, ah)]
+}
+
+/// A follower moment's direction in space: its components `c` (N m) in
+/// the section's frame ([`section_frame`]) at gradients `a`, `b`.
+pub fn follower_moment(c: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    let f = section_frame(a, b);
+    std::array::from_fn(|i| c[0] * f[0][i] + c[1] * f[1][i] + c[2] * f[2][i])
+}
+
+/// The forces of a follower moment of frame components `c`: those of the
+/// moment it points to at `a`, `b` ([`moment_forces`]).
+pub fn follower_forces(c: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [f64; 6] {
+    moment_forces(follower_moment(c, a, b), a, b)
+}
+
+/// ∂[Q_a, Q_b]/∂[a, b] of a follower moment: the fixed moment's stiffness
+/// at the current M plus ∂Q/∂M · ∂M/∂[a, b], M = c₁ n + c₂ â + c₃ n × â.
+pub fn follower_stiffness(c: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [[f64; 6]; 6] {
+    let m = follower_moment(c, a, b);
+    let mut k = moment_stiffness(m, a, b);
+    let [n, ah, _] = section_frame(a, b);
+    let s = dot(cross(a, b), cross(a, b)).sqrt();
+    let la = dot(a, a).sqrt();
+    let eye = |i: usize, j: usize| f64::from(u8::from(i == j));
+    let p: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| eye(i, j) - n[i] * n[j]));
+    let pa: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| (eye(i, j) - ah[i] * ah[j]) / la));
+    // dM = (c₁ I − c₃ [â]×) dn + (c₂ I + c₃ [n]×) dâ,
+    // dn = P (−[b]× da + [a]× db) / s, dâ = (I − â âᵀ) da / |a|.
+    let (sah, sn) = (skew(ah), skew(n));
+    let on_n: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| c[0] * eye(i, j) - c[2] * sah[i][j]));
+    let on_a: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| c[1] * eye(i, j) + c[2] * sn[i][j]));
+    let dn_da = mul(&p, &skew(b)).map(|row| row.map(|v| -v / s));
+    let dn_db = mul(&p, &skew(a)).map(|row| row.map(|v| v / s));
+    let dm_da: [[f64; 3]; 3] = {
+        let (x, y) = (mul(&on_n, &dn_da), mul(&on_a, &pa));
+        std::array::from_fn(|i| std::array::from_fn(|j| x[i][j] + y[i][j]))
+    };
+    let dm_db = mul(&on_n, &dn_db);
+    // ∂Q_a/∂M = −[a]× (I − ½ n nᵀ) / |a|², ∂Q_b/∂M likewise.
+    let half: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| eye(i, j) - 0.5 * n[i] * n[j]));
+    let dq_dm = [
+        mul(&skew(a), &half).map(|row| row.map(|v| -v / dot(a, a))),
+        mul(&skew(b), &half).map(|row| row.map(|v| -v / dot(b, b))),
+    ];
+    for (r, dq) in dq_dm.iter().enumerate() {
+        for (col, dm) in [dm_da, dm_db].iter().enumerate() {
+            let block = mul(dq, dm);
+            for i in 0..3 {
+                for j in 0..3 {
+                    k[3 * r + i][3 * col + j] += block[i][j];
+                }
+            }
+        }
+    }
+    k
+}
+
+/// A load's generalized forces [Q_{r_y}, Q_{r_z}] (N) at section
+/// gradients `g` = [r_y, r_z] (`reference`: the node's in the reference,
+/// where a follower's components are read), for moment `m` (N m).
+fn load_at(m: [f64; 3], follower: bool, g: &[f64; 6], reference: &[f64; 6]) -> [f64; 6] {
+    let (a, b) = ([g[0], g[1], g[2]], [g[3], g[4], g[5]]);
+    match follower {
+        false => moment_forces(m, a, b),
+        true => follower_forces(components(m, reference), a, b),
+    }
+}
+
+/// ∂[Q_{r_y}, Q_{r_z}]/∂[r_y, r_z] of a load, as [`load_at`].
+pub fn load_stiffness(
+    m: [f64; 3],
+    follower: bool,
+    g: &[f64; 6],
+    reference: &[f64; 6],
+) -> [[f64; 6]; 6] {
+    let (a, b) = ([g[0], g[1], g[2]], [g[3], g[4], g[5]]);
+    match follower {
+        false => moment_stiffness(m, a, b),
+        true => follower_stiffness(components(m, reference), a, b),
+    }
+}
+
+/// `m`'s components in the section frame of gradients `g` = [r_y, r_z].
+fn components(m: [f64; 3], g: &[f64; 6]) -> [f64; 3] {
+    section_frame([g[0], g[1], g[2]], [g[3], g[4], g[5]]).map(|e| dot(e, m))
+}
+
 /// A model's moment loads' generalized forces at `q` for load factor
 /// `factor`: per loaded node, [Q_{r_y}, Q_{r_z}] (N) with the node.
 pub fn load_forces(model: &crate::model::Model, q: &[f64], factor: f64) -> Vec<(usize, [f64; 6])> {
     (model.moment_loads())
         .map(|ld| {
             let g = model.section_gradients(q, ld.node);
+            let reference = model.section_gradients(&model.reference, ld.node);
             let m = ld.moment.map(|m| factor * m);
-            (
-                ld.node,
-                moment_forces(m, [g[0], g[1], g[2]], [g[3], g[4], g[5]]),
-            )
+            (ld.node, load_at(m, ld.follower, &g, &reference))
         })
         .collect()
 }
@@ -150,6 +250,45 @@ mod tests {
                 assert!(
                     (work - expected).abs() < 1e-12 * 20.0,
                     "{work} vs {expected}"
+                );
+            }
+        }
+    }
+
+    /// A follower moment turns with the section: the forces at a turned
+    /// section do the work of the turned moment, and its stiffness is the
+    /// derivative of its forces.
+    #[test]
+    fn a_follower_moment_turns_with_the_section() {
+        let c = [3.0, -7.0, 11.0];
+        let (a0, b0) = ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+        let (axis, angle) = ([0.3, 1.0, -0.2], 2.0);
+        let (a, b) = (rotate(axis, angle, a0), rotate(axis, angle, b0));
+        let turned = rotate(axis, angle, follower_moment(c, a0, b0));
+        let m = follower_moment(c, a, b);
+        assert!((0..3).all(|k| (m[k] - turned[k]).abs() < 1e-12));
+        let q = follower_forces(c, a, b);
+        let dtheta = [0.0, 1e-7, 0.0];
+        let (da, db) = (cross(dtheta, a), cross(dtheta, b));
+        let work: f64 = (0..3).map(|k| q[k] * da[k] + q[3 + k] * db[k]).sum();
+        assert!((work - dot(turned, dtheta)).abs() < 1e-11);
+
+        let (a, b) = ([0.1, 1.2, -0.3], [0.2, 0.25, 0.8]);
+        let k = follower_stiffness(c, a, b);
+        let g = [a[0], a[1], a[2], b[0], b[1], b[2]];
+        let forces = |g: [f64; 6]| follower_forces(c, [g[0], g[1], g[2]], [g[3], g[4], g[5]]);
+        let h = 1e-6;
+        for j in 0..6 {
+            let (mut gp, mut gm) = (g, g);
+            gp[j] += h;
+            gm[j] -= h;
+            let (fp, fm) = (forces(gp), forces(gm));
+            for i in 0..6 {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                assert!(
+                    (k[i][j] - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "({i}, {j}): {} vs {fd}",
+                    k[i][j]
                 );
             }
         }

@@ -514,8 +514,9 @@ fn add_moment_loads(
     };
     for ld in model.moment_loads() {
         let g = model.section_gradients(q, ld.node);
+        let reference = model.section_gradients(&model.reference, ld.node);
         let m = ld.moment.map(|m| factor * m);
-        let k = crate::forces::moment::moment_stiffness(m, [g[0], g[1], g[2]], [g[3], g[4], g[5]]);
+        let k = crate::forces::moment::load_stiffness(m, ld.follower, &g, &reference);
         let base = NODE_DOFS * ld.node + 6;
         for (i, row) in k.iter().enumerate() {
             for (j, v) in row.iter().enumerate() {

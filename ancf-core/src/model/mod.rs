@@ -112,6 +112,10 @@ pub struct PointLoad {
     pub force: [f64; 3],
     /// The moment (N m); zero: none.
     pub moment: [f64; 3],
+    /// Whether the moment turns with the node (a follower: `moment` is
+    /// its direction in the reference, carried by the node's section
+    /// frame); otherwise it keeps its direction in space.
+    pub follower: bool,
 }
 
 impl PointLoad {

@@ -534,6 +534,9 @@ pub const KEYS: &[Key] = &[
     key("load", "moment", Vec3)
         .unit("N m")
         .doc("constant moment at the node, of fixed direction in space however far the node turns"),
+    key("load", "follower", Bool)
+        .default(Literal("false"))
+        .doc("the moment turns with the node"),
     // [[rod]]
     key("rod", "center", Vec3)
         .unit("m")

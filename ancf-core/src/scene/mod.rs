@@ -531,10 +531,17 @@ impl Scene {
                     "missing: give a force (N), a moment (N m) or both",
                 ));
             }
+            if l.follower && l.moment.is_none() {
+                return Err(err(
+                    format!("load[{i}].follower"),
+                    "a follower needs a moment (N m) to turn with the node",
+                ));
+            }
             let load = PointLoad {
                 node: node(format!("load[{i}]"), &l.beam, l.node)?,
                 force: l.force.unwrap_or_default(),
                 moment: l.moment.unwrap_or_default(),
+                follower: l.follower,
             };
             builder = match &l.beam {
                 Some(beam) => builder.load_on(beam, load),

@@ -358,6 +358,9 @@ pub struct LoadSpec {
     /// the node (`crate::forces::moment`).
     #[serde(default, deserialize_with = "optional_vec3")]
     pub moment: Option<[f64; 3]>,
+    /// Whether the moment turns with the node (default: fixed in space).
+    #[serde(default)]
+    pub follower: bool,
 }
 
 /// `[[rod]]`: a rigid cylinder the wire may touch.

@@ -335,7 +335,7 @@ fn impact_run_writes_contact_outputs_vtk_and_plots() {
     );
     assert_eq!(pvd.matches("rod_0.vtu").count(), 31);
     let vtu = std::fs::read_to_string(out_dir.join("vtk/wire_000003.vtu")).unwrap();
-    for name in ["displacement", "velocity", "green_lagrange_strain"] {
+    for name in ["displacement", "velocity", "green_lagrange_strain", "twist"] {
         assert!(
             vtu.contains(&format!("Name=\"{name}\"")),
             "vtu lacks {name}"
@@ -1132,6 +1132,66 @@ fn a_tube_member_reports_its_utilization_and_warns_past_yield() {
             .unwrap();
         assert_eq!(strict.success(), !yields, "P = {p} N under --strict");
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// final_nodes.csv gives each node's gradients after its position: a bar
+/// twisted by a tip torque shows its sections turned by T L / (G J) in
+/// the r_y and r_z columns, half of it halfway.
+#[test]
+fn final_nodes_give_the_sections_orientation() {
+    let dir = tmp("final-gradients");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (l, r, e, t) = (1.0_f64, 0.01_f64, 2e11_f64, 20.0_f64);
+    let scene = format!(
+        r#"
+[analysis]
+kind = "static"
+
+[[material]]
+name = "steel"
+model = "st-venant-kirchhoff"
+density = 7800.0
+youngs_modulus = {e}
+
+[wire]
+length = {l}
+elements = 8
+layers = [{{ material = "steel", outer_radius = {r} }}]
+
+[[support]]
+node = 0
+kind = "clamp"
+
+[[load]]
+node = "last"
+moment = [{t}, 0.0, 0.0]
+
+[output]
+plots = false
+"#
+    );
+    let path = dir.join("twist.toml");
+    std::fs::write(&path, scene).unwrap();
+    let out = dir.join("out");
+    assert!(run_quiet(&path, &out).status().unwrap().success());
+    let csv = std::fs::read_to_string(out.join("final_nodes.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "node,x,y,z,rx_x,rx_y,rx_z,ry_x,ry_y,ry_z,rz_x,rz_y,rz_z"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let theory = t * l / (0.5 * e * std::f64::consts::PI * r.powi(4) / 2.0);
+    let turned = |row: &[f64]| row[9].atan2(row[8]);
+    let (tip, half) = (turned(&rows[8]), turned(&rows[4]));
+    assert!((tip / theory - 1.0).abs() < 0.02, "{tip} against {theory}");
+    assert!((half / tip - 0.5).abs() < 0.02, "{half} of {tip}");
+    // r_z turned with r_y; r_x stays the axis.
+    assert!((rows[8][12].atan2(rows[8][11]) - 0.5 * std::f64::consts::PI - tip).abs() < 1e-3);
+    assert!((rows[8][4] - 1.0).abs() < 1e-3 && rows[8][5].abs() < 1e-6);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

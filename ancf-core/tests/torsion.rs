@@ -29,6 +29,12 @@ fn a_tip_moment_twists_a_bar_by_t_l_over_g_j() {
             .unwrap();
         let result = solve_static(&model, &StaticSettings::default()).expect("converges");
         let phi = twist(&result.q, elements);
+        // The model's own reading of the twist (the outputs') is the same.
+        let read = model.node_twist(&result.q, model.n_nodes() - 1);
+        assert!(
+            (read - phi).abs() < 1e-6 * phi.abs(),
+            "{read} against {phi}"
+        );
         let error = (phi - theory) / theory;
         assert!(
             error.abs() < 0.02,

@@ -474,13 +474,23 @@ impl Table {
     }
 }
 
+/// The columns of `final_nodes.csv` after `node`: the position (m) and
+/// the gradients r_x, r_y, r_z (dimensionless), a node's twelve
+/// coordinates in order.
+pub const FINAL_NODE_COLUMNS: [&str; 12] = [
+    "x", "y", "z", "rx_x", "rx_y", "rx_z", "ry_x", "ry_y", "ry_z", "rz_x", "rz_y", "rz_z",
+];
+
 /// `final_nodes.csv` (or a member's `final_nodes_NAME.csv`) at `path`: a
-/// beam's node positions at the end of the run.
-pub fn write_final_nodes(path: &Path, positions: &[[f64; 3]]) -> std::io::Result<()> {
+/// beam's nodes at the end of the run, each its position and gradients
+/// ([`FINAL_NODE_COLUMNS`]): where it is, and how its section is turned,
+/// twisted and stretched.
+pub fn write_final_nodes(path: &Path, nodes: &[[f64; 12]]) -> std::io::Result<()> {
     let mut f = BufWriter::new(File::create(path)?);
-    writeln!(f, "node,x,y,z")?;
-    for (i, p) in positions.iter().enumerate() {
-        writeln!(f, "{i},{:.12e},{:.12e},{:.12e}", p[0], p[1], p[2])?;
+    writeln!(f, "node,{}", FINAL_NODE_COLUMNS.join(","))?;
+    for (i, node) in nodes.iter().enumerate() {
+        let values: Vec<String> = node.iter().map(|v| format!("{v:.12e}")).collect();
+        writeln!(f, "{i},{}", values.join(","))?;
     }
     f.flush()
 }

@@ -354,7 +354,8 @@ fn pvd(frames: &[(f64, String)], rods: &[String]) -> String {
 }
 
 /// One frame of the wire and its frame members: each a tube surface with
-/// displacement, velocity and Green–Lagrange strain at its points; with
+/// displacement, velocity, Green–Lagrange strain and the section's twist
+/// about the centerline (rad, [`ancf_core::math::twist`]) at its points; with
 /// members, also the outer-fiber von Mises stress the section carries
 /// (Pa, from the element-end resultants as in summary.json's `beams`,
 /// linear along each element; the same around a ring).
@@ -375,6 +376,7 @@ fn write_frame(
     let (mut disp, mut vel, mut strain) = (Vec::new(), Vec::new(), Vec::new());
     let members = model.beams.len() > 1;
     let mut stress = Vec::new();
+    let mut twist = Vec::new();
     for beam in &model.beams {
         let first = points.len();
         let radius = model.element(beam.elements.start).section.outer_radius();
@@ -390,6 +392,12 @@ fn write_frame(
             };
             let element_plastic =
                 (layout.element(plastic, el).iter()).fold(0.0f64, |m, p| m.max(p.equivalent));
+            // The sections' twist at the element's nodes, the second taken
+            // within π of the first, drawn linearly between them.
+            let first_twist = model.node_twist(q, el);
+            let turn = model.node_twist(q, el + 1) - first_twist;
+            let turn =
+                turn - 2.0 * std::f64::consts::PI * (turn / (2.0 * std::f64::consts::PI)).round();
             let e = model.element_coordinates(q, el);
             let e0 = model.element_coordinates(&model.reference, el);
             let ev = model.element_coordinates(v, el);
@@ -406,6 +414,7 @@ fn write_frame(
                     if members {
                         stress.push((1.0 - xi) * ends[0] + xi * ends[1]);
                     }
+                    twist.push(first_twist + xi * turn);
                     if !layout.is_empty() {
                         plastic_strain.push(element_plastic);
                     }
@@ -437,6 +446,7 @@ fn write_frame(
         ("displacement", 3, disp),
         ("velocity", 3, vel),
         ("green_lagrange_strain", 6, strain),
+        ("twist", 1, twist),
     ];
     if members {
         fields.push(("von_mises_stress", 1, stress));

@@ -1123,6 +1123,22 @@ impl Simulation {
         matrix(py, &self.positions(&self.sim.state().q))
     }
 
+    /// The wire's node gradients, (n + 1) × 9: r_x, r_y, r_z one after
+    /// the other (final_nodes.csv's rx_x … rz_z): each section's
+    /// orientation, twist and stretch.
+    #[getter]
+    fn gradients<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let m = self.sim.model();
+        let q = &self.sim.state().q;
+        let rows: Vec<[f64; 9]> = (m.wire().nodes.clone())
+            .map(|n| m.node_gradients(q, n))
+            .collect();
+        let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+        PyArray1::from_vec(py, flat)
+            .reshape([rows.len(), 9])
+            .expect("n × 9 reshape of 9n values")
+    }
+
     /// Node velocities, (n + 1) × 3, m/s.
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {

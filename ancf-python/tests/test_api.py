@@ -145,6 +145,14 @@ def test_arrays_have_numpy_shapes_and_dtypes():
     assert r.rod_force.shape == (10, 0)
     assert sim.nodes.shape == (scene.elements + 1, 3)
     assert sim.velocities.shape == (scene.elements + 1, 3)
+    # The gradients: unit, orthogonal triads of a pendulum that swings in
+    # its plane (r_y normal to it, untouched).
+    g = sim.gradients
+    assert g.shape == (scene.elements + 1, 9)
+    rx, ry, rz = g[:, 0:3], g[:, 3:6], g[:, 6:9]
+    assert np.abs(np.linalg.norm(rx, axis=1) - 1.0).max() < 1e-2
+    assert np.abs(np.einsum("ij,ij->i", rx, rz)).max() < 1e-2
+    assert np.abs(ry - [0.0, 1.0, 0.0]).max() < 1e-9
     assert sim.tip.shape == (3,)
     assert set(sim.energies) >= {"kinetic", "strain", "gravity", "total", "dissipated"}
     assert sim.steps == (50, 1000)

@@ -39,3 +39,8 @@ def test_the_last_frame_is_the_final_state(tmp_path):
     assert np.abs(centre - reference - moved).max() < 1e-6
     assert np.abs(moved).max() > 1e-4  # the wire fell and swung
     assert mesh.point_data["green_lagrange_strain"].shape == (rings * ANGLES, 6)
+    # A wire falling in its plane does not twist.
+    assert np.abs(mesh.point_data["twist"]).max() < 1e-6
+    # final_nodes.csv gives each node's gradients too, as the simulation does.
+    assert nodes.dtype.names == ("node", "x", "y", "z", "rx_x", "rx_y", "rx_z",
+                                 "ry_x", "ry_y", "ry_z", "rz_x", "rz_y", "rz_z")

@@ -1320,6 +1320,23 @@ impl Model {
         (0..self.n_nodes()).find(|&n| det(q, n) * det(&self.reference, n) <= 0.0)
     }
 
+    /// The gradients [r_x, r_y, r_z] of node `n` in `q`, one after the
+    /// other: the section's orientation and stretch (dimensionless).
+    pub fn node_gradients(&self, q: &[f64], n: usize) -> [f64; 9] {
+        std::array::from_fn(|k| q[NODE_DOFS * n + 3 + k])
+    }
+
+    /// The twist (rad) of node `n`'s section in `q` about its centerline,
+    /// from the reference ([`crate::math::twist`]).
+    pub fn node_twist(&self, q: &[f64], n: usize) -> f64 {
+        let (g, g0) = (
+            self.node_gradients(q, n),
+            self.node_gradients(&self.reference, n),
+        );
+        let v = |g: &[f64; 9], k: usize| -> [f64; 3] { [g[3 * k], g[3 * k + 1], g[3 * k + 2]] };
+        crate::math::twist::twist(v(&g0, 0), v(&g0, 1), v(&g, 0), v(&g, 1))
+    }
+
     /// Position of node `n` in a full coordinate vector.
     pub fn node_position(&self, q: &[f64], n: usize) -> [f64; 3] {
         std::array::from_fn(|k| q[NODE_DOFS * n + k])

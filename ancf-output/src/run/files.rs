@@ -258,11 +258,11 @@ impl Files {
 }
 
 /// final_nodes.csv (the wire), final_nodes_NAME.csv (each frame member)
-/// and summary.json; `beams` is each beam's name and node positions, the
-/// wire first.
+/// and summary.json; `beams` is each beam's name and nodes' twelve
+/// coordinates, the wire first.
 pub fn write_final(
     dir: &Path,
-    beams: &[(String, Vec<[f64; 3]>)],
+    beams: &[(String, Vec<[f64; 12]>)],
     summary: &Summary,
 ) -> Result<(), String> {
     for (i, (name, nodes)) in beams.iter().enumerate() {

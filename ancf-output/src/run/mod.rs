@@ -97,11 +97,13 @@ fn tip(model: &Model, q: &[f64]) -> TipSummary {
     }
 }
 
-/// Each beam's node positions (the wire first), with its name.
-fn node_positions(model: &Model, q: &[f64]) -> Vec<(String, Vec<[f64; 3]>)> {
+/// Each beam's nodes, their twelve coordinates (position and gradients),
+/// the wire first, with its name.
+fn final_nodes(model: &Model, q: &[f64]) -> Vec<(String, Vec<[f64; 12]>)> {
     (model.beams.iter())
         .map(|b| {
-            let nodes = b.nodes.clone().map(|n| model.node_position(q, n));
+            let nodes = (b.nodes.clone())
+                .map(|n| std::array::from_fn(|k| q[ancf_core::model::NODE_DOFS * n + k]));
             (b.name.clone(), nodes.collect())
         })
         .collect()
@@ -461,7 +463,7 @@ fn execute(
     summary.tip = tip(model, &final_q);
     summary.wall_time_s = start.elapsed().as_secs_f64();
     if let Some(dir) = out {
-        write_final(dir, &node_positions(model, &final_q), &summary)?;
+        write_final(dir, &final_nodes(model, &final_q), &summary)?;
     }
     record.summary = summary;
     Ok(record)

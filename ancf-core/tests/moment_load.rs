@@ -38,14 +38,16 @@ fn tip(r: f64, n: usize, t: f64, steps: usize) -> (f64, f64, f64) {
     (res.q[b] - L, res.q[b + 2], turned)
 }
 
-/// The roll-up (R = 0.02 m, 32 elements): the tip follows the
-/// elastica to 0.3 % of L at t = π/2, 1 % at π and 2.5 % at 2π (a full
-/// circle back to the root). What is left at large t is the continuum's,
-/// not the mesh's: the outer fibres strain by κR = 2π R / L = 12.6 % and
-/// the section thins (Green–Lagrange strain, St. Venant–Kirchhoff), so
-/// the bending stiffness falls by about 1.4 (κR)² — refining to 128
-/// elements leaves the 2π rotation at +2.3 %, and a beam four times
-/// thinner closes the circle within 0.2 %.
+/// The roll-up of a solid circle (R = 0.02 m, 32 elements, 16 load
+/// steps): the tip follows the elastica to 0.3 % of L at t = π/2, 1 % at
+/// π and 2.5 % at 2π (a full circle back to the root); measured 0.09,
+/// 0.58 and 1.77 %. What is left is not the mesh's (128 elements leave
+/// the 2π rotation at +2.3 %) nor the moment's: it depends on κR alone,
+/// the fibres' largest strain — the tip turns too far by 0.1 % at κR =
+/// 0.031, 0.44 % at 0.063 and 2.3 % at 0.126, whichever t and R give
+/// them — a property of the continuum element's bending at large fibre
+/// strain (12.6 % at 2π here), which the elastica's M = E I κ does not
+/// have. A beam four times thinner closes the circle within 0.2 %.
 #[test]
 fn a_tip_moment_rolls_a_cantilever_up_into_a_circle() {
     let r = 0.02;

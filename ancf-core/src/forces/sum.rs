@@ -184,10 +184,28 @@ impl ForceSum {
         self.load_factor = lambda;
     }
 
+    /// λ, the load factor of `external` and the moment loads.
+    pub fn load_factor(&self) -> f64 {
+        self.load_factor
+    }
+
     /// The moment loads' forces of the last evaluation: per loaded node,
     /// [Q_{r_y}, Q_{r_z}] (N).
     pub fn moments(&self) -> &[(usize, [f64; 6])] {
         &self.moments
+    }
+
+    /// ‖λ Q_ext‖ with the moment loads' forces of the last evaluation
+    /// added (N): the size of what loads the model, which a residual is
+    /// judged against (the moments sit in `internal`, not `external`).
+    pub fn load_norm(&self, model: &Model) -> f64 {
+        let ext = model.gather(&self.external);
+        let ext2: f64 = ext.iter().map(|v| v * v).sum();
+        let moments2: f64 = (self.moments.iter())
+            .flat_map(|(_, f)| f)
+            .map(|v| v * v)
+            .sum();
+        (ext2 + moments2).sqrt()
     }
 
     /// λ Q_ext, all coordinates (N).

@@ -111,9 +111,9 @@ fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Residual on the unknowns, R = Q(q) − λ Q_ext with Q = Q_e − Q_c (the
-/// sum's load factor is λ), and a scale for it: the largest of ‖λQ_ext‖
-/// and ‖Q‖ (so round-off in large opposing element forces is judged
+/// Residual on the unknowns, R = Q(q) − λ Q_ext with Q = Q_e − Q_c − Q_m
+/// (the sum's load factor is λ), and a scale for it: the largest of the
+/// loads' size (‖λQ_ext‖ with the moments') and ‖Q‖ (so round-off in large opposing element forces is judged
 /// relative to their size); with `k`, the Jacobian ∂Q/∂q written over it.
 /// Returns R, the scale and the strain energy. Statics has normal contact
 /// only (no velocities, so no friction and no damping).
@@ -131,7 +131,7 @@ fn residual(
     let (internal, ext) = (forces.internal(), forces.external());
     let full: Vec<f64> = internal.iter().zip(ext).map(|(a, b)| a - b).collect();
     let r = model.gather(&full);
-    let scale = norm(&model.gather(ext)).max(norm(&model.gather(internal)));
+    let scale = forces.load_norm(model).max(norm(&model.gather(internal)));
     (r, scale, forces.strain_energy())
 }
 
@@ -185,7 +185,6 @@ fn newton(
         // unsymmetric part: no friction, no damping).
         let symmetric = model.moment_loads().next().is_none();
         (solver.factorize_coupled(&kv, &coupling, symmetric)).map_err(|e| e.0)?;
-        let moments0 = forces.moments().to_vec();
         let mut dq = r.clone();
         solver.solve_in_place(&mut dq);
         dq.iter_mut().for_each(|v| *v = -*v);
@@ -204,15 +203,8 @@ fn newton(
             model.scatter_add(&dq, alpha, &mut trial);
             let (rt, _, ut) = residual(model, forces, (&trial, plastic), None);
             // A moment load has no potential: its work along the step.
-            let moment_work: f64 = (moments0.iter().zip(forces.moments()))
-                .map(|((node, f0), (_, f1))| {
-                    let (g0, g1) = (
-                        model.section_gradients(q, *node),
-                        model.section_gradients(&trial, *node),
-                    );
-                    crate::forces::moment::work_between(f0, &g0, f1, &g1)
-                })
-                .sum();
+            let moment_work =
+                crate::forces::moment::work_along(model, q, &trial, forces.load_factor());
             let pit = ut - forces.external_work(model, &trial) - moment_work;
             let ok_energy =
                 pit.is_finite() && pit <= pi0 + 1e-4 * alpha * slope.min(0.0) + 1e-12 * pi0.abs();

@@ -76,8 +76,8 @@ pub struct Integrator {
     factored_at: Option<FactorizationOrigin>,
     /// How finely steps start, after the last cuts (see [`Integrator::step`]).
     subdivision: Subdivision,
-    /// The external force's norm on the unknowns (N; a residual scale,
-    /// constant, so computed once).
+    /// The loads' size on the unknowns (N; [`load_norm`], a residual
+    /// scale, constant, so computed once).
     ext_norm: f64,
     /// Residual entries below these are round-off (N), one per unknown, see
     /// [`Model::roundoff_forces`].
@@ -118,6 +118,19 @@ pub struct Integrator {
     initial_reactions: Vec<[f64; 3]>,
 }
 
+/// The size of what loads `model` (N, on the unknowns): ‖Q_ext‖ and, with
+/// moment loads, their forces at the reference (whose size turning does
+/// not change), which sit in Q rather than Q_ext.
+fn load_norm(model: &Model, external: &[f64]) -> f64 {
+    let ext = norm(&model.gather(external));
+    let moments = crate::forces::moment::load_forces(model, &model.reference, 1.0);
+    if moments.is_empty() {
+        return ext;
+    }
+    let m2: f64 = moments.iter().flat_map(|(_, f)| f).map(|v| v * v).sum();
+    (ext * ext + m2).sqrt()
+}
+
 impl Integrator {
     /// An integrator for `model` (pattern and symbolic factorization built here).
     pub fn new(model: Arc<Model>, settings: DynamicSettings) -> Result<Self, StepError> {
@@ -138,7 +151,7 @@ impl Integrator {
             factored_for: None,
             factored_at: None,
             subdivision: Subdivision::default(),
-            ext_norm: norm(&model.gather(forces.external())),
+            ext_norm: load_norm(&model, forces.external()),
             roundoff: model.roundoff_forces(),
             energy_start: 0.0,
             energy_scale: 0.0,
@@ -544,24 +557,6 @@ impl Integrator {
         }
     }
 
-    /// The moment loads' work (J) from `q0` to `q1`, by the trapezoid
-    /// (0 without moment loads).
-    fn moment_work(&self, q0: &[f64], q1: &[f64]) -> f64 {
-        let (f0, f1) = (
-            crate::forces::moment::load_forces(&self.model, q0, 1.0),
-            crate::forces::moment::load_forces(&self.model, q1, 1.0),
-        );
-        (f0.iter().zip(&f1))
-            .map(|((node, a), (_, b))| {
-                let (g0, g1) = (
-                    self.model.section_gradients(q0, *node),
-                    self.model.section_gradients(q1, *node),
-                );
-                crate::forces::moment::work_between(a, &g0, b, &g1)
-            })
-            .sum()
-    }
-
     /// The yielding points' states at the end `q1` of a step of `h` from
     /// `s`, and the plastic work per beam since t = 0 (both empty without
     /// a yielding layer).
@@ -782,7 +777,8 @@ impl Integrator {
                     .map(|(q, v, a, a1)| self.params.newmark(h, q, v, a, a1))
                     .unzip();
                 let (plastic, plastic_work) = self.plastic_step(s, &q1, h);
-                let moment_work = s.moment_work + self.moment_work(&s.q, &q1);
+                let moment_work =
+                    s.moment_work + crate::forces::moment::work_along(&self.model, &s.q, &q1, 1.0);
                 return Ok(State {
                     time: s.time + h,
                     q: q1,

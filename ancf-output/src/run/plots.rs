@@ -219,7 +219,7 @@ pub fn plot_rod_forces(
 /// largest moment, von Mises stress and utilization in the titles.
 pub fn plot_member_loads(
     out: &Path,
-    (loads, filtered, moments): (&[LoadHistory], &[Filtered], &[Vec<(f64, f64)>]),
+    (loads, filtered, moments): super::files::MemberLoads<'_>,
     limits: &[Option<f64>],
     beams: &[crate::output::BeamSummary],
 ) -> Result<(), String> {

@@ -278,8 +278,9 @@ fn syntax_and_type_errors_name_their_field() {
 
 /// A rod that the wire starts inside is the geometry's fault, and is
 /// refused before any work naming the rod (a run would begin with the
-/// whole overlap as its contact force); touching it is fine. (A static
-/// start is not checked: its solve meets the contact first.)
+/// whole overlap as its contact force); touching it is fine. A static
+/// start pushes the wire out of a shallow overlap, but a rod through the
+/// wire's centerline is refused there too: it has no side to push to.
 #[test]
 fn a_rod_overlapping_the_wire_at_the_start_is_refused() {
     let path = concat!(
@@ -296,6 +297,16 @@ fn a_rod_overlapping_the_wire_at_the_start_is_refused() {
     // Touching: the wire (radius 14.07 mm) on the rod (20 mm) at 34.07 mm.
     let touching = text.replace(rod, "center = [1.0, 0.0, -0.03407]");
     assert!(Scene::from_toml(&touching).is_ok());
+    let kind = "kind = \"dynamic\"";
+    assert!(text.contains(kind));
+    let static_start = |t: &str| t.replace(kind, "kind = \"dynamic\"\ninitial = \"static\"");
+    let e = Scene::from_toml(&static_start(&inside)).unwrap_err();
+    assert_eq!(e.field, "rod[0].center", "{e}");
+    assert!(e.message.contains("no side to push it to"), "{e}");
+    // Less than the wire's radius deep: the static solve pushes it out.
+    let shallow = text.replace(rod, "center = [1.0, 0.0, -0.025]");
+    assert!(Scene::from_toml(&shallow).is_err());
+    assert!(Scene::from_toml(&static_start(&shallow)).is_ok());
 }
 
 /// A member's name becomes part of file names and CSV headers: only an

@@ -595,9 +595,14 @@ impl Scene {
         if solves_statics && let Some(message) = model.static_holding_error() {
             return Err(err("support", message));
         }
-        // A static solve pushes the wire out of a rod; a run from the
-        // starting shape would begin with the whole overlap as its force.
-        if !solves_statics && let Some((i, depth, p)) = model.rod_overlap_at_start() {
+        // A static solve pushes the wire out of a shallow overlap; a run
+        // from the starting shape would begin with the whole overlap as its
+        // force, and a rod through the wire's centerline has no side to
+        // push it to in either.
+        let wire_radius = model.contact().map_or(0.0, |c| c.wire_radius);
+        let overlap = (model.rod_overlap_at_start())
+            .filter(|&(_, depth, _)| !solves_statics || depth > wire_radius);
+        if let Some((i, depth, p)) = overlap {
             let (name, what, key) = match model.contact() {
                 Some(c) if c.rods[i].is_ground() => (c.rigid_name(i), "ground", "point"),
                 _ => (format!("rod[{i}]"), "rod", "center"),
@@ -606,12 +611,16 @@ impl Scene {
                 format!("{name}.{key}"),
                 format!(
                     "the {what} overlaps the wire where the run starts: the wire's surface is {:.2} mm \
-                     inside it near [{:.3}, {:.3}, {:.3}] m; move the {what} or the wire (the geometry is \
+                     inside it near [{:.3}, {:.3}, {:.3}] m{}; move the {what} or the wire (the geometry is \
                      at fault, not the contact)",
                     1e3 * depth,
                     p[0],
                     p[1],
-                    p[2]
+                    p[2],
+                    match solves_statics {
+                        true => ", its centerline too: a static solve has no side to push it to",
+                        false => "",
+                    }
                 ),
             ));
         }

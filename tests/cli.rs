@@ -455,6 +455,38 @@ fn interrupted_run_keeps_its_output() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// timeseries.csv removed while the run writes it: the run ends with
+/// every other output and says, in summary.json's warnings and under
+/// `--strict`, that its rows are lost.
+#[test]
+fn a_time_series_removed_during_the_run_is_said_to_be_lost() {
+    let dir = tmp("lost-series");
+    let mut child = run_quiet(Path::new("scenes/wire_rod_impact.toml"), &dir)
+        .arg("--strict")
+        .spawn()
+        .unwrap();
+    let series = dir.join("timeseries.csv");
+    for _ in 0..200 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        if std::fs::read_to_string(&series).is_ok_and(|t| t.lines().count() > 3) {
+            break;
+        }
+    }
+    std::fs::remove_file(&series).unwrap();
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "--strict fails on the lost file");
+    let summary = summary(&dir);
+    assert_eq!(summary["status"], "completed");
+    let warned = (summary["warnings"].as_array().unwrap().iter()).any(|w| {
+        w.as_str()
+            .unwrap()
+            .contains("timeseries.csv was removed while the run wrote it")
+    });
+    assert!(warned, "{}", summary["warnings"]);
+    assert!(dir.join("final_nodes.csv").exists() && dir.join("rod_forces.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A run interrupted after a checkpoint and continued with
 /// `ancf run --resume DIR` ends bit for bit like an uninterrupted run.
 #[test]

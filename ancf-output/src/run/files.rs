@@ -178,6 +178,21 @@ impl Files {
         Ok(())
     }
 
+    /// A file this run writes as it goes that is no longer where it was
+    /// opened (removed or renamed by another process while the run wrote
+    /// through its open handle, whose rows then went nowhere), said as a
+    /// warning for summary.json.
+    pub fn lost(&self) -> Option<String> {
+        let path = self.dir.join("timeseries.csv");
+        (!path.exists()).then(|| {
+            format!(
+                "{} was removed while the run wrote it (by another process): its rows are lost; \
+                 the other outputs are written; run again to have it",
+                path.display()
+            )
+        })
+    }
+
     /// Write `checkpoint.json` for `p` (its VTK frames are synced to disk
     /// first: the checkpoint names them).
     pub fn checkpoint(&mut self, scene: &Scene, p: &mut Progress) -> Result<(), String> {

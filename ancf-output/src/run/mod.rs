@@ -814,6 +814,7 @@ fn run_dynamic(
     let member_filtered: Vec<Filtered> =
         sim.member_loads().iter().map(|h| h.filtered(cfc)).collect();
     if let Some(f) = files.as_mut() {
+        summary.warnings.extend(f.lost());
         f.finish(
             scene,
             &p.history,

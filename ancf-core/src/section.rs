@@ -40,6 +40,31 @@ pub enum SectionShape {
     },
 }
 
+/// Saint-Venant's torsion constant J (m⁴) of a `width` × `height`
+/// rectangle: J = β b h³, b ≥ h, with the exact series β = (1/3)(1 − (192
+/// h / π⁵ b) Σ_{n odd} tanh(n π b / 2h) / n⁵) (Timoshenko & Goodier,
+/// *Theory of Elasticity*, §109), summed until its terms fall below 1e-16
+/// (the square: J = 0.1406 a⁴).
+pub fn saint_venant_torsion(width: f64, height: f64) -> f64 {
+    let (b, h) = if width >= height {
+        (width, height)
+    } else {
+        (height, width)
+    };
+    let pi = std::f64::consts::PI;
+    let mut sum = 0.0;
+    let mut n = 1.0f64;
+    loop {
+        let term = (n * pi * b / (2.0 * h)).tanh() / n.powi(5);
+        sum += term;
+        if term < 1e-16 {
+            break;
+        }
+        n += 2.0;
+    }
+    (1.0 - 192.0 * h / (pi.powi(5) * b) * sum) / 3.0 * b * h.powi(3)
+}
+
 /// A cross section with its quadrature.
 #[derive(Clone, Debug)]
 pub struct Section {

@@ -28,6 +28,7 @@ pub(crate) type ElementKernelFn =
 
 mod plastic;
 pub(crate) mod preintegration;
+mod twist;
 pub use plastic::{PlasticGroup, PlasticInput, PlasticStep};
 
 mod generated {
@@ -230,6 +231,8 @@ pub struct ElementIntegration {
     /// The points the generated kernel integrates (see [`IntegrationPlan`]).
     pub plan: IntegrationPlan,
     kernel: Option<ElementKernelFn>,
+    /// A rectangle's Saint-Venant torsion ([`twist`]); `None` for circles.
+    twist: Option<twist::TwistCorrection>,
 }
 
 /// A ring r1 ≤ ρ ≤ r2 (m) with a stiffness factor c relative to its group's law.
@@ -384,6 +387,7 @@ impl ElementIntegration {
             length,
             axial: gauss_legendre_unit(axial_order),
             plan: IntegrationPlan::new(&section),
+            twist: twist::TwistCorrection::of(&section),
             section,
             kernel: generated::element_kernel_for(axial_order),
         }
@@ -434,10 +438,14 @@ impl ElementIntegration {
         q: &mut ElementVector,
         mut k: Option<&mut ElementMatrix>,
     ) -> f64 {
-        let u = match self.kernel {
+        let mut u = match self.kernel {
             Some(kernel) => kernel(self, e, q, k.as_deref_mut()),
             None => self.evaluate_generic(e, q, k.as_deref_mut()),
         };
+        if let Some(t) = &self.twist {
+            let rule = (&self.axial.nodes[..], &self.axial.weights[..], self.length);
+            u += t.add(rule, e, q, k.as_deref_mut());
+        }
         match self.plan.is_plastic() {
             true => u + self.add_plastic(e, plastic, q, k),
             false => u,
@@ -587,7 +595,8 @@ impl ElementIntegration {
         &'static [f64],
     )> {
         let others = self.plan.points() - self.plastic_points_per_station();
-        if self.kernel.is_none() || others != 0 {
+        // A rectangle's twist is added element by element (evaluate_with).
+        if self.kernel.is_none() || others != 0 || self.twist.is_some() {
             return None;
         }
         let pre = self.plan.preintegrated.as_ref()?;

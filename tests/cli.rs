@@ -487,6 +487,45 @@ fn a_time_series_removed_during_the_run_is_said_to_be_lost() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An output that cannot be written at the run's end (here a folder
+/// planted where rod_forces.csv goes) fails the run naming that file, and
+/// summary.json still keeps what the run computed.
+#[test]
+fn an_output_that_cannot_be_written_is_named_and_the_summary_kept() {
+    let dir = tmp("unwritable");
+    let mut child = run_quiet(Path::new("scenes/wire_rod_impact.toml"), &dir)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let series = dir.join("timeseries.csv");
+    for _ in 0..200 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        if std::fs::read_to_string(&series).is_ok_and(|t| t.lines().count() > 3) {
+            break;
+        }
+    }
+    std::fs::create_dir(dir.join("rod_forces.csv")).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let file = dir.join("rod_forces.csv");
+    assert!(stderr.contains(&file.display().to_string()), "{stderr}");
+    let summary = summary(&dir);
+    assert_eq!(summary["status"], "failed");
+    assert!(
+        summary["message"]
+            .as_str()
+            .unwrap()
+            .contains("rod_forces.csv")
+    );
+    assert!(
+        summary["contact"]["rods"][0]["filtered_peak_force"]
+            .as_f64()
+            .is_some_and(|f| f > 0.0)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A run interrupted after a checkpoint and continued with
 /// `ancf run --resume DIR` ends bit for bit like an uninterrupted run.
 #[test]

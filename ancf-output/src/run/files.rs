@@ -16,7 +16,8 @@ use ancf_core::scene::Scene;
 use ancf_core::solve::dynamics::{Energies, State};
 use std::path::{Path, PathBuf};
 
-/// An I/O error as the message of a failed run.
+/// An I/O error as the message of a failed run, naming the file (or
+/// folder) the write was for.
 pub fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("cannot write to {}: {e}", path.display())
 }
@@ -136,8 +137,8 @@ impl Files {
         };
         Ok(Files {
             dir: dir.to_path_buf(),
-            series: series.map_err(|e| io_err(dir, e))?,
-            vtk: vtk.transpose().map_err(|e| io_err(dir, e))?,
+            series: series.map_err(|e| io_err(&dir.join("timeseries.csv"), e))?,
+            vtk: vtk.transpose().map_err(|e| io_err(&vtk_dir, e))?,
         })
     }
 
@@ -170,10 +171,10 @@ impl Files {
             row.extend([c.normal_force, c.max_penetration, e.contact, e.dissipated]);
         }
         row.push(s.previous.as_ref().map_or(0.0, |p| p.h));
-        self.series.row(&row).map_err(|e| io_err(&self.dir, e))?;
+        (self.series.row(&row)).map_err(|e| io_err(&self.dir.join("timeseries.csv"), e))?;
         if let Some(v) = self.vtk.as_mut().filter(|_| frame) {
             v.frame(s.time, (&s.q, &s.v), &s.plastic)
-                .map_err(|e| io_err(&self.dir, e))?;
+                .map_err(|e| io_err(&self.dir.join("vtk"), e))?;
         }
         Ok(())
     }
@@ -198,7 +199,7 @@ impl Files {
     pub fn checkpoint(&mut self, scene: &Scene, p: &mut Progress) -> Result<(), String> {
         let dir = &self.dir;
         if let Some(v) = self.vtk.as_mut() {
-            v.sync().map_err(|e| io_err(dir, e))?;
+            v.sync().map_err(|e| io_err(&dir.join("vtk"), e))?;
         }
         p.vtk_frames = self
             .vtk
@@ -207,7 +208,8 @@ impl Files {
             .unwrap_or_default();
         let text = serde_json::to_string(&Checkpoint::new(scene.source.clone(), p.clone())?)
             .map_err(|e| format!("checkpoint: {e}"))?;
-        replace_file(&dir.join("checkpoint.json"), &text).map_err(|e| io_err(dir, e))
+        let path = dir.join("checkpoint.json");
+        replace_file(&path, &text).map_err(|e| io_err(&path, e))
     }
 
     /// The end of a dynamic run: VTK's collection, supports.csv,
@@ -227,10 +229,11 @@ impl Files {
     ) -> Result<(), String> {
         let dir = &self.dir;
         if let Some(v) = self.vtk.as_mut() {
-            v.finish().map_err(|e| io_err(dir, e))?;
+            v.finish().map_err(|e| io_err(&dir.join("vtk"), e))?;
         }
         if !supports.loads.is_empty() {
-            write_supports(dir, &scene.model, supports).map_err(|e| io_err(dir, e))?;
+            (write_supports(dir, &scene.model, supports))
+                .map_err(|e| io_err(&dir.join("supports.csv"), e))?;
         }
         let mut plots: Vec<PlotJob<'_>> = Vec::new();
         if let Some(cs) = &summary.contact
@@ -241,7 +244,8 @@ impl Files {
             let names: Vec<String> = (0..c.rods.len())
                 .map(|i| c.rigid_name(i).replace(['[', ']'], ""))
                 .collect();
-            write_rod_forces(dir, &names, loads, filtered).map_err(|e| io_err(dir, e))?;
+            (write_rod_forces(dir, &names, loads, filtered))
+                .map_err(|e| io_err(&dir.join("rod_forces.csv"), e))?;
             plots.push(Box::new(move || {
                 super::plots::plot_rod_forces(dir, &names, loads, filtered, &cs.rigid())
             }));
@@ -249,7 +253,7 @@ impl Files {
         if !members.0.is_empty() {
             let names: Vec<&str> = summary.beams.iter().map(|b| b.name.as_str()).collect();
             write_member_forces(dir, &names, members.0, members.1, members.2)
-                .map_err(|e| io_err(dir, e))?;
+                .map_err(|e| io_err(&dir.join("member_forces.csv"), e))?;
             // Each member's bending resistance, where its section has one.
             let limits: Vec<Option<f64>> = (scene.model.beams.iter().skip(1))
                 .map(|b| {
@@ -262,7 +266,8 @@ impl Files {
             }));
         }
         if !history.contact_point.is_empty() {
-            write_contact_point(dir, history).map_err(|e| io_err(dir, e))?;
+            (write_contact_point(dir, history))
+                .map_err(|e| io_err(&dir.join("contact_point.csv"), e))?;
         }
         if scene.output.plots {
             plots.extend(super::plots::dynamic_plots(dir, &scene.model, history));
@@ -286,9 +291,12 @@ pub fn write_final(
         } else {
             format!("final_nodes_{name}.csv")
         };
-        write_final_nodes(&dir.join(file), nodes).map_err(|e| io_err(dir, e))?;
+        let path = dir.join(file);
+        write_final_nodes(&path, nodes).map_err(|e| io_err(&path, e))?;
     }
-    summary.write(dir).map_err(|e| io_err(dir, e))
+    summary
+        .write(dir)
+        .map_err(|e| io_err(&dir.join("summary.json"), e))
 }
 
 /// `rod_forces.csv`: every step's force on each rod and ground (columns

@@ -815,7 +815,7 @@ fn run_dynamic(
         sim.member_loads().iter().map(|h| h.filtered(cfc)).collect();
     if let Some(f) = files.as_mut() {
         summary.warnings.extend(f.lost());
-        f.finish(
+        let finished = f.finish(
             scene,
             &p.history,
             sim.rod_loads(),
@@ -827,7 +827,16 @@ fn run_dynamic(
             ),
             supports,
             summary,
-        )?;
+        );
+        // An output that cannot be written fails the run, and the summary
+        // (written after) keeps what it computed and says which file.
+        if let Err(message) = finished {
+            summary.status = RunStatus::Failed;
+            summary.message = format!(
+                "{message}; the run computed to its end: summary.json and final_nodes.csv keep \
+                 its results, the files written before it its histories"
+            );
+        }
     }
     record.rod_loads = sim.rod_loads().to_vec();
     record.member_loads = sim.member_loads().to_vec();

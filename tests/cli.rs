@@ -493,7 +493,7 @@ fn a_time_series_removed_during_the_run_is_said_to_be_lost() {
 #[test]
 fn an_output_that_cannot_be_written_is_named_and_the_summary_kept() {
     let dir = tmp("unwritable");
-    let mut child = run_quiet(Path::new("scenes/wire_rod_impact.toml"), &dir)
+    let child = run_quiet(Path::new("scenes/wire_rod_impact.toml"), &dir)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();

@@ -121,6 +121,36 @@ fn tick_label(v: &f64, lo: f64, hi: f64) -> String {
     }
 }
 
+/// An axis description `label` ending in a unit in parentheses, with the
+/// SI prefix that keeps values of largest magnitude `m` short where the
+/// unit takes one ("force (N)" at 25 kN: "force (kN)", ticks divided by
+/// 10³; a strain "(-)" in 10⁻³ or 10⁻⁶), and the divisor; the label and 1
+/// otherwise.
+fn prefixed(label: &str, m: f64) -> (String, f64) {
+    let Some((name, unit)) = label.strip_suffix(')').and_then(|l| l.rsplit_once(" (")) else {
+        return (label.to_string(), 1.0);
+    };
+    let (big, small) = (["N", "J", "N m", "Pa", "W"].contains(&unit), unit == "m");
+    let prefix = match m {
+        m if big && (1e4..1e7).contains(&m) => Some(("k", 1e3)),
+        m if big && (1e7..1e10).contains(&m) => Some(("M", 1e6)),
+        m if small && (1e-5..1e-2).contains(&m) => Some(("m", 1e-3)),
+        m if small && (1e-8..1e-5).contains(&m) => Some(("µ", 1e-6)),
+        _ => None,
+    };
+    // A dimensionless quantity (a strain) in thousandths or millionths.
+    let dimensionless = match m {
+        m if unit == "-" && (1e-4..1e-1).contains(&m) => Some(("10⁻³", 1e-3)),
+        m if unit == "-" && (1e-7..1e-4).contains(&m) => Some(("10⁻⁶", 1e-6)),
+        _ => None,
+    };
+    match (prefix, dimensionless) {
+        (Some((p, scale)), _) => (format!("{name} ({p}{unit})"), scale),
+        (None, Some((times, scale))) => (format!("{name} ({times})"), scale),
+        (None, None) => (label.to_string(), 1.0),
+    }
+}
+
 /// Values whose magnitude stays below this are zero to round-off in every
 /// quantity the plots show (strains, m, N, J): a panel of them says so
 /// instead of drawing ticks like 1e-44.
@@ -265,11 +295,13 @@ fn draw_panel<DB: DrawingBackend>(
         .x_label_area_size(size(45.0))
         .y_label_area_size(size(80.0))
         .build_cartesian_2d(x0..x1, y0..y1)?;
+    // Large forces in kN, small lengths in mm: ticks of a few digits.
+    let (y_desc, y_scale) = prefixed(p.y_label, y0.abs().max(y1.abs()));
     chart
         .configure_mesh()
         .x_desc(p.x_label)
-        .y_desc(p.y_label)
-        .y_label_formatter(&|v| tick_label(v, y0, y1))
+        .y_desc(y_desc)
+        .y_label_formatter(&|v| tick_label(&(v / y_scale), y0 / y_scale, y1 / y_scale))
         .x_label_formatter(&|v| tick_label(v, x0, x1))
         .x_labels(6)
         .label_style(("sans-serif", size(14.0)))
@@ -685,5 +717,28 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Large forces are drawn in kN and MN, small lengths in mm and µm;
+    /// other units and ranges keep their labels.
+    #[test]
+    fn axes_take_the_prefix_that_keeps_ticks_short() {
+        assert_eq!(prefixed("force (N)", 2.5e4), ("force (kN)".into(), 1e3));
+        assert_eq!(prefixed("force (N)", 3e7), ("force (MN)".into(), 1e6));
+        assert_eq!(
+            prefixed("moment (N m)", 1.9e4),
+            ("moment (kN m)".into(), 1e3)
+        );
+        assert_eq!(prefixed("force (N)", 9.5e3), ("force (N)".into(), 1.0));
+        assert_eq!(prefixed("z (m)", 3e-3), ("z (mm)".into(), 1e-3));
+        assert_eq!(prefixed("z (m)", 1e-5 * 0.5), ("z (µm)".into(), 1e-6));
+        assert_eq!(prefixed("time t (s)", 2e4), ("time t (s)".into(), 1.0));
+        assert_eq!(prefixed("strain", 2e4), ("strain".into(), 1.0));
+        assert_eq!(prefixed("E_xx (-)", 7e-3), ("E_xx (10⁻³)".into(), 1e-3));
+        assert_eq!(prefixed("E_zz (-)", 1.2e-5), ("E_zz (10⁻⁶)".into(), 1e-6));
+        assert_eq!(prefixed("E_yy (-)", 0.5), ("E_yy (-)".into(), 1.0));
+        // The ticks of 25 kN read 25, not 25e3.
+        let (_, scale) = prefixed("force (N)", 3e4);
+        assert_eq!(tick_label(&(2.5e4 / scale), 0.0, 3e4 / scale), "25");
     }
 }

@@ -14,6 +14,7 @@
 //! Circles and rings do not warp (J = I_p) and get none.
 
 use crate::element::{ElementMatrix, ElementVector};
+use crate::math::vec3::dot;
 use crate::section::{Section, SectionShape, saint_venant_torsion};
 
 /// G (J / I_p − 1) ∫y² and ∫z² (N m²) of a rectangle.
@@ -65,7 +66,6 @@ impl TwistCorrection {
         let diff =
             |x: [[f64; 3]; 2]| -> [f64; 3] { std::array::from_fn(|i| (x[1][i] - x[0][i]) / l) };
         let (a, b) = (diff(ry), diff(rz));
-        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
         let mut energy = 0.0;
         for (xi, w) in nodes.iter().zip(weights) {
             let w = w * l;

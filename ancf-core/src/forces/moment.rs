@@ -17,7 +17,7 @@
 //! shear the end element, an error that grows as the elements shrink.
 //! The load is not conservative in three dimensions (a moment of fixed
 //! direction does work that depends on the path), so its work is summed
-//! along the path ([`work_between`]) and its stiffness is not symmetric.
+//! along the path ([`work_along`]) and its stiffness is not symmetric.
 //!
 //! A follower moment turns with the node: its components in the section's
 //! frame (n, â, n × â) stay those it had in the reference, and its
@@ -176,7 +176,7 @@ fn load_at(m: [f64; 3], follower: bool, g: &[f64; 6], reference: &[f64; 6]) -> [
 }
 
 /// ∂[Q_{r_y}, Q_{r_z}]/∂[r_y, r_z] of a load, as [`load_at`].
-pub fn load_stiffness(
+fn load_stiffness(
     m: [f64; 3],
     follower: bool,
     g: &[f64; 6],
@@ -194,15 +194,44 @@ fn components(m: [f64; 3], g: &[f64; 6]) -> [f64; 3] {
     section_frame([g[0], g[1], g[2]], [g[3], g[4], g[5]]).map(|e| dot(e, m))
 }
 
+/// What a moment load needs at `q`: its moment at load factor `factor`
+/// (N m), the node's section gradients [r_y, r_z] there and in the
+/// reference (where a follower's components are read).
+fn load_terms(
+    model: &crate::model::Model,
+    load: &crate::model::PointLoad,
+    q: &[f64],
+    factor: f64,
+) -> ([f64; 3], [f64; 6], [f64; 6]) {
+    (
+        load.moment.map(|m| factor * m),
+        model.section_gradients(q, load.node),
+        model.section_gradients(&model.reference, load.node),
+    )
+}
+
 /// A model's moment loads' generalized forces at `q` for load factor
 /// `factor`: per loaded node, [Q_{r_y}, Q_{r_z}] (N) with the node.
 pub fn load_forces(model: &crate::model::Model, q: &[f64], factor: f64) -> Vec<(usize, [f64; 6])> {
     (model.moment_loads())
         .map(|ld| {
-            let g = model.section_gradients(q, ld.node);
-            let reference = model.section_gradients(&model.reference, ld.node);
-            let m = ld.moment.map(|m| factor * m);
+            let (m, g, reference) = load_terms(model, ld, q, factor);
             (ld.node, load_at(m, ld.follower, &g, &reference))
+        })
+        .collect()
+}
+
+/// The load stiffness ∂[Q_{r_y}, Q_{r_z}]/∂[r_y, r_z] (N) of a model's
+/// moment loads at `q` for load factor `factor`, per loaded node.
+pub fn load_stiffnesses(
+    model: &crate::model::Model,
+    q: &[f64],
+    factor: f64,
+) -> Vec<(usize, [[f64; 6]; 6])> {
+    (model.moment_loads())
+        .map(|ld| {
+            let (m, g, reference) = load_terms(model, ld, q, factor);
+            (ld.node, load_stiffness(m, ld.follower, &g, &reference))
         })
         .collect()
 }
@@ -217,12 +246,8 @@ pub fn work_along(model: &crate::model::Model, q0: &[f64], q1: &[f64], factor: f
     let rule = crate::math::quadrature::gauss_legendre_unit(8);
     (model.moment_loads())
         .map(|ld| {
-            let (g0, g1) = (
-                model.section_gradients(q0, ld.node),
-                model.section_gradients(q1, ld.node),
-            );
-            let reference = model.section_gradients(&model.reference, ld.node);
-            let m = ld.moment.map(|m| factor * m);
+            let (m, g0, reference) = load_terms(model, ld, q0, factor);
+            let g1 = model.section_gradients(q1, ld.node);
             (rule.nodes.iter().zip(&rule.weights))
                 .map(|(s, w)| {
                     let g: [f64; 6] = std::array::from_fn(|k| g0[k] + s * (g1[k] - g0[k]));
@@ -231,15 +256,6 @@ pub fn work_along(model: &crate::model::Model, q0: &[f64], q1: &[f64], factor: f
                 })
                 .sum::<f64>()
         })
-        .sum()
-}
-
-/// The work (J) of moment forces `q0` at `g0` and `q1` at `g1` (each
-/// [Q_a, Q_b] and [a, b] of one node) over the step between them, by the
-/// trapezoid: exact to second order in the step.
-pub fn work_between(q0: &[f64; 6], g0: &[f64; 6], q1: &[f64; 6], g1: &[f64; 6]) -> f64 {
-    (0..6)
-        .map(|k| 0.5 * (q0[k] + q1[k]) * (g1[k] - g0[k]))
         .sum()
 }
 
@@ -320,25 +336,10 @@ mod tests {
         let work: f64 = (0..3).map(|k| q[k] * da[k] + q[3 + k] * db[k]).sum();
         assert!((work - dot(turned, dtheta)).abs() < 1e-11);
 
-        let (a, b) = ([0.1, 1.2, -0.3], [0.2, 0.25, 0.8]);
-        let k = follower_stiffness(c, a, b);
-        let g = [a[0], a[1], a[2], b[0], b[1], b[2]];
-        let forces = |g: [f64; 6]| follower_forces(c, [g[0], g[1], g[2]], [g[3], g[4], g[5]]);
-        let h = 1e-6;
-        for j in 0..6 {
-            let (mut gp, mut gm) = (g, g);
-            gp[j] += h;
-            gm[j] -= h;
-            let (fp, fm) = (forces(gp), forces(gm));
-            for i in 0..6 {
-                let fd = (fp[i] - fm[i]) / (2.0 * h);
-                assert!(
-                    (k[i][j] - fd).abs() < 1e-6 * (1.0 + fd.abs()),
-                    "({i}, {j}): {} vs {fd}",
-                    k[i][j]
-                );
-            }
-        }
+        assert_derivative(
+            |a, b| follower_forces(c, a, b),
+            |a, b| follower_stiffness(c, a, b),
+        );
     }
 
     /// The load stiffness is the derivative of the forces (central
@@ -346,16 +347,28 @@ mod tests {
     #[test]
     fn the_stiffness_is_the_derivative_of_the_forces() {
         let m = [3.0, -7.0, 11.0];
+        assert_derivative(
+            |a, b| moment_forces(m, a, b),
+            |a, b| moment_stiffness(m, a, b),
+        );
+    }
+
+    /// `stiffness` is the derivative of `forces` by central differences at
+    /// a stretched and sheared section.
+    fn assert_derivative(
+        forces: impl Fn([f64; 3], [f64; 3]) -> [f64; 6],
+        stiffness: impl Fn([f64; 3], [f64; 3]) -> [[f64; 6]; 6],
+    ) {
         let (a, b) = ([0.1, 1.2, -0.3], [0.2, 0.25, 0.8]);
-        let k = moment_stiffness(m, a, b);
+        let k = stiffness(a, b);
         let g = [a[0], a[1], a[2], b[0], b[1], b[2]];
-        let forces = |g: [f64; 6]| moment_forces(m, [g[0], g[1], g[2]], [g[3], g[4], g[5]]);
+        let at = |g: [f64; 6]| forces([g[0], g[1], g[2]], [g[3], g[4], g[5]]);
         let h = 1e-6;
         for j in 0..6 {
             let (mut gp, mut gm) = (g, g);
             gp[j] += h;
             gm[j] -= h;
-            let (fp, fm) = (forces(gp), forces(gm));
+            let (fp, fm) = (at(gp), at(gm));
             for i in 0..6 {
                 let fd = (fp[i] - fm[i]) / (2.0 * h);
                 assert!(

@@ -530,12 +530,8 @@ fn add_moment_loads(
     let Some(kq) = kq else {
         return;
     };
-    for ld in model.moment_loads() {
-        let g = model.section_gradients(q, ld.node);
-        let reference = model.section_gradients(&model.reference, ld.node);
-        let m = ld.moment.map(|m| factor * m);
-        let k = crate::forces::moment::load_stiffness(m, ld.follower, &g, &reference);
-        let base = NODE_DOFS * ld.node + 6;
+    for (node, k) in crate::forces::moment::load_stiffnesses(model, q, factor) {
+        let base = NODE_DOFS * node + 6;
         for (i, row) in k.iter().enumerate() {
             for (j, v) in row.iter().enumerate() {
                 if let (Some(r), Some(c)) = (model.dof_map[base + i], model.dof_map[base + j]) {

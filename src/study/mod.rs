@@ -111,8 +111,14 @@ pub struct RodOutcome {
     pub max_von_mises: Option<f64>,
     /// A frame member's largest bending moment in its first impact, N m.
     pub first_impact_moment: Option<f64>,
-    /// A frame member's design numbers (`None` for a rod, and where the
-    /// member has none): its utilization by EN 1993-1-1 over the run, …
+    /// A frame member's design numbers (all `None` for a rod).
+    pub design: MemberDesign,
+}
+
+/// A member's design numbers as a run's summary gives them (`None` where
+/// the member has none): its utilization by EN 1993-1-1 over the run, …
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MemberDesign {
     pub utilization: Option<f64>,
     /// … its plastic work (J) and largest equivalent plastic strain (a
     /// yielding member), …
@@ -121,16 +127,6 @@ pub struct RodOutcome {
     /// … and the largest displacement of its nodes at the run's end, m
     /// (its permanent set once it is at rest).
     pub end_displacement: Option<f64>,
-}
-
-/// A member's design numbers as a run's summary gives them
-/// ([`RodOutcome`]'s last four).
-#[derive(Clone, Copy, Debug, Default)]
-struct MemberDesign {
-    utilization: Option<f64>,
-    plastic_work: Option<f64>,
-    max_plastic_strain: Option<f64>,
-    end_displacement: Option<f64>,
 }
 
 impl Outcome {
@@ -293,10 +289,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
                 max_bending_moment: member.map(|m| m.0),
                 max_von_mises: member.map(|m| m.1),
                 first_impact_moment: member.map(|m| m.2),
-                utilization: member.and_then(|m| m.3.utilization),
-                plastic_work: member.and_then(|m| m.3.plastic_work),
-                max_plastic_strain: member.and_then(|m| m.3.max_plastic_strain),
-                end_displacement: member.and_then(|m| m.3.end_displacement),
+                design: member.map(|m| m.3).unwrap_or_default(),
             })
             .collect(),
         partners: loads.iter().map(|(name, ..)| name.clone()).collect(),

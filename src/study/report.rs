@@ -714,19 +714,19 @@ fn quantities(partners: &[String], supports: &[String]) -> Vec<Quantity> {
                 // stress; a yielding material for the plastic ones).
                 q.push((
                     format!("{name}: utilization, whole run"),
-                    Box::new(move |o| rod(o).and_then(|r| r.utilization)),
+                    Box::new(move |o| rod(o).and_then(|r| r.design.utilization)),
                 ));
                 q.push((
                     format!("{name}: plastic work (J)"),
-                    Box::new(move |o| rod(o).and_then(|r| r.plastic_work)),
+                    Box::new(move |o| rod(o).and_then(|r| r.design.plastic_work)),
                 ));
                 q.push((
                     format!("{name}: largest equivalent plastic strain"),
-                    Box::new(move |o| rod(o).and_then(|r| r.max_plastic_strain)),
+                    Box::new(move |o| rod(o).and_then(|r| r.design.max_plastic_strain)),
                 ));
                 q.push((
                     format!("{name}: displacement at the end (m)"),
-                    Box::new(move |o| rod(o).and_then(|r| r.end_displacement)),
+                    Box::new(move |o| rod(o).and_then(|r| r.design.end_displacement)),
                 ));
             }
         }

@@ -678,3 +678,56 @@ fn a_yielding_run_resumes_bit_for_bit() {
     let error = Simulation::resume(&model, settings, damaged).err().unwrap();
     assert!(error.to_string().contains("state.plastic"), "{error}");
 }
+
+/// A member's permanent set is its rest shape with everything but its own
+/// supports and weight taken away: a tube cantilever beside a wire, loaded
+/// past yield at its tip, springs back to the closed-form residual
+/// deflection δ(P) − P l³ / 3EI (as the unloaded wire cantilever above
+/// does). Without its
+/// plastic history the same member springs back to its rest shape: no set.
+#[test]
+fn a_members_permanent_set_is_its_spring_back_with_the_wire_lifted_off() {
+    use ancf_core::model::{BeamBuilder, PointLoad, Support};
+    use ancf_core::solve::permanent_set::permanent_set;
+    let (l, n) = (3.0, 24);
+    let p = 0.95 * plastic_moment() / l;
+    let model = WireBuilder::new(1.0, 4)
+        .layer(Material::st_venant_kirchhoff(7850.0, E, 0.3, 1.0), 0.01)
+        .support(0, SupportKind::Fixed)
+        .member(
+            BeamBuilder::new("tube", l, n)
+                .placed([0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
+                .layer(steel(0.0), R)
+                .bore(RI)
+                .quadrature(5, 3),
+        )
+        .support_on("tube", Support::new(0, SupportKind::Clamp))
+        .load_on(
+            "tube",
+            PointLoad {
+                node: n,
+                force: [0.0, 0.0, -p],
+                ..Default::default()
+            },
+        )
+        .build()
+        .unwrap();
+    let loaded = solve_static(&model, &settings(10)).unwrap();
+    assert!(loaded.plastic.iter().any(|s| s.equivalent > 0.0));
+    let set = permanent_set(&model, 1, (&loaded.q, &loaded.plastic), &settings(1)).unwrap();
+    let exact = cantilever_tip(l, p) - p * l.powi(3) / (3.0 * E * second_moment());
+    let error = set.set / exact - 1.0;
+    eprintln!("permanent set {} m vs {exact} m ({:+.2} %)", set.set, 100.0 * error);
+    assert!(
+        error.abs() < 0.05,
+        "permanent set {} m vs {exact} m ({:+.2} %)",
+        set.set,
+        100.0 * error
+    );
+    assert!((set.at - l).abs() < 1e-12, "largest at {} m", set.at);
+    let tip_down = set.displacement[n][2];
+    assert!(tip_down < 0.0 && (tip_down.abs() - set.set).abs() < 1e-3 * set.set);
+    // The loaded shape without its history springs back all the way.
+    let virgin = permanent_set(&model, 1, (&loaded.q, &[]), &settings(1)).unwrap();
+    assert!(virgin.set < 1e-9 * l, "elastic set {} m", virgin.set);
+}

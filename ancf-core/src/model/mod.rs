@@ -3,6 +3,7 @@
 //! effects it contains. Built from a
 //! scene (or by hand); read by assembly and the solvers, never mutated by them.
 
+mod alone;
 pub mod beam;
 mod builder;
 pub mod clearance;
@@ -696,9 +697,14 @@ impl Model {
 
     /// The beams no support holds (any kind, springs included): a static
     /// solution of such a beam is singular — it has rigid-body motions.
+    /// A beam whose coordinates are all held ([`Model::alone`]'s others) is
+    /// held.
     pub fn unheld_beams(&self) -> Vec<&Beam> {
-        (self.beams.iter())
-            .filter(|b| !self.supports.iter().any(|s| b.nodes.contains(&s.node)))
+        (self.beams.iter().enumerate())
+            .filter(|(i, b)| {
+                !self.fully_held(*i) && !self.supports.iter().any(|s| b.nodes.contains(&s.node))
+            })
+            .map(|(_, b)| b)
             .collect()
     }
 

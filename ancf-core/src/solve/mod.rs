@@ -3,6 +3,7 @@
 
 pub mod cancel;
 pub mod dynamics;
+pub mod permanent_set;
 mod reactions;
 pub mod simulation;
 pub mod statics;

@@ -1206,6 +1206,43 @@ fn a_tube_member_reports_its_utilization_and_warns_past_yield() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A yielding member's permanent set is its spring-back with the load and
+/// the wire taken away: the static tube cantilever loaded to 0.95 M_p / L
+/// keeps a set at its tip, below its deflection under the load; the same
+/// tube elastic reports none.
+#[test]
+fn a_yielding_member_reports_its_permanent_set() {
+    let dir = tmp("permanent-set");
+    std::fs::create_dir_all(&dir).unwrap();
+    let m_pl = (0.1f64.powi(3) - 0.092f64.powi(3)) / 6.0 * 235e6;
+    let elastic = cantilever_tube_scene(0.95 * m_pl / 2.0).replace(
+        "kind = \"static\"",
+        "kind = \"static\"\nload_steps = 10",
+    );
+    let plastic = elastic.replace(
+        "model = \"st-venant-kirchhoff\"",
+        "model = \"elastic-plastic\"\npoisson_ratio = 0.3",
+    );
+    for (name, text) in [("elastic", &elastic), ("plastic", &plastic)] {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, text).unwrap();
+        let out = dir.join(name);
+        assert!(run_quiet(&scene, &out).status().unwrap().success());
+        let s = summary(&out);
+        let tube = &s["beams"][0];
+        if name == "elastic" {
+            assert!(tube.get("permanent_set").is_none(), "{tube}");
+            continue;
+        }
+        let set = tube["permanent_set"].as_f64().unwrap();
+        let loaded = tube["end_displacement"].as_f64().unwrap();
+        assert!(set > 1e-3 && set < 0.5 * loaded, "set {set} m, loaded {loaded} m");
+        assert!((tube["permanent_set_at"].as_f64().unwrap() - 2.0).abs() < 1e-12);
+        assert!(tube.get("end_speed").is_none(), "a static run has no speed");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// final_nodes.csv gives each node's gradients after its position: a bar
 /// twisted by a tip torque shows its sections turned by T L / (G J) in
 /// the r_y and r_z columns, half of it halfway.

@@ -199,19 +199,26 @@ pub struct BeamSummary {
     /// static run: the force at equilibrium as both peaks).
     #[serde(flatten)]
     pub contact: ancf_core::loads::rod_load::RodLoad,
-    /// A member with an elastic-plastic layer: the largest displacement of
-    /// its nodes from the reference at the run's end (m) — its permanent
-    /// set where the run ended at rest —, …
+    /// A member with an elastic-plastic layer: its permanent set, the
+    /// largest distance between its rest shapes after and before the run
+    /// (m), each a static equilibrium of the member alone — its supports,
+    /// springs and own weight, the wire lifted off — the one after with the
+    /// plastic history the run left (see
+    /// [`ancf_core::solve::permanent_set`]); `None` where no rest shape was
+    /// found (a warning says why) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub permanent_set: Option<f64>,
-    /// … where (m from its first node) …
+    /// … and where (m from its first node).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub permanent_set_at: Option<f64>,
-    /// … and its nodes' largest speed then (m/s): near zero, the member is
-    /// at rest and the displacement is its permanent set; otherwise it
-    /// still moves and the displacement holds its vibration too.
+    /// A member with an elastic-plastic layer: the largest displacement of
+    /// its nodes from the reference at the run's end (m), vibration, the
+    /// wire's weight and the supports' give included …
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub permanent_set_speed: Option<f64>,
+    pub end_displacement: Option<f64>,
+    /// … and its nodes' largest speed then (m/s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_speed: Option<f64>,
 }
 
 /// What a dynamic run's steps cost against the least a step can cost: one

@@ -1327,7 +1327,9 @@ impl Simulation {
             ..Default::default()
         };
         let state = self.sim.state();
-        Observations::fill_permanent_set(&self.scene, (&state.q, &state.v), &mut ended);
+        let holding = self.scene.model.holding_at(state.time);
+        let end = (&state.q[..], Some(&state.v[..]), &state.plastic[..]);
+        Observations::fill_permanent_set(&holding, end, &mut ended);
         let members = ended.beams;
         if !members.is_empty() {
             let beams = PyList::empty(py);
@@ -1357,7 +1359,8 @@ impl Simulation {
                 for (k, v) in [
                     ("permanent_set", m.permanent_set),
                     ("permanent_set_at", m.permanent_set_at),
-                    ("permanent_set_speed", m.permanent_set_speed),
+                    ("end_displacement", m.end_displacement),
+                    ("end_speed", m.end_speed),
                 ] {
                     if let Some(v) = v {
                         b.set_item(k, v)?;
@@ -1389,6 +1392,7 @@ impl Simulation {
         let mut warnings = self.scene.warnings();
         warnings.extend(self.observed.strain_warnings(&self.scene));
         warnings.extend(self.observed.yield_warnings(&self.scene));
+        warnings.extend(ended.warnings);
         if !warnings.is_empty() {
             d.set_item("warnings", warnings)?;
         }

@@ -124,9 +124,9 @@ pub struct MemberDesign {
     /// yielding member), …
     pub plastic_work: Option<f64>,
     pub max_plastic_strain: Option<f64>,
-    /// … and the largest displacement of its nodes at the run's end, m
-    /// (its permanent set once it is at rest).
-    pub end_displacement: Option<f64>,
+    /// … and its permanent set (m): its rest shape with the wire lifted
+    /// off, after the run against before.
+    pub permanent_set: Option<f64>,
 }
 
 impl Outcome {
@@ -244,7 +244,7 @@ pub fn run_setting(file: &SceneFile, setting: &Setting, sample_interval: Option<
                     plastic_work: strain.and_then(|s| s.plastic_work),
                     max_plastic_strain: (strain.and_then(|s| s.max_plastic_strain.as_ref()))
                         .map(|p| p.max_strain),
-                    end_displacement: b.permanent_set,
+                    permanent_set: b.permanent_set,
                 };
                 let m = (
                     r.max_bending_moment,

@@ -725,8 +725,8 @@ fn quantities(partners: &[String], supports: &[String]) -> Vec<Quantity> {
                     Box::new(move |o| rod(o).and_then(|r| r.design.max_plastic_strain)),
                 ));
                 q.push((
-                    format!("{name}: displacement at the end (m)"),
-                    Box::new(move |o| rod(o).and_then(|r| r.design.end_displacement)),
+                    format!("{name}: permanent set (m)"),
+                    Box::new(move |o| rod(o).and_then(|r| r.design.permanent_set)),
                 ));
             }
         }

@@ -397,6 +397,8 @@ fn execute(
                     observed.observe(scene, (&res.q, &res.plastic), 0.0, forces);
                     observed.observe_plastic(scene, &res.plastic, &res.plastic_work, 0.0);
                     observed.fill(scene, &mut summary);
+                    let end = (&res.q[..], None, &res.plastic[..]);
+                    Observations::fill_permanent_set(model, end, &mut summary);
                     summary.contact = res
                         .contact
                         .as_ref()
@@ -770,7 +772,8 @@ fn run_dynamic(
     p.observed.fill(scene, summary);
     Observations::fill_member_contact(summary, sim.member_loads(), scene.output.cfc);
     let end = sim.state();
-    Observations::fill_permanent_set(scene, (&end.q, &end.v), summary);
+    let holding = scene.model.holding_at(end.time);
+    Observations::fill_permanent_set(&holding, (&end.q, Some(&end.v), &end.plastic), summary);
     summary.energy = Some(EnergySummary {
         last: p.last,
         total: p.last.total(),

@@ -8,7 +8,10 @@ use ancf_core::loads::clearance_record::ClearanceRecord;
 use ancf_core::loads::member_load::MemberRecord;
 use ancf_core::loads::strain_record::StrainRecord;
 use ancf_core::model::clearance::ClearanceZone;
+use ancf_core::model::Model;
 use ancf_core::scene::Scene;
+use ancf_core::solve::permanent_set::permanent_set;
+use ancf_core::solve::statics::StaticSettings;
 
 /// The records so far, one per clearance zone and one per frame member, in
 /// the scene's order (in checkpoints under the keys `clearance` and
@@ -226,7 +229,8 @@ impl Observations {
                 contact: Default::default(),
                 permanent_set: None,
                 permanent_set_at: None,
-                permanent_set_speed: None,
+                end_displacement: None,
+                end_speed: None,
             })
             .collect()
     }
@@ -264,33 +268,54 @@ impl Observations {
     }
 
     /// Into `summary.beams`: each member with an elastic-plastic layer's
-    /// displacement at the run's end (coordinates `q`, velocities `v`):
-    /// its largest, where, and its nodes' largest speed.
-    pub fn fill_permanent_set(scene: &Scene, (q, v): (&[f64], &[f64]), summary: &mut Summary) {
-        let model = &scene.model;
-        let members = model.beams.iter().skip(1).zip(summary.beams.iter_mut());
-        for (beam, out) in members {
+    /// permanent set from the run's end (coordinates `q`, velocities `v`,
+    /// none for a static run, and the yielding points' states), and its
+    /// displacement and speed then. `model` is the one holding at the end
+    /// ([`ancf_core::model::Model::holding_at`] after a release). A member
+    /// without a rest shape (not held on its own, no equilibrium) gets
+    /// none, and a warning in `summary` says why.
+    pub fn fill_permanent_set(
+        model: &Model,
+        (q, v, plastic): (&[f64], Option<&[f64]>, &[PlasticState]),
+        summary: &mut Summary,
+    ) {
+        let members = (model.beams.iter().enumerate().skip(1)).zip(summary.beams.iter_mut());
+        let mut warnings = Vec::new();
+        for ((index, beam), out) in members {
             let section = &model.element(beam.elements.start).section;
             if !section.layers.iter().any(|l| l.material.is_plastic()) {
                 continue;
             }
-            let start = model.node_arc(beam.nodes.start);
-            let (mut set, mut at, mut speed) = (0.0f64, 0.0, 0.0f64);
+            let size = |a: [f64; 3]| a.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let (mut moved, mut speed) = (0.0f64, 0.0f64);
             for n in beam.nodes.clone() {
                 let (r, r0) = (
                     model.node_position(q, n),
                     model.node_position(&model.reference, n),
                 );
-                let d = (0..3).map(|k| (r[k] - r0[k]).powi(2)).sum::<f64>().sqrt();
-                if d > set {
-                    (set, at) = (d, model.node_arc(n) - start);
+                moved = moved.max(size(std::array::from_fn(|k| r[k] - r0[k])));
+                if let Some(v) = v {
+                    speed = speed.max(size(model.node_position(v, n)));
                 }
-                let u = model.node_position(v, n);
-                speed = speed.max(u.iter().map(|x| x * x).sum::<f64>().sqrt());
             }
-            out.permanent_set = Some(set);
-            out.permanent_set_at = Some(at);
-            out.permanent_set_speed = Some(speed);
+            out.end_displacement = Some(moved);
+            out.end_speed = v.map(|_| speed);
+            let settings = StaticSettings::default();
+            match permanent_set(model, index, (q, plastic), &settings) {
+                Ok(set) => {
+                    out.permanent_set = Some(set.set);
+                    out.permanent_set_at = Some(set.at);
+                }
+                Err(e) => warnings.push(format!(
+                    "member \"{}\" has no permanent set: its rest shape without the wire was \
+                     not found ({})",
+                    beam.name, e.message
+                )),
+            }
+        }
+        for w in warnings {
+            summary.message.push_str(&format!("; warning: {w}"));
+            summary.warnings.push(w);
         }
     }
 

@@ -1215,10 +1215,8 @@ fn a_yielding_member_reports_its_permanent_set() {
     let dir = tmp("permanent-set");
     std::fs::create_dir_all(&dir).unwrap();
     let m_pl = (0.1f64.powi(3) - 0.092f64.powi(3)) / 6.0 * 235e6;
-    let elastic = cantilever_tube_scene(0.95 * m_pl / 2.0).replace(
-        "kind = \"static\"",
-        "kind = \"static\"\nload_steps = 10",
-    );
+    let elastic = cantilever_tube_scene(0.95 * m_pl / 2.0)
+        .replace("kind = \"static\"", "kind = \"static\"\nload_steps = 10");
     let plastic = elastic.replace(
         "model = \"st-venant-kirchhoff\"",
         "model = \"elastic-plastic\"\npoisson_ratio = 0.3",
@@ -1236,7 +1234,10 @@ fn a_yielding_member_reports_its_permanent_set() {
         }
         let set = tube["permanent_set"].as_f64().unwrap();
         let loaded = tube["end_displacement"].as_f64().unwrap();
-        assert!(set > 1e-3 && set < 0.5 * loaded, "set {set} m, loaded {loaded} m");
+        assert!(
+            set > 1e-3 && set < 0.5 * loaded,
+            "set {set} m, loaded {loaded} m"
+        );
         assert!((tube["permanent_set_at"].as_f64().unwrap() - 2.0).abs() < 1e-12);
         assert!(tube.get("end_speed").is_none(), "a static run has no speed");
     }

@@ -717,7 +717,11 @@ fn a_members_permanent_set_is_its_spring_back_with_the_wire_lifted_off() {
     let set = permanent_set(&model, 1, (&loaded.q, &loaded.plastic), &settings(1)).unwrap();
     let exact = cantilever_tip(l, p) - p * l.powi(3) / (3.0 * E * second_moment());
     let error = set.set / exact - 1.0;
-    eprintln!("permanent set {} m vs {exact} m ({:+.2} %)", set.set, 100.0 * error);
+    eprintln!(
+        "permanent set {} m vs {exact} m ({:+.2} %)",
+        set.set,
+        100.0 * error
+    );
     assert!(
         error.abs() < 0.05,
         "permanent set {} m vs {exact} m ({:+.2} %)",

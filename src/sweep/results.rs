@@ -30,6 +30,12 @@ pub const MEMBER_COLUMNS: [&str; 4] = [
     "first_impact_max_von_mises",
 ];
 
+/// A member's design numbers that only some members have (summary.json
+/// `beams[i]`): its utilization by EN 1993-1-1 (a section with a yield
+/// stress) and its permanent set, m (a yielding material). Each is a
+/// column `NAME_key` where any variant reports it.
+pub const MEMBER_DESIGN_COLUMNS: [&str; 2] = ["utilization", "permanent_set"];
+
 /// A ground's numbers besides its [`ROD_COLUMNS`] (summary.json
 /// `contact.ground[i]`): how deep the wire went into it, m.
 pub const GROUND_COLUMNS: [&str; 1] = ["max_depth"];
@@ -55,9 +61,8 @@ pub struct MemberRow {
     pub contact: [Option<f64>; ROD_COLUMNS.len()],
     /// Its internal loads: [`MEMBER_COLUMNS`].
     pub loads: [Option<f64>; MEMBER_COLUMNS.len()],
-    /// Its utilization by EN 1993-1-1 (summary.json `beams[i].utilization`;
-    /// a column `NAME_utilization` when any variant has it).
-    pub utilization: Option<f64>,
+    /// Its design numbers: [`MEMBER_DESIGN_COLUMNS`].
+    pub design: [Option<f64>; MEMBER_DESIGN_COLUMNS.len()],
 }
 
 /// One support's numbers in a variant.
@@ -177,7 +182,7 @@ fn row(out: &Path, id: &str, values: &[String]) -> Row {
         name: b["name"].as_str().unwrap_or("").to_string(),
         contact: ROD_COLUMNS.map(|k| number(&b[k])),
         loads: MEMBER_COLUMNS.map(|k| number(&b[k])),
-        utilization: number(&b["utilization"]),
+        design: MEMBER_DESIGN_COLUMNS.map(|k| number(&b[k])),
     });
     let supports = each(&s["supports"], |p| SupportRow {
         label: format!(
@@ -270,18 +275,22 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
         let columns = ROD_COLUMNS.iter().chain(&GROUND_COLUMNS);
         header.extend(columns.map(|c| format!("ground{k}_{c}")));
     }
-    // A member's utilization column only where some variant reports one.
-    let utilized: Vec<bool> = (0..members.len())
+    // A member's design columns only where some variant reports them.
+    let designed: Vec<[bool; MEMBER_DESIGN_COLUMNS.len()]> = (0..members.len())
         .map(|k| {
-            rows.iter()
-                .any(|r| r.members.get(k).is_some_and(|m| m.utilization.is_some()))
+            std::array::from_fn(|j| {
+                rows.iter()
+                    .any(|r| r.members.get(k).is_some_and(|m| m.design[j].is_some()))
+            })
         })
         .collect();
-    for (m, &u) in members.iter().zip(&utilized) {
+    for (m, shown) in members.iter().zip(&designed) {
         let columns = ROD_COLUMNS.iter().chain(&MEMBER_COLUMNS);
         header.extend(columns.map(|c| format!("{}_{c}", m.name)));
-        if u {
-            header.push(format!("{}_utilization", m.name));
+        for (c, &show) in MEMBER_DESIGN_COLUMNS.iter().zip(shown) {
+            if show {
+                header.push(format!("{}_{c}", m.name));
+            }
         }
     }
     for (k, p) in supports.iter().enumerate() {
@@ -327,14 +336,16 @@ pub fn csv(parameters: &[String], rows: &[Row]) -> String {
                     .extend((0..ROD_COLUMNS.len() + GROUND_COLUMNS.len()).map(|_| String::new())),
             }
         }
-        for (k, &u) in utilized.iter().enumerate() {
+        for (k, shown) in designed.iter().enumerate() {
             match r.members.get(k) {
                 Some(m) => cells.extend(m.contact.iter().chain(&m.loads).map(|x| opt(*x))),
                 None => cells
                     .extend((0..ROD_COLUMNS.len() + MEMBER_COLUMNS.len()).map(|_| String::new())),
             }
-            if u {
-                cells.push(opt(r.members.get(k).and_then(|m| m.utilization)));
+            for (j, &show) in shown.iter().enumerate() {
+                if show {
+                    cells.push(opt(r.members.get(k).and_then(|m| m.design[j])));
+                }
             }
         }
         for (k, layout) in supports.iter().enumerate() {
@@ -809,4 +820,38 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
         }
     }
     std::fs::write(out.join("report.md"), md).map_err(|e| format!("{}: {e}", out.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A member's design columns appear where some variant reports them,
+    /// each in its own column, blank where a variant has none.
+    #[test]
+    fn a_members_design_numbers_get_columns_where_any_variant_has_them() {
+        let out = std::env::temp_dir().join(format!("ancf-results-{}", std::process::id()));
+        let write = |id: &str, tube: &str| {
+            let dir = run_dir(&out, id);
+            std::fs::create_dir_all(&dir).unwrap();
+            let text = format!(
+                r#"{{"status": "completed", "beams": [{{"name": "tube", {tube}}}, {{"name": "post"}}]}}"#
+            );
+            std::fs::write(dir.join("summary.json"), text).unwrap();
+        };
+        write("a", r#""utilization": 1.1, "permanent_set": 0.002"#);
+        write("b", r#""utilization": 0.5"#);
+        let rows = [row(&out, "a", &["1".into()]), row(&out, "b", &["2".into()])];
+        let text = csv(&["c".into()], &rows);
+        std::fs::remove_dir_all(&out).unwrap();
+        let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+        let column = |name: &str| lines[0].iter().position(|h| *h == name);
+        let (u, set) = (column("tube_utilization"), column("tube_permanent_set"));
+        assert!(column("post_utilization").is_none() && column("post_permanent_set").is_none());
+        let (u, set) = (u.expect("utilization column"), set.expect("set column"));
+        assert_eq!(set, u + 1);
+        let value = |l: usize, c: usize| lines[l][c].parse::<f64>().ok();
+        assert_eq!((value(1, u), value(1, set)), (Some(1.1), Some(0.002)));
+        assert_eq!((value(2, u), lines[2][set]), (Some(0.5), ""));
+    }
 }

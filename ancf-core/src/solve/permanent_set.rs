@@ -40,7 +40,12 @@ pub fn permanent_set(
     settings: &StaticSettings,
 ) -> Result<PermanentSet, StaticError> {
     let alone = model.alone(beam);
-    let before = solve_static_continuing(&alone, settings, (model.initial_coordinates(), vec![]), None)?;
+    let before = solve_static_continuing(
+        &alone,
+        settings,
+        (model.initial_coordinates(), vec![]),
+        None,
+    )?;
     let after = solve_static_continuing(&alone, settings, (q.to_vec(), plastic.to_vec()), None)?;
     let nodes = model.beams[beam].nodes.clone();
     let start = model.node_arc(nodes.start);
@@ -50,7 +55,10 @@ pub fn permanent_set(
         displacement: Vec::with_capacity(nodes.len()),
     };
     for n in nodes {
-        let (a, b) = (model.node_position(&after.q, n), model.node_position(&before.q, n));
+        let (a, b) = (
+            model.node_position(&after.q, n),
+            model.node_position(&before.q, n),
+        );
         let d: [f64; 3] = std::array::from_fn(|k| a[k] - b[k]);
         let size = d.iter().map(|x| x * x).sum::<f64>().sqrt();
         if size > out.set {

@@ -207,16 +207,22 @@ fn main() -> ExitCode {
     }
     match cli.command {
         Command::Check { scene, strict } => match load(&scene) {
-            Ok(s) => {
-                println!(
-                    "{}: valid ({} elements, {} unknowns, {})",
-                    scene.display(),
-                    s.model.element_count(),
-                    s.model.n_unknowns,
-                    s.model.element(0).kernel_path()
-                );
-                print_warnings(&s, strict).map_or_else(|code| code, |_| ExitCode::SUCCESS)
-            }
+            // The warnings first, then the verdict with their count: the
+            // line a reader sees last says whether there is more to read.
+            Ok(s) => match print_warnings(&s, strict) {
+                Ok(n) => {
+                    println!(
+                        "{}: valid, {n} warning{} ({} elements, {} unknowns, {})",
+                        scene.display(),
+                        if n == 1 { "" } else { "s" },
+                        s.model.element_count(),
+                        s.model.n_unknowns,
+                        s.model.element(0).kernel_path()
+                    );
+                    ExitCode::SUCCESS
+                }
+                Err(code) => code,
+            },
             Err(code) => code,
         },
         Command::Run {

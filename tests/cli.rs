@@ -225,6 +225,9 @@ fn an_unresolved_contact_is_named_before_the_run() {
         check.status.success() && stderr.contains(warning),
         "{stderr}"
     );
+    // The verdict, last, counts them.
+    let stdout = String::from_utf8_lossy(&check.stdout);
+    assert!(stdout.contains(": valid, 1 warning ("), "{stdout}");
     let out_dir = dir.join("out");
     let run = run_quiet(&path, &out_dir).output().unwrap();
     let stderr = String::from_utf8_lossy(&run.stderr);
@@ -243,6 +246,7 @@ fn an_unresolved_contact_is_named_before_the_run() {
         .output()
         .unwrap();
     assert!(!String::from_utf8_lossy(&shipped.stderr).contains("warning"));
+    assert!(String::from_utf8_lossy(&shipped.stdout).contains(": valid, 0 warnings ("));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -86,7 +86,7 @@ fn every_command_of_the_tutorial_runs_and_says_what_it_shows() {
         if c.starts_with("ancf check") {
             let stdout = String::from_utf8_lossy(&out.stdout);
             assert!(
-                stdout.contains("valid (24 elements, 297 unknowns"),
+                stdout.contains("valid, 0 warnings (24 elements, 297 unknowns"),
                 "{stdout}"
             );
         }

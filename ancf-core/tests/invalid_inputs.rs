@@ -276,6 +276,39 @@ fn syntax_and_type_errors_name_their_field() {
     }
 }
 
+/// A count that is not a whole number ≥ 0 is answered in the user's words,
+/// with the range its key accepts, not the parser's ("expected usize").
+#[test]
+fn counts_that_are_not_whole_numbers_say_what_is_accepted() {
+    let max = ancf_core::model::MAX_ELEMENTS;
+    for (from, to, field, says) in [
+        (
+            "elements = 4",
+            "elements = -4",
+            "wire.elements",
+            format!("must be a whole number from 1 to {max}, got -4"),
+        ),
+        (
+            "elements = 4",
+            "elements = 2.5",
+            "wire.elements",
+            format!("must be a whole number from 1 to {max}, got 2.5"),
+        ),
+        (
+            "time_step = 1e-3",
+            "time_step = 1e-3\nload_steps = -1",
+            "analysis.load_steps",
+            "must be a whole number from 1 to".into(),
+        ),
+    ] {
+        let e = Scene::from_toml(&BASE.replace(from, to)).unwrap_err();
+        assert_eq!(e.field, field, "{e}");
+        assert!(e.message.contains(&says), "{e}");
+        assert!(!e.message.contains("usize"), "{e}");
+        assert!(e.message.contains("at line"), "the place is kept: {e}");
+    }
+}
+
 /// A rod that the wire starts inside is the geometry's fault, and is
 /// refused before any work naming the rod (a run would begin with the
 /// whole overlap as its contact force); touching it is fine. A static

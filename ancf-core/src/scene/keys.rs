@@ -246,6 +246,7 @@ pub const KEYS: &[Key] = &[
         .doc("Broyden's updates of the kept factorization"),
     key("analysis", "load_steps", Integer)
         .default(Literal("1"))
+        .range(count(1, 1_000_000))
         .doc("static: equal load increments"),
     key("analysis", "tolerance", Float)
         .default(Literal("1e-10"))

@@ -230,11 +230,41 @@ fn positive(field: &str, v: f64) -> Result<f64, SceneError> {
 impl SceneFile {
     /// Parse TOML text (syntax, types and unknown keys; no validation).
     pub fn from_toml(text: &str) -> Result<SceneFile, SceneError> {
-        toml::from_str(text).map_err(|e| SceneError {
-            field: error_field(text, &e),
-            message: e.to_string().trim_end().to_string(),
+        toml::from_str(text).map_err(|e| {
+            let field = error_field(text, &e);
+            let mut message = e.to_string().trim_end().to_string();
+            if let Some(words) = whole_number_error(&field, e.message()) {
+                message = message.replace(e.message().trim_end(), &words);
+            }
+            SceneError { field, message }
         })
     }
+}
+
+/// A count or index that is not a whole number ≥ 0, in the user's words
+/// instead of the parser's ("invalid value: integer `-4`, expected
+/// usize"): what the key `field` accepts (its declared range) and what was
+/// given. `None` for any other parse error.
+fn whole_number_error(field: &str, message: &str) -> Option<String> {
+    let unsigned = ["usize", "u64", "u32", "u16", "u8"];
+    let expected = message.rsplit("expected ").next()?.trim();
+    if !unsigned.contains(&expected) {
+        return None;
+    }
+    let got = message.split('`').nth(1)?;
+    let (table, name) = field.rsplit_once('.')?;
+    let table: String = (table.split('.'))
+        .map(|part| part.split('[').next().unwrap_or(part))
+        .collect::<Vec<_>>()
+        .join(".");
+    let accepted = match keys::find(&table, name).map(|k| k.range) {
+        Some(keys::Range::Count { min, max }) if max < u64::MAX => {
+            format!("a whole number from {min} to {max}")
+        }
+        Some(keys::Range::Count { min, .. }) => format!("a whole number ≥ {min}"),
+        _ => "a whole number ≥ 0".to_string(),
+    };
+    Some(format!("must be {accepted}, got {got}"))
 }
 
 /// The key a "missing field `key`" parse error names.

@@ -26,10 +26,27 @@ create_exception!(
 );
 create_exception!(
     ancf,
+    PlausibilityWarning,
+    pyo3::exceptions::PyUserWarning,
+    "What a scene will likely do badly, or what a run did that its numbers cannot show: a unit slip (E = 2e5 Pa), a contact the time step does not resolve, a stress past yield. Raised when a scene or a wire is built and when a run reaches its end; `warnings.simplefilter(\"error\")` makes it an exception."
+);
+create_exception!(
+    ancf,
     SimulationError,
     PyRuntimeError,
     "A simulation that could not go on: the message names the step, the time and the likely cause."
 );
+
+/// Each of `warnings` as a Python `PlausibilityWarning` at the caller's
+/// line; an error where the warnings filter turns them into exceptions.
+fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
+    let category = py.get_type::<PlausibilityWarning>();
+    for w in warnings {
+        let text = std::ffi::CString::new(w.replace('\0', " ")).expect("NUL bytes replaced");
+        PyErr::warn(py, category.as_any(), &text, 1)?;
+    }
+    Ok(())
+}
 
 fn scene_error(py: Python<'_>, e: &CoreSceneError) -> PyErr {
     let err = SceneError::new_err(e.to_string());
@@ -155,9 +172,9 @@ impl Scene {
     /// Validates a scene given as TOML text. Raises `SceneError`.
     #[staticmethod]
     fn from_toml(py: Python<'_>, text: &str) -> PyResult<Scene> {
-        CoreScene::from_toml(text)
-            .map(|inner| Scene { inner })
-            .map_err(|e| scene_error(py, &e))
+        let inner = CoreScene::from_toml(text).map_err(|e| scene_error(py, &e))?;
+        warn_all(py, &inner.warnings())?;
+        Ok(Scene { inner })
     }
 
     /// Validates a scene given as nested dicts and lists with the scene
@@ -779,6 +796,8 @@ pub struct Simulation {
     /// Total energy at the start (J) and the largest |total + dissipated −
     /// that| at the steps a run writes (summary's `energy.max_drift`).
     drift: (f64, f64),
+    /// Whether the run's end was warned of (once).
+    end_warned: bool,
 }
 
 /// Track the energy drift as the program's run does: at every
@@ -808,6 +827,7 @@ impl Simulation {
             wall: 0.0,
             cost: Default::default(),
             drift: (sim.energies().total(), 0.0),
+            end_warned: false,
             sim,
         };
         s.observe_state(&[]);
@@ -866,6 +886,23 @@ impl Simulation {
     }
 
     /// One step; the error names the step and the time.
+    /// What the run did that its numbers cannot show (strains past a law's
+    /// range, stresses past yield), as summary.json's warnings say it.
+    fn run_warnings(&self) -> Vec<String> {
+        let mut warnings = self.observed.strain_warnings(&self.scene);
+        warnings.extend(self.observed.yield_warnings(&self.scene));
+        warnings
+    }
+
+    /// At the end time, the run's warnings as Python warnings, once.
+    fn warn_at_end(&mut self, py: Python<'_>) -> PyResult<()> {
+        if !self.sim.is_finished() || self.end_warned {
+            return Ok(());
+        }
+        self.end_warned = true;
+        warn_all(py, &self.run_warnings())
+    }
+
     fn advance(&mut self) -> Result<(), PyErr> {
         let started = std::time::Instant::now();
         let step = self.sim.step();
@@ -1008,6 +1045,7 @@ impl Simulation {
             clearance: Vec::new(),
             implausible,
         };
+        warn_all(py, &scene.warnings())?;
         let model = scene.model.clone();
         let sim = py
             .detach(move || CoreSimulation::new(&model, settings, Initial::Reference))
@@ -1016,13 +1054,14 @@ impl Simulation {
     }
 
     /// Advances one time step (the last one ends at the end time).
-    fn step(&mut self) -> PyResult<()> {
+    fn step(&mut self, py: Python<'_>) -> PyResult<()> {
         if self.sim.is_finished() {
             return Err(SimulationError::new_err(
                 "the simulation has reached its end time",
             ));
         }
-        self.advance()
+        self.advance()?;
+        self.warn_at_end(py)
     }
 
     /// Steps until time `until` (s; default: the scene's end time), recording
@@ -1102,6 +1141,7 @@ impl Simulation {
             }
             py.check_signals()?;
         }
+        slf.borrow_mut().warn_at_end(py)?;
         Ok(result)
     }
 
@@ -1390,8 +1430,7 @@ impl Simulation {
         d.set_item("strains", json.call_method1("loads", (strains,))?)?;
         // As summary.json: present only when there is something to say.
         let mut warnings = self.scene.warnings();
-        warnings.extend(self.observed.strain_warnings(&self.scene));
-        warnings.extend(self.observed.yield_warnings(&self.scene));
+        warnings.extend(self.run_warnings());
         warnings.extend(ended.warnings);
         if !warnings.is_empty() {
             d.set_item("warnings", warnings)?;
@@ -1598,6 +1637,10 @@ fn _ancf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    m.add(
+        "PlausibilityWarning",
+        m.py().get_type::<PlausibilityWarning>(),
+    )?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

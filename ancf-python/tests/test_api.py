@@ -6,6 +6,7 @@ Run from the repository root: `python -m pytest ancf-python/tests`.
 import json
 import math
 import pathlib
+import warnings
 
 import numpy as np
 import pytest
@@ -40,12 +41,50 @@ def test_scene_from_file_toml_and_dict_agree():
 def test_scene_warns_of_a_contact_its_time_step_does_not_resolve():
     assert ancf.Scene.from_file(IMPACT).warnings == []
     stiff = IMPACT.read_text().replace("contact_stiffness = 5e7", "contact_stiffness = 5e9")
-    (w,) = ancf.Scene.from_toml(stiff).warnings
+    with pytest.warns(ancf.PlausibilityWarning, match="does not resolve rod 0"):
+        (w,) = ancf.Scene.from_toml(stiff).warnings
     assert "analysis.time_step = 1e-4 s does not resolve rod 0's line contact" in w
     assert ancf.Scene.from_dict(BASE).warnings == []
     # The simulation's summary carries them as summary.json does (absent when none).
-    assert ancf.Simulation(ancf.Scene.from_toml(stiff)).summary()["warnings"] == [w]
+    with pytest.warns(ancf.PlausibilityWarning):
+        scene = ancf.Scene.from_toml(stiff)
+    assert ancf.Simulation(scene).summary()["warnings"] == [w]
     assert "warnings" not in ancf.Simulation(ancf.Scene.from_file(IMPACT)).summary()
+
+
+def test_a_unit_slip_is_a_python_warning_that_the_filter_makes_an_error():
+    assert issubclass(ancf.PlausibilityWarning, UserWarning)
+    slip = ancf.Material.st_venant_kirchhoff(density=7.85, youngs_modulus=2e11)
+    wire = ancf.Wire(1.0, 4).layer(slip, 0.01).support(0, "pin")
+    with pytest.warns(ancf.PlausibilityWarning, match="density"):
+        ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.002)
+    d = json.loads(json.dumps(BASE))
+    d["material"][0]["youngs_modulus"] = 2e5
+    with pytest.warns(ancf.PlausibilityWarning, match="youngs_modulus"):
+        ancf.Scene.from_dict(d)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ancf.PlausibilityWarning, match="density"):
+            ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.002)
+        with pytest.raises(ancf.PlausibilityWarning, match="youngs_modulus"):
+            ancf.Scene.from_dict(d)
+        # A plausible scene raises nothing.
+        ancf.Scene.from_dict(BASE)
+
+
+def test_a_stress_past_yield_is_warned_of_when_the_run_ends():
+    soft = ancf.Material.st_venant_kirchhoff(density=7800.0, youngs_modulus=2e11, yield_stress=1e6)
+    tube = ancf.Wire(0.5, 2).layer(ancf.Material.st_venant_kirchhoff(7800.0, 2e11), 0.01).support(0, "fixed")
+    wire = tube.member("post", 1.0, 4, origin=[0.0, 1.0, 0.0], direction=[1.0, 0.0, 0.0],
+                       layers=[(soft, 0.02)]).support(0, "clamp", beam="post").load(4, [0.0, 0.0, -500.0], beam="post")
+    # The wire's contact with the post is not resolved at this step (it
+    # never comes near): that too is said when the wire is built.
+    with pytest.warns(ancf.PlausibilityWarning, match='member "post"'):
+        sim = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.005)
+    sim.run(until=0.003)
+    with pytest.warns(ancf.PlausibilityWarning, match='beam "post"'):
+        sim.run()
+    assert any('beam "post"' in w for w in sim.summary()["warnings"])
 
 
 @pytest.mark.parametrize(

@@ -11,9 +11,11 @@ line; results are NumPy arrays. Units are SI (m, kg, s, N, Pa, J).
 
 import json as _json
 import os as _os
+import warnings as _warnings
 
 from ._ancf import (  # noqa: F401
     Material,
+    PlausibilityWarning,
     RunResult,
     Scene,
     SceneError,
@@ -38,6 +40,7 @@ __all__ = [
     "RunResult",
     "SceneError",
     "SimulationError",
+    "PlausibilityWarning",
     "run",
     "quadrature",
 ]
@@ -58,6 +61,10 @@ def run(scene, out, quiet=True):
             raise TypeError("scene: a path to a scene file or an ancf.Scene")
         scene = Scene.from_file(_os.fspath(scene))
     summary = _json.loads(_ancf._run(scene, _os.fspath(out), quiet))
+    # The scene's own were raised when it was built; the run's follow.
+    for w in summary.get("warnings", []):
+        if w not in scene.warnings:
+            _warnings.warn(w, PlausibilityWarning, stacklevel=2)
     if summary["status"] == "failed":
         error = SimulationError(summary["message"])
         error.summary = summary

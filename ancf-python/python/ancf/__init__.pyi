@@ -16,6 +16,9 @@ class SceneError(ValueError):
 class SimulationError(RuntimeError):
     """A simulation that could not go on (step, time and likely cause in the message)."""
 
+class PlausibilityWarning(UserWarning):
+    """What a scene will likely do badly (a unit slip, an unresolved contact), raised when a scene or a wire is built, or what a run did that its numbers cannot show (a stress past yield), raised when it reaches its end; ``warnings.simplefilter("error")`` makes it an exception."""
+
 class Scene:
     """A validated scene (the same schema and validation as ``ancf check``)."""
 

@@ -37,6 +37,30 @@ create_exception!(
     "A simulation that could not go on: the message names the step, the time and the likely cause."
 );
 
+/// A count or an index from Python: a whole number ≥ 0. Anything else is
+/// refused in the user's words ("must be a whole number, got -4"; Python
+/// adds which argument) instead of the conversion's ("can't convert
+/// negative int to unsigned"); the range a count needs is the core's check.
+#[derive(Clone, Copy, Debug)]
+struct Whole(usize);
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Whole {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let shown = || obj.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+        if obj.is_instance_of::<PyBool>() || !obj.is_instance_of::<PyInt>() {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "must be a whole number, got {}",
+                shown()
+            )));
+        }
+        obj.extract::<usize>().map(Whole).map_err(|_| {
+            PyValueError::new_err(format!("must be a whole number ≥ 0, got {}", shown()))
+        })
+    }
+}
+
 /// Each of `warnings` as a Python `PlausibilityWarning` at the caller's
 /// line; an error where the warnings filter turns them into exceptions.
 fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
@@ -459,7 +483,8 @@ pub struct Wire {
 impl Wire {
     /// A straight wire of `length` (m) in `elements` elements, along x from the origin.
     #[new]
-    fn new(length: f64, elements: usize) -> PyResult<Wire> {
+    fn new(length: f64, elements: Whole) -> PyResult<Wire> {
+        let elements = elements.0;
         positive("length", length)?;
         Ok(Wire {
             builder: ancf_core::model::WireBuilder::new(length, elements),
@@ -469,7 +494,8 @@ impl Wire {
     /// A graded mesh: the wire becomes the `segments`, (length in m,
     /// elements) pairs in order from node 0 — fine where it meets a rod,
     /// coarse elsewhere. Replaces the length and element count given to `Wire`.
-    fn graded(&self, segments: Vec<(f64, usize)>) -> PyResult<Wire> {
+    fn graded(&self, segments: Vec<(f64, Whole)>) -> PyResult<Wire> {
+        let segments: Vec<(f64, usize)> = segments.into_iter().map(|(l, n)| (l, n.0)).collect();
         if segments.is_empty() {
             return Err(PyValueError::new_err(
                 "segments: give at least one (length, elements) pair",
@@ -531,7 +557,7 @@ impl Wire {
         &self,
         name: &str,
         length: f64,
-        elements: usize,
+        elements: Whole,
         origin: Vec<f64>,
         direction: Vec<f64>,
         layers: Vec<(PyRef<'_, Material>, f64)>,
@@ -541,6 +567,7 @@ impl Wire {
         restitution: Option<f64>,
         restitution_model: Option<&str>,
     ) -> PyResult<Wire> {
+        let elements = elements.0;
         use ancf_core::model::contact::{
             BeamContact, ContactDamping, ContactLaw, RestitutionModel,
         };
@@ -576,7 +603,8 @@ impl Wire {
     /// the section's y gradient: turns about y only), "clamp" or "fixed"; on
     /// the member named `beam` (default: the wire).
     #[pyo3(signature = (node, kind, beam = None))]
-    fn support(&self, node: usize, kind: &str, beam: Option<&str>) -> PyResult<Wire> {
+    fn support(&self, node: Whole, kind: &str, beam: Option<&str>) -> PyResult<Wire> {
+        let node = node.0;
         use ancf_core::model::SupportKind;
         let kind = match kind {
             "pin" => SupportKind::Pin,
@@ -607,13 +635,14 @@ impl Wire {
     #[pyo3(signature = (node, stiffness, rotational_stiffness = 0.0, damping = 0.0, torsional_stiffness = 0.0, beam = None))]
     fn spring(
         &self,
-        node: usize,
+        node: Whole,
         stiffness: Vec<f64>,
         rotational_stiffness: f64,
         damping: f64,
         torsional_stiffness: f64,
         beam: Option<&str>,
     ) -> PyResult<Wire> {
+        let node = node.0;
         use ancf_core::model::{Support, SupportKind};
         let spring = ancf_core::model::spring::Spring {
             stiffness: vec3("stiffness", stiffness)?,
@@ -667,7 +696,8 @@ impl Wire {
 
     /// A constant force (N) at a node (of the member named `beam`; default: the wire).
     #[pyo3(signature = (node, force, beam = None))]
-    fn load(&self, node: usize, force: Vec<f64>, beam: Option<&str>) -> PyResult<Wire> {
+    fn load(&self, node: Whole, force: Vec<f64>, beam: Option<&str>) -> PyResult<Wire> {
+        let node = node.0;
         let load = ancf_core::model::PointLoad {
             node,
             force: vec3("force", force)?,
@@ -1069,13 +1099,14 @@ impl Simulation {
     /// record. Returns a `RunResult` of NumPy arrays. The steps run without
     /// the GIL; Ctrl-C raises KeyboardInterrupt and leaves the simulation at
     /// its last completed step.
-    #[pyo3(signature = (until=None, every=1, callback=None))]
+    #[pyo3(signature = (until=None, every=Whole(1), callback=None))]
     fn run(
         slf: &Bound<'_, Self>,
         until: Option<f64>,
-        every: usize,
+        every: Whole,
         callback: Option<Py<PyAny>>,
     ) -> PyResult<RunResult> {
+        let every = every.0;
         let py = slf.py();
         if every == 0 {
             return Err(PyValueError::new_err("every: must be at least 1"));
@@ -1595,12 +1626,13 @@ fn quadrature<'py>(
     py: Python<'py>,
     inner: f64,
     outer: f64,
-    order: usize,
+    order: Whole,
 ) -> PyResult<(
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
 )> {
+    let order = order.0;
     if !(inner >= 0.0 && outer > inner && outer.is_finite()) {
         return Err(PyValueError::new_err(format!(
             "need 0 ≤ inner < outer (finite), got inner = {inner}, outer = {outer}"

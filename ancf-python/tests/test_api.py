@@ -834,3 +834,22 @@ def test_a_yielding_cantilever_in_code():
         ancf.Material.elastic_plastic(7850.0, 2.1e11, 2.35e8, hardening="linear")
     with pytest.raises(ValueError, match="hardening_modulus"):
         ancf.Material.elastic_plastic(7850.0, 2.1e11, 2.35e8, hardening_modulus=-1.0)
+
+
+def test_counts_that_are_not_whole_numbers_say_so_in_the_users_words():
+    with pytest.raises(ValueError, match="must be a whole number ≥ 0, got -4") as e:
+        ancf.Wire(1.0, -4)
+    assert "while processing 'elements'" in getattr(e.value, "__notes__", [""])[0]
+    with pytest.raises(TypeError, match="must be a whole number, got 2.5"):
+        ancf.Wire(1.0, 2.5)
+    with pytest.raises(TypeError, match="must be a whole number, got True"):
+        ancf.Wire(1.0, True)
+    with pytest.raises(ValueError, match="got -1"):
+        ancf.Wire(1.0, 4).support(-1, "pin")
+    with pytest.raises(ValueError, match="got -2"):
+        ancf.Wire(1.0, 4).graded([(1.0, -2)])
+    wire = ancf.Wire(1.0, 4).layer(ancf.Material.st_venant_kirchhoff(7800.0, 2e11), 0.01).support(0, "pin")
+    sim = ancf.Simulation.from_wire(wire, time_step=1e-3, end_time=0.002)
+    with pytest.raises(ValueError, match="got -3"):
+        sim.run(every=-3)
+    assert len(sim.run(every=1).time) == 2  # the two steps

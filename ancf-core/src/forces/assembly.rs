@@ -583,9 +583,12 @@ fn add_element_window(
         }
         None => model.element(el).evaluate_with(&e, input, &mut qe, None),
     };
-    let base = NODE_DOFS * (el - node0);
+    // Row i of element el is coordinate 12 el + i; the window starts at
+    // 12 node0, which the lead element (el = node0 − 1, rows 12..24)
+    // precedes: subtract last, so no step goes below zero.
+    let (base, window) = (NODE_DOFS * el, NODE_DOFS * node0);
     for i in local {
-        force[base + i] += qe[i];
+        force[base + i - window] += qe[i];
     }
     u
 }

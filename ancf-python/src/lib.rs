@@ -547,11 +547,12 @@ impl Wire {
     /// `elements` elements from `origin` along `direction`, its section
     /// the `layers` [(material, outer_radius), …] from `inner_radius` (m;
     /// 0: solid) out. Hold and load it with `beam=name`. The wire touches
-    /// it by the line law against its deformed centerline: ε_L
-    /// `contact_stiffness` (N/m²; None: Hertz from the two outer
-    /// materials), Coulomb `friction`, contact damping by `restitution`
-    /// (None: elastic) with its `restitution_model`.
-    #[pyo3(signature = (name, length, elements, origin, direction, layers, inner_radius = 0.0, contact_stiffness = None, friction = 0.0, restitution = None, restitution_model = None))]
+    /// it by the line law against its deformed centerline: ε_L from the
+    /// two outer materials (`contact_law="hertz"`, the default) or
+    /// `contact_stiffness` (N/m², with `contact_law="line"`), Coulomb
+    /// `friction`, contact damping by `restitution` (None: elastic) with
+    /// its `restitution_model`; the keys' rules are the scene's.
+    #[pyo3(signature = (name, length, elements, origin, direction, layers, inner_radius = 0.0, contact_stiffness = None, friction = 0.0, restitution = None, restitution_model = None, contact_law = None))]
     #[allow(clippy::too_many_arguments)]
     fn member(
         &self,
@@ -566,27 +567,17 @@ impl Wire {
         friction: f64,
         restitution: Option<f64>,
         restitution_model: Option<&str>,
+        contact_law: Option<&str>,
     ) -> PyResult<Wire> {
         let elements = elements.0;
-        use ancf_core::model::contact::{
-            BeamContact, ContactDamping, ContactLaw, RestitutionModel,
-        };
-        let model = restitution_model
-            .map_or(Ok(RestitutionModel::default()), RestitutionModel::from_name)
-            .map_err(|message| value_error("restitution_model", &message))?;
-        let contact = BeamContact {
-            law: if contact_stiffness.is_some() {
-                ContactLaw::Line
-            } else {
-                ContactLaw::Hertz
-            },
+        let damping = (restitution, restitution_model);
+        let contact = ancf_core::model::contact::BeamContact::from_keys(
+            contact_law,
             contact_stiffness,
-            friction,
-            // e = 1 asks for no damping: none is built.
-            damping: restitution
-                .filter(|&e| e != 1.0)
-                .map(|e| ContactDamping::new(e, model)),
-        };
+            Some(friction),
+            damping,
+        )
+        .map_err(|e| value_error(&e.field, &e.message))?;
         let mut beam = ancf_core::model::BeamBuilder::new(name, length, elements)
             .placed(vec3("origin", origin)?, vec3("direction", direction)?)
             .bore(inner_radius)

@@ -733,7 +733,7 @@ def test_the_wire_falls_onto_a_member_in_code_as_in_its_scene(tmp_path):
         .support(0, "pin")
         .gravity([0.0, 0.0, -9.81])
         .member("bar", 0.6, 8, [1.0, -0.3, -0.3], [0.0, 1.0, 0.0], [(rod_steel, 0.02)],
-                contact_stiffness=5e7, friction=0.3)
+                contact_law="line", contact_stiffness=5e7, friction=0.3)
         .support(0, "clamp", beam="bar")
         .support(8, "clamp", beam="bar")
     )
@@ -853,3 +853,31 @@ def test_counts_that_are_not_whole_numbers_say_so_in_the_users_words():
     with pytest.raises(ValueError, match="got -3"):
         sim.run(every=-3)
     assert len(sim.run(every=1).time) == 2  # the two steps
+
+
+def test_a_members_contact_keys_follow_the_scenes_rules():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    wire = ancf.Wire(1.0, 4).layer(steel, 0.01).support(0, "pin")
+
+    def member(**contact):
+        return wire.member("tube", 1.0, 4, [0.5, -0.5, -1.0], [0.0, 1.0, 0.0], [(steel, 0.03)], **contact)
+
+    for contact, field in [
+        ({"contact_stiffness": 5e7}, "contact_law"),  # a stiffness without its law
+        ({"contact_law": "hertz", "contact_stiffness": 5e7}, "contact_stiffness"),
+        ({"contact_law": "line"}, "contact_stiffness"),
+        ({"contact_law": "penalty"}, "contact_law"),
+        ({"restitution_model": "flores"}, "restitution"),  # a model without its coefficient
+        ({"restitution": 0.5, "restitution_model": "newton"}, "restitution_model"),
+    ]:
+        with pytest.raises(ValueError, match=f"^{field}: "):
+            member(**contact)
+        # The scene file refuses the same keys at the same field.
+        scene = json.loads(json.dumps(BASE))
+        scene["beam"] = [{"name": "tube", "length": 1.0, "elements": 4, "origin": [0.5, -0.5, -1.0],
+                          "direction": [0.0, 1.0, 0.0],
+                          "layers": [{"material": "steel", "outer_radius": 0.03}], **contact}]
+        with pytest.raises(ancf.SceneError) as e:
+            ancf.Scene.from_dict(scene)
+        assert e.value.field == f"beam[0].{field}", (contact, e.value.field)
+    member(contact_law="line", contact_stiffness=5e7, restitution=0.5, restitution_model="flores")

@@ -449,6 +449,7 @@ pub const KEYS: &[Key] = &[
         .doc("unique, not \"wire\""),
     key("beam", "contact_law", Choice(&["hertz", "line"]))
         .default(Literal("\"hertz\""))
+        .python(&["Wire.member(contact_law)"])
         .doc("how the wire touches the member"),
     key("beam", "contact_stiffness", Float)
         .unit("N/m²")

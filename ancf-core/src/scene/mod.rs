@@ -1269,33 +1269,14 @@ fn rods(
 /// with its stiffness), friction and restitution; the values are the
 /// model's to check.
 fn beam_contact(b: &WireSpec, table: &str) -> Result<BeamContact, SceneError> {
-    let at = |k: &str| format!("{table}.{k}");
-    let law = match b.contact_law.as_deref() {
-        None | Some("hertz") => ContactLaw::Hertz,
-        Some("line") => ContactLaw::Line,
-        Some(other) => {
-            return Err(err(
-                at("contact_law"),
-                format!(
-                    "unknown law \"{other}\" for a member (use \"hertz\", the default, or \"line\")"
-                ),
-            ));
-        }
-    };
-    if b.contact_law.is_none() && b.contact_stiffness.is_some() {
-        return Err(err(
-            at("contact_law"),
-            "missing: contact_stiffness (N/m^2) goes with contact_law = \"line\"; without a \
-             law the Hertz stiffness of the two materials is used",
-        ));
-    }
-    let damping = contact_damping(b.restitution, b.restitution_model.as_deref(), &at)?;
-    Ok(BeamContact {
-        law,
-        contact_stiffness: b.contact_stiffness,
-        friction: b.friction.unwrap_or(0.0),
+    let damping = (b.restitution, b.restitution_model.as_deref());
+    BeamContact::from_keys(
+        b.contact_law.as_deref(),
+        b.contact_stiffness,
+        b.friction,
         damping,
-    })
+    )
+    .map_err(|e| err(format!("{table}.{}", e.field), e.message))
 }
 
 /// `[[material]]`: names, the model's name and which constants go with

@@ -89,6 +89,7 @@ class Wire:
         friction: float = 0.0,
         restitution: Optional[float] = None,
         restitution_model: Optional[str] = None,
+        contact_law: Optional[str] = None,
     ) -> Wire: ...
     def support(self, node: int, kind: str, beam: Optional[str] = None) -> Wire: ...
     def spring(

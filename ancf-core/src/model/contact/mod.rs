@@ -457,6 +457,62 @@ impl Default for BeamContact {
     }
 }
 
+impl BeamContact {
+    /// The contact a member's keys ask for, the one rule every way in
+    /// (scene, Python) follows: `contact_law` is `"hertz"` (the default) or
+    /// `"line"`; `contact_stiffness` goes with the line law, which needs
+    /// it, and the Hertz law refuses it (its stiffness comes from the two
+    /// materials); `friction` defaults to 0; the damping is
+    /// [`ContactDamping::from_keys`]'s. The values' ranges are
+    /// [`MemberContact::check`]'s.
+    pub fn from_keys(
+        law: Option<&str>,
+        contact_stiffness: Option<f64>,
+        friction: Option<f64>,
+        (restitution, restitution_model): (Option<f64>, Option<&str>),
+    ) -> Result<BeamContact, ParameterError> {
+        let law = match (law, contact_stiffness) {
+            (None, Some(_)) => {
+                return refuse(
+                    "contact_law",
+                    "missing: contact_stiffness (N/m^2) goes with contact_law = \"line\"; \
+                     without a law the Hertz stiffness of the two materials is used",
+                );
+            }
+            (None | Some("hertz"), None) => ContactLaw::Hertz,
+            (Some("hertz"), Some(_)) => {
+                return refuse(
+                    "contact_stiffness",
+                    "not used by contact_law = \"hertz\", whose stiffness comes from the two \
+                     materials; give contact_law = \"line\" to use it",
+                );
+            }
+            (Some("line"), Some(_)) => ContactLaw::Line,
+            (Some("line"), None) => {
+                return refuse(
+                    "contact_stiffness",
+                    "missing: contact_law = \"line\" needs the line law's ε_L (N/m^2)",
+                );
+            }
+            (Some(other), _) => {
+                return refuse(
+                    "contact_law",
+                    format!(
+                        "unknown law \"{other}\" for a member (use \"hertz\", the default, or \
+                         \"line\")"
+                    ),
+                );
+            }
+        };
+        Ok(BeamContact {
+            law,
+            contact_stiffness,
+            friction: friction.unwrap_or(0.0),
+            damping: ContactDamping::from_keys(restitution, restitution_model)?,
+        })
+    }
+}
+
 /// A frame member's contact with the wire, as the model evaluates it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MemberContact {

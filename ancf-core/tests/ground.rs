@@ -368,6 +368,15 @@ fn a_scene_reads_its_ground_and_names_its_fields() {
         bad("friction = 0.2", "friction = 0.2\nbeams = [\"tube\"]").field,
         "ground[0].beams"
     );
+    let e = bad(
+        "friction = 0.2",
+        "friction = 0.2\nbeams = [\"wire\", \"tube\"]",
+    );
+    assert_eq!(e.field, "ground[0].beams", "{e}");
+    assert!(
+        e.message.contains("no frame member is named \"tube\""),
+        "{e}"
+    );
     // The wire starting under the ground is the geometry's fault.
     let e = bad("point = [0.0, 0.0, -0.05]", "point = [0.0, 0.0, 0.05]");
     assert_eq!(e.field, "ground[0].point", "{e}");
@@ -392,5 +401,155 @@ fn a_scene_reads_its_ground_and_names_its_fields() {
         warnings[0].to_string().contains("ground 0"),
         "{}",
         warnings[0]
+    );
+}
+
+/// A frame member named by a ground touches it as the wire does, with its
+/// own outer radius: a tube of radius 2 R_w laid on the ground rests at
+/// R_m − w_m/ε_L and the ground carries its weight, while the wire, held
+/// above, touches nothing; the same tube through a ground that does not
+/// name it finds no support there (its static solve has none).
+#[test]
+fn a_member_named_by_a_ground_rests_on_it_at_its_own_radius() {
+    use ancf_core::model::{BeamBuilder, Support, SupportKind};
+    let rm = 2.0 * RW;
+    let w = 7800.0 * std::f64::consts::PI * rm * rm * G;
+    let horizontal = Spring {
+        stiffness: [0.0, 1e3, 0.0],
+        torsional_stiffness: 1.0,
+        ..Default::default()
+    };
+    let model = |eps: f64, named: bool| {
+        let ground_z = -(rm - 0.5 * w / eps);
+        let ground = Rod::plane([0.3, 0.7, ground_z], [0.0, 0.0, 1.0], eps);
+        let tube = BeamBuilder::new("tube", 1.0, 4)
+            .placed([0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
+            .layer(steel(), rm);
+        let b = WireBuilder::new(1.0, 4)
+            .placed([0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+            .layer(steel(), RW)
+            .support(0, ancf_core::model::SupportKind::Fixed)
+            .support(4, ancf_core::model::SupportKind::Fixed)
+            .member(tube)
+            .support_on("tube", Support::new(0, SupportKind::Spring(horizontal)))
+            .support_on("tube", Support::new(4, SupportKind::Spring(horizontal)))
+            .gravity([0.0, 0.0, -G]);
+        let b = match named {
+            true => b.ground_touching(ground, &["tube"]),
+            false => b.ground(ground),
+        };
+        (b.build().unwrap(), ground_z)
+    };
+    for eps in [1e6, 1e7, 5e7] {
+        let (model, ground_z) = model(eps, true);
+        let res = solve_static(&model, &StaticSettings::default()).unwrap();
+        let expected = rm - w / eps;
+        for n in model.beams[1].nodes.clone() {
+            let height = res.q[12 * n + 2] - ground_z;
+            let err = (height - expected).abs() / expected;
+            assert!(
+                err < 1e-6,
+                "ε_L = {eps:e}: tube node {n} at {height:.9} m above the ground, expected {expected:.9} ({err:.1e})"
+            );
+        }
+        let contact = res.contact.expect("the tube touches the ground");
+        let f = contact.rod_forces[0];
+        assert!(
+            (-f[2] - w).abs() < 1e-8 * w && f[0].abs() < 1e-9 * w,
+            "ε_L = {eps:e}: the ground carries {f:?} N, the tube weighs {w} N"
+        );
+    }
+    let (unnamed, _) = model(1e7, false);
+    assert!(solve_static(&unnamed, &StaticSettings::default()).is_err());
+}
+
+/// A member dropped flat onto a ground that names it rebounds at the
+/// coefficient of restitution, as the wire does (the time step's contact
+/// candidates include the member's elements); the wire, held above,
+/// touches nothing.
+#[test]
+fn a_member_dropped_flat_rebounds_at_the_coefficient_of_restitution() {
+    use ancf_core::model::{BeamBuilder, SupportKind};
+    let (rm, h, e) = (2.0 * RW, 1e-5, 0.6);
+    let model = |damped: bool| {
+        let mut ground = Rod::plane([0.0, 0.0, -rm - 1e-3], [0.0, 0.0, 1.0], 1e7);
+        if damped {
+            ground = ground.with_restitution(e, RestitutionModel::Exact);
+        }
+        let tube = BeamBuilder::new("tube", 1.0, 2)
+            .placed([0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
+            .layer(steel(), rm);
+        Arc::new(
+            WireBuilder::new(1.0, 2)
+                .placed([0.0, 0.0, 1.0], [1.0, 0.0, 0.0])
+                .layer(steel(), RW)
+                .support(0, SupportKind::Fixed)
+                .support(2, SupportKind::Fixed)
+                .member(tube)
+                .ground_touching(ground, &["tube"])
+                .build()
+                .unwrap(),
+        )
+    };
+    let rebound = |damped: bool| {
+        let model = model(damped);
+        let settings = DynamicSettings {
+            time_step: h,
+            end_time: 1.0,
+            spectral_radius: 1.0,
+            tolerance: 1e-12,
+            ..Default::default()
+        };
+        let mut integrator = Integrator::new(Arc::clone(&model), settings).unwrap();
+        let q0 = model.reference.clone();
+        let mut v0 = vec![0.0; q0.len()];
+        let tube = model.beams[1].nodes.clone();
+        for n in tube.clone() {
+            v0[12 * n + 2] = -V0;
+        }
+        let mut s: State = integrator.initial_state(q0, v0).unwrap();
+        let mut touched = false;
+        let first = 12 * tube.start + 2;
+        for _ in 0..100_000 {
+            let (next, info) = integrator.step(&s, h).unwrap();
+            s = next;
+            touched |= info.contact.active > 0;
+            if touched && info.contact.active == 0 && s.v[first] > 0.0 {
+                break;
+            }
+        }
+        assert!(touched, "the tube must reach the ground");
+        s.v[first] / V0
+    };
+    let elastic = rebound(false);
+    assert!(
+        (elastic - 1.0).abs() < 1e-4,
+        "elastic rebound ratio {elastic}"
+    );
+    // Its contact's resolution is judged on its own mass per length (four
+    // times the wire's): at h = 4 ms neither resolves, at 2 ms the tube's
+    // does and the wire's does not.
+    let partners = |h: f64| -> Vec<String> {
+        let u = model(false).unresolved_contacts(h);
+        u.iter().map(|u| u.partner.clone()).collect()
+    };
+    let under = "ground 0 under member \"tube\"".to_string();
+    let coarse = partners(4e-3);
+    assert!(
+        coarse.contains(&under) && coarse.contains(&"ground 0".into()),
+        "{coarse:?}"
+    );
+    let finer = partners(2e-3);
+    assert!(
+        !finer.contains(&under) && finer.contains(&"ground 0".into()),
+        "{finer:?}"
+    );
+    let expected =
+        hunt_crossley_rebound(ContactDamping::new(e, RestitutionModel::Exact).coefficient());
+    let got = rebound(true);
+    let err = (got - expected).abs() / expected;
+    assert!(
+        err < 2e-4,
+        "rebound {got:.5}, closed form {expected:.5} ({err:.1e})"
     );
 }

@@ -748,8 +748,12 @@ impl Wire {
     /// The ground: a plane through `point` (m) with `normal` (towards the
     /// wire's side) under the line law of stiffness ε_L (N/m²), with
     /// Coulomb μ and contact damping by a coefficient of restitution (None:
-    /// elastic) with its model, as for rods. Only the wire touches it.
-    #[pyo3(signature = (point, normal, stiffness, friction=None, restitution=None, restitution_model=None))]
+    /// elastic) with its model, as for rods. The wire touches it, and the
+    /// frame members named in `beams` too (the scene file's list, which
+    /// names the wire as well; the members' names are checked when the
+    /// wire is built).
+    #[pyo3(signature = (point, normal, stiffness, friction=None, restitution=None, restitution_model=None, beams=None))]
+    #[allow(clippy::too_many_arguments)]
     fn ground(
         &self,
         point: Vec<f64>,
@@ -758,7 +762,24 @@ impl Wire {
         friction: Option<f64>,
         restitution: Option<f64>,
         restitution_model: Option<&str>,
+        beams: Option<Vec<String>>,
     ) -> PyResult<Wire> {
+        let wire = ancf_core::model::WIRE;
+        if let Some(b) = &beams
+            && !b.iter().any(|n| n == wire)
+        {
+            return Err(value_error(
+                "beams",
+                &format!(
+                    "{b:?} leaves out the wire, which touches every ground: list \"wire\" with \
+                     the members that touch it too"
+                ),
+            ));
+        }
+        let members: Vec<&str> = (beams.iter().flatten())
+            .map(String::as_str)
+            .filter(|&n| n != wire)
+            .collect();
         use ancf_core::model::contact::{ContactDamping, Rod};
         let damping = ContactDamping::from_keys(restitution, restitution_model)
             .map_err(|e| value_error(&e.field, &e.message))?;
@@ -771,7 +792,7 @@ impl Wire {
             .check()
             .map_err(|e| value_error(rod_argument(&e.field), &e.message))?;
         Ok(Wire {
-            builder: self.builder.clone().ground(ground),
+            builder: self.builder.clone().ground_touching(ground, &members),
         })
     }
 }

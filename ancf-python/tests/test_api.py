@@ -881,3 +881,26 @@ def test_a_members_contact_keys_follow_the_scenes_rules():
             ancf.Scene.from_dict(scene)
         assert e.value.field == f"beam[0].{field}", (contact, e.value.field)
     member(contact_law="line", contact_stiffness=5e7, restitution=0.5, restitution_model="flores")
+
+
+def test_a_ground_names_the_members_that_touch_it():
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    wire = (
+        ancf.Wire(1.0, 4).layer(steel, 0.01).support(0, "fixed").support(4, "fixed")
+        .member("tube", 1.0, 4, [0.0, 1.0, -0.5], [1.0, 0.0, 0.0], [(steel, 0.02)])
+        .gravity([0.0, 0.0, -9.81])
+    )
+    with pytest.raises(ValueError, match="^beams: .*leaves out the wire"):
+        wire.ground([0.0, 0.0, -0.52], [0.0, 0.0, 1.0], 1e7, beams=["tube"])
+    with pytest.raises(ancf.SceneError, match='no frame member is named "post"'):
+        ancf.Simulation.from_wire(
+            wire.ground([0.0, 0.0, -0.52], [0.0, 0.0, 1.0], 1e7, beams=["wire", "post"]),
+            time_step=1e-4, end_time=1e-3)
+    # The tube, 2 cm above the ground under its own weight, falls onto it
+    # and the ground takes its load; without it named, it falls through.
+    for named, touches in [(["wire", "tube"], True), (None, False)]:
+        grounded = wire.ground([0.0, 0.0, -0.54], [0.0, 0.0, 1.0], 1e7, beams=named)
+        sim = ancf.Simulation.from_wire(grounded, time_step=1e-4, end_time=0.12)
+        sim.run()
+        (ground,) = sim.contact
+        assert (ground["peak_force"] > 0.0) == touches, ground

@@ -785,11 +785,15 @@ pub fn assemble_contact_reusing(
     // calls are residuals: zeroing 9 KB each was memset in perf).
     let mut kq = jac_q.as_ref().map(|_| [0.0; 576]);
     let mut kv = jac_v.as_ref().map(|_| [0.0; 576]);
-    // The wire's elements touch the rods (they come first, from 0 on).
+    // The wire's elements touch the rods (they come first, from 0 on);
+    // a grounded member's elements touch their grounds.
     let visit: Box<dyn Iterator<Item = usize>> = match pairs {
         Some(p) => Box::new(p.iter().copied()),
-        None => Box::new(0..model.wire().elements.end * partners),
+        None => Box::new(
+            (0..model.wire().elements.end * partners).chain(grounded_pairs(model, contact)),
+        ),
     };
+    let wire_end = model.wire().elements.end;
     // The coordinates of the element last visited (pairs come element by element).
     let (mut loaded, mut e, mut ve) = (None, [0.0; 24], [0.0; 24]);
     for pair in visit {
@@ -877,6 +881,8 @@ pub fn assemble_contact_reusing(
         if sample.active == 0 {
             continue;
         }
+        // The deepest point is the wire's (a point along it, for its plots).
+        let dp = dp.filter(|_| el < wire_end);
         out.record(pair, el, &sample, dp, &qe);
         for c in 0..3 {
             // The rod carries the opposite of the force on the wire.
@@ -895,6 +901,19 @@ pub fn assemble_contact_reusing(
     out.force_nodes.sort_unstable();
     out.force_nodes.dedup();
     out
+}
+
+/// Every (element, ground) pair of the members that touch a ground
+/// (`element × partners + ground`), increasing.
+fn grounded_pairs<'a>(
+    model: &'a Model,
+    contact: &'a crate::forces::contact::ContactEvaluator,
+) -> impl Iterator<Item = usize> + 'a {
+    let partners = contact.partners();
+    (1..model.beams.len()).flat_map(move |beam| {
+        (model.beams[beam].elements.clone())
+            .flat_map(move |el| contact.grounds_of(beam).map(move |ri| el * partners + ri))
+    })
 }
 
 /// Contact of wire element `el` (coordinates and velocities `e`, `ve`)
@@ -1033,6 +1052,23 @@ pub fn contact_candidates(
             let spheres = spheres.get_or_insert_with(|| MemberSpheres::new(model, contact, q));
             if spheres.within(contact, mi, &e, l, margin).next().is_some() {
                 out.push(el * partners + rods + mi);
+            }
+        }
+    }
+    // A grounded member's elements and their grounds, after the wire's.
+    for beam in 1..model.beams.len() {
+        if contact.grounds_of(beam).next().is_none() {
+            continue;
+        }
+        for el in model.beams[beam].elements.clone() {
+            let e = model.element_coordinates(q, el);
+            let group = model.group(el);
+            let sphere = contact.centerline_sphere(group, &e);
+            for ri in contact.grounds_of(beam) {
+                let ground = &contact.rods[ri];
+                if contact.may_touch_around(group, ground, &e, sphere, margin) {
+                    out.push(el * partners + ri);
+                }
             }
         }
     }

@@ -163,7 +163,7 @@ impl ForceSum {
             strain_energy: 0.0,
             evaluator: model
                 .contact()
-                .map(|c| ContactEvaluator::new(c, &model.element_lengths())),
+                .map(|c| ContactEvaluator::for_model(c, model)),
             contact: model.contact().map(|_| ContactForces::default()),
             coupling: Coupling::default(),
             damping: Vec::new(),

@@ -267,6 +267,9 @@ pub struct WireBuilder {
     rods: Vec<Rod>,
     /// The grounds (planes), listed after the rods in the model.
     grounds: Vec<Rod>,
+    /// Each ground's frame members that touch it, by name (the wire
+    /// touches every ground).
+    ground_members: Vec<Vec<String>>,
     contact: ContactSettings,
     /// The damping of every beam that names none of its own.
     damping: Option<Damping>,
@@ -288,6 +291,7 @@ impl WireBuilder {
             load_beams: Vec::new(),
             rods: Vec::new(),
             grounds: Vec::new(),
+            ground_members: Vec::new(),
             contact: ContactSettings::default(),
             damping: None,
             beam_damping: Vec::new(),
@@ -428,6 +432,7 @@ impl WireBuilder {
     pub fn rod(mut self, rod: Rod) -> Self {
         if rod.is_ground() {
             self.grounds.push(rod);
+            self.ground_members.push(Vec::new());
         } else {
             self.rods.push(rod);
         }
@@ -439,6 +444,18 @@ impl WireBuilder {
     /// The model lists the grounds after the rods.
     pub fn ground(self, ground: Rod) -> Self {
         self.rod(ground)
+    }
+
+    /// A ground ([`WireBuilder::ground`]) that the frame members named in
+    /// `members` touch too, each by the line law with its own outer radius
+    /// (a post that falls, a tube pressed down onto it); the wire touches
+    /// it as every ground.
+    pub fn ground_touching(mut self, ground: Rod, members: &[&str]) -> Self {
+        self = self.ground(ground);
+        if let Some(names) = self.ground_members.last_mut() {
+            names.extend(members.iter().map(|m| m.to_string()));
+        }
+        self
     }
 
     /// Contact integration and friction regularization (defaults as in scenes).
@@ -611,10 +628,26 @@ impl WireBuilder {
             return Err(ModelError::NothingToSolve);
         }
         let members = member_contacts(&self.members, &model)?;
+        let mut grounded = Vec::new();
+        for (index, names) in self.ground_members.iter().enumerate() {
+            for name in names {
+                let beam = (model.beam(name).map(|(b, _)| b))
+                    .filter(|&b| b > 0)
+                    .ok_or_else(|| ModelError::Ground {
+                        index,
+                        field: "beams".into(),
+                        message: format!(
+                            "no frame member is named \"{name}\" (there are {:?})",
+                            model.beams[1..].iter().map(|b| &b.name).collect::<Vec<_>>()
+                        ),
+                    })?;
+                grounded.push((self.rods.len() + index, beam));
+            }
+        }
         let mut rigid = self.rods;
         rigid.extend(self.grounds);
         Ok(model
-            .with_contact(rigid, members, self.contact)
+            .with_contact(rigid, (members, grounded), self.contact)
             .with_damping(damping))
     }
 

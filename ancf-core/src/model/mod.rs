@@ -1152,7 +1152,7 @@ impl Model {
 
     /// Add rods: contact becomes one of the model's effects.
     pub fn with_rods(self, rods: Vec<contact::Rod>, settings: contact::ContactSettings) -> Self {
-        self.with_contact(rods, Vec::new(), settings)
+        self.with_contact(rods, (Vec::new(), Vec::new()), settings)
     }
 
     /// The model with contact between the wire and `rods` and `members`
@@ -1160,12 +1160,13 @@ impl Model {
     pub fn with_contact(
         mut self,
         rods: Vec<contact::Rod>,
-        members: Vec<contact::MemberContact>,
+        (members, grounded): (Vec<contact::MemberContact>, Vec<(usize, usize)>),
         settings: contact::ContactSettings,
     ) -> Self {
         if !rods.is_empty() || !members.is_empty() {
             let c = contact::Contact::new(rods, settings, self.section().outer_radius())
-                .with_members(members);
+                .with_members(members)
+                .with_grounded_members(grounded);
             self.effects.push(Effect::Contact(c));
         }
         self

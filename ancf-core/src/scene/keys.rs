@@ -623,7 +623,8 @@ pub const KEYS: &[Key] = &[
         .doc("how the damping follows from e"),
     key("ground", "beams", Names)
         .default(Literal("[\"wire\"]"))
-        .doc("the beams that touch it: the wire"),
+        .python(&["Wire.ground(beams)"])
+        .doc("the beams that touch it: the wire and the frame members named"),
     // [contact]
     key("contact", "zone_points", Integer)
         .default(Literal("8"))

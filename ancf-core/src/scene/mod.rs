@@ -599,8 +599,8 @@ impl Scene {
         for rod in rods(&f.rod, wire_radius, &outer_material, &find)? {
             builder = builder.rod(rod);
         }
-        for ground in grounds(&f.ground)? {
-            builder = builder.ground(ground);
+        for (ground, members) in grounds(&f.ground)? {
+            builder = builder.ground_touching(ground, &members);
         }
         builder = builder.contact_settings(contact_settings(f.contact.as_ref()));
         if let Some(d) = damping(f.damping.as_ref(), "damping")? {
@@ -1154,29 +1154,35 @@ fn contact_damping(
 }
 
 /// `[[ground]]`: planes under the line law, each with its stiffness,
-/// friction and restitution; the values are the model's to check.
-fn grounds(specs: &[GroundSpec]) -> Result<Vec<Rod>, SceneError> {
+/// friction and restitution, and the frame members that touch it besides
+/// the wire (`beams`, which names the wire too); the values and the
+/// members' names are the model's to check.
+fn grounds(specs: &[GroundSpec]) -> Result<Vec<(Rod, Vec<&str>)>, SceneError> {
     let mut out = Vec::new();
     for (i, g) in specs.iter().enumerate() {
         let at = |k: &str| format!("ground[{i}].{k}");
-        if let Some(beams) = &g.beams
-            && let Some(other) = beams.iter().find(|b| b.as_str() != crate::model::WIRE)
-        {
+        let beams: Vec<&str> = g.beams.iter().flatten().map(String::as_str).collect();
+        if g.beams.is_some() && !beams.contains(&crate::model::WIRE) {
             return Err(err(
                 at("beams"),
                 format!(
-                    "\"{other}\": only the wire (\"wire\") touches the ground; frame members stand on \
-                     their supports"
+                    "{beams:?} leaves out the wire, which touches every ground: list \"wire\" \
+                     with the members that touch it too"
                 ),
             ));
         }
+        let members = beams
+            .into_iter()
+            .filter(|&b| b != crate::model::WIRE)
+            .collect();
         let damping = contact_damping(g.restitution, g.restitution_model.as_deref(), &at)?;
         let plane = Rod::plane(g.point, g.normal, g.contact_stiffness);
-        out.push(Rod {
+        let ground = Rod {
             friction: g.friction.unwrap_or(plane.friction),
             damping,
             ..plane
-        });
+        };
+        out.push((ground, members));
     }
     Ok(out)
 }

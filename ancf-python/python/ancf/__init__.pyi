@@ -126,6 +126,7 @@ class Wire:
         friction: Optional[float] = None,
         restitution: Optional[float] = None,
         restitution_model: Optional[str] = None,
+        beams: Optional[list[str]] = None,
     ) -> Wire: ...
 
 class RunResult:

@@ -31,7 +31,7 @@ pub(crate) fn element_rod(
 ) -> Option<DeepestPoint> {
     let mut deepest: Option<DeepestPoint> = None;
     let l = geometry.length;
-    let reach = rod.radius + contact.wire_radius;
+    let reach = rod.radius + geometry.radius;
     let rule = &contact.zone_rule;
     for &(a, b) in active_zones(e, l, rod, reach).iter() {
         let pieces = ((b - a) / MAX_PIECE).ceil().max(1.0);
@@ -56,7 +56,7 @@ pub(crate) fn element_rod(
                 if let Some(res) = point_contact(&input, rod, slip, out)
                     && deepest.is_none_or(|dp| res.penetration > dp.penetration)
                 {
-                    let (y, z) = facing_point(e, xi, &res.n, contact.wire_radius);
+                    let (y, z) = facing_point(e, xi, &res.n, geometry.radius);
                     deepest = Some(DeepestPoint {
                         rod: ri,
                         xi,

@@ -45,6 +45,9 @@ pub struct ContactEvaluator {
     /// Whether any rod has contact damping ([`Contact::has_damping`]): then
     /// each contact event's approach speed is kept.
     pub damped: bool,
+    /// The members that touch a ground besides the wire
+    /// ([`Contact::grounded_members`]): (ground's rod index, beam), sorted.
+    pub grounded_members: Vec<(usize, usize)>,
 }
 
 /// The contact quantities of elements of one length, computed once.
@@ -52,6 +55,9 @@ pub struct ContactEvaluator {
 pub struct ElementGeometry {
     /// Reference element length, m.
     pub length: f64,
+    /// The outer radius of the elements' section, m: the wire's, or a
+    /// member's where it touches a ground.
+    pub radius: f64,
     /// Surface test points of one element (empty without surface-law rods).
     pub points: Vec<TestPoint>,
     /// Shape functions on the centerline at the 9 broad-phase stations
@@ -113,6 +119,7 @@ impl ContactEvaluator {
             .iter()
             .map(|&length| ElementGeometry {
                 length,
+                radius: wire_radius,
                 points: if surface {
                     surface::test_points(settings.stations, settings.angles, wire_radius, length)
                 } else {
@@ -131,7 +138,31 @@ impl ContactEvaluator {
             wire_radius,
             geometry,
             damped: contact.has_damping(),
+            grounded_members: contact.grounded_members.clone(),
         }
+    }
+
+    /// The evaluator of `model`'s contact `contact`: each element group's
+    /// length, and the outer radius of a member's groups (a member touches
+    /// only the grounds that name it).
+    pub fn for_model(contact: &Contact, model: &crate::model::Model) -> Self {
+        let mut c = Self::new(contact, &model.element_lengths());
+        let wire = model.wire().elements.clone();
+        for (geometry, group) in c.geometry.iter_mut().zip(&model.groups) {
+            if !wire.contains(&group.elements.start) {
+                geometry.radius = group.integration.section.outer_radius();
+            }
+        }
+        c
+    }
+
+    /// The grounds (rod indices, increasing) that the elements of beam
+    /// `beam` touch besides the wire: none for the wire (which touches every
+    /// rod) or an ungrounded member.
+    pub fn grounds_of(&self, beam: usize) -> impl Iterator<Item = usize> + '_ {
+        (self.grounded_members.iter())
+            .filter(move |&&(_, b)| b == beam)
+            .map(|&(ri, _)| ri)
     }
 
     /// Broad phase: can element `e` (of element group `group`) touch rod
@@ -174,7 +205,7 @@ impl ContactEvaluator {
     ) -> bool {
         let geometry = &self.geometry[group];
         let l = geometry.length;
-        let reach = rod.radius + 2.0 * self.wire_radius + l / 8.0 + margin;
+        let reach = rod.radius + 2.0 * geometry.radius + l / 8.0 + margin;
         if rod.is_ground() {
             // A plane: the signed distance of the sphere, then of the samples.
             if rod.height(&centre) > reach + radius {

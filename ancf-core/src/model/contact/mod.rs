@@ -555,6 +555,11 @@ pub struct Contact {
     pub settings: ContactSettings,
     /// Outer radius of the wire, m.
     pub wire_radius: f64,
+    /// The frame members that touch a ground besides the wire: (the
+    /// ground's index among the rods, the member's beam), sorted. The wire
+    /// touches every ground; a member only those listed here, by the same
+    /// line law with its own outer radius.
+    pub grounded_members: Vec<(usize, usize)>,
 }
 
 impl Contact {
@@ -565,12 +570,24 @@ impl Contact {
             members: Vec::new(),
             settings,
             wire_radius,
+            grounded_members: Vec::new(),
         }
     }
 
     /// The same contact with the wire also touching `members`.
     pub fn with_members(self, members: Vec<MemberContact>) -> Self {
         Contact { members, ..self }
+    }
+
+    /// The same contact with frame members touching grounds: (the ground's
+    /// index among the rods, the member's beam) pairs.
+    pub fn with_grounded_members(self, mut pairs: Vec<(usize, usize)>) -> Self {
+        pairs.sort_unstable();
+        pairs.dedup();
+        Contact {
+            grounded_members: pairs,
+            ..self
+        }
     }
 
     /// Rods and members: the contact partners.

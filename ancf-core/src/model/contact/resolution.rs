@@ -73,7 +73,7 @@ impl std::fmt::Display for UnresolvedContact {
 /// The rods and members of `contact` whose line-law contact a step of
 /// `time_step` s does not resolve on a wire of `mass_per_length` kg/m, the
 /// members named and of `member_masses` kg/m (in member order), in
-/// partner order.
+/// partner order; then each member on a ground that names it.
 pub fn unresolved_contacts(
     contact: &Contact,
     mass_per_length: f64,
@@ -91,24 +91,41 @@ pub fn unresolved_contacts(
             frequency: (rod.contact_stiffness / mass_per_length).sqrt(),
             time_step,
         });
-    let members = contact
-        .members
-        .iter()
-        .zip(members)
-        .enumerate()
-        .map(|(i, (m, (name, mass)))| {
-            let reduced = 1.0 / (1.0 / mass_per_length + 1.0 / mass);
-            UnresolvedContact {
-                rod: contact.rods.len() + i,
-                partner: format!("member \"{name}\""),
-                law: ContactLaw::Line,
-                stiffness: m.contact_stiffness,
-                mass_per_length: reduced,
-                frequency: (m.contact_stiffness / reduced).sqrt(),
-                time_step,
-            }
+    let wire_members =
+        contact
+            .members
+            .iter()
+            .zip(members)
+            .enumerate()
+            .map(|(i, (m, (name, mass)))| {
+                let reduced = 1.0 / (1.0 / mass_per_length + 1.0 / mass);
+                UnresolvedContact {
+                    rod: contact.rods.len() + i,
+                    partner: format!("member \"{name}\""),
+                    law: ContactLaw::Line,
+                    stiffness: m.contact_stiffness,
+                    mass_per_length: reduced,
+                    frequency: (m.contact_stiffness / reduced).sqrt(),
+                    time_step,
+                }
+            });
+    // A member on a ground: the member's own mass against the plane.
+    let grounded = (contact.grounded_members.iter())
+        .filter_map(|&(ri, beam)| members.get(beam - 1).map(|m| (ri, m)))
+        .map(|(ri, (name, mass))| UnresolvedContact {
+            rod: ri,
+            partner: format!(
+                "{} under member \"{name}\"",
+                contact.rigid_name(ri).replace('[', " ").replace(']', "")
+            ),
+            law: ContactLaw::Line,
+            stiffness: contact.rods[ri].contact_stiffness,
+            mass_per_length: *mass,
+            frequency: (contact.rods[ri].contact_stiffness / mass).sqrt(),
+            time_step,
         });
-    rods.chain(members)
+    rods.chain(wire_members)
+        .chain(grounded)
         .filter(|u| u.time_step * u.frequency > RESOLVED_STEP_FREQUENCY)
         .collect()
 }

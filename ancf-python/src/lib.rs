@@ -388,41 +388,22 @@ fn stepping(
     error_tolerance: Option<f64>,
     max_time_step: Option<f64>,
 ) -> PyResult<(f64, Option<StepControl>)> {
-    let auto = match time_step.extract::<String>() {
-        Ok(text) if text == "auto" => true,
+    let fixed = match time_step.extract::<String>() {
+        Ok(text) if text == "auto" => None,
         Ok(text) => {
             return Err(value_error(
                 "time_step",
                 &format!("seconds or \"auto\", got \"{text}\""),
             ));
         }
-        Err(_) => false,
+        Err(_) => Some(
+            time_step
+                .extract::<f64>()
+                .map_err(|_| value_error("time_step", "seconds or \"auto\""))?,
+        ),
     };
-    if !auto {
-        let h = time_step
-            .extract::<f64>()
-            .map_err(|_| value_error("time_step", "seconds or \"auto\""))?;
-        for (name, given) in [
-            ("error_tolerance", error_tolerance.is_some()),
-            ("max_time_step", max_time_step.is_some()),
-        ] {
-            if given {
-                return Err(value_error(name, "only for time_step=\"auto\""));
-            }
-        }
-        return Ok((h, None));
-    }
-    let tolerance = error_tolerance.ok_or_else(|| {
-        value_error(
-            "error_tolerance",
-            "required with time_step=\"auto\": the position error (m) a step may make",
-        )
-    })?;
-    let control = StepControl {
-        tolerance,
-        max_step: max_time_step.unwrap_or_else(|| StepControl::default_max_step(end_time)),
-    };
-    Ok((control.first_step(end_time), Some(control)))
+    StepControl::from_keys(fixed, end_time, error_tolerance, max_time_step)
+        .map_err(|e| value_error(&e.field, &e.message))
 }
 
 /// The name of a rod parameter as `Wire.rod` spells it.

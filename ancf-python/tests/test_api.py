@@ -904,3 +904,28 @@ def test_a_ground_names_the_members_that_touch_it():
         sim.run()
         (ground,) = sim.contact
         assert (ground["peak_force"] > 0.0) == touches, ground
+
+
+@pytest.mark.parametrize(
+    "stepping, field",
+    [
+        ({"time_step": 1e-3, "error_tolerance": 1e-6}, "error_tolerance"),
+        ({"time_step": 1e-3, "max_time_step": 1e-3}, "max_time_step"),
+        ({"time_step": "auto"}, "error_tolerance"),
+        ({"time_step": "auto", "error_tolerance": 1e-6, "max_time_step": 0.0}, "max_time_step"),
+        ({"time_step": "auto", "error_tolerance": -1.0}, "error_tolerance"),
+    ],
+)
+def test_stepping_follows_the_scenes_rule_with_the_scenes_words(stepping, field):
+    steel = ancf.Material.st_venant_kirchhoff(7800.0, 2e11, 0.3)
+    wire = ancf.Wire(1.0, 4).layer(steel, 0.01).support(0, "pin")
+    with pytest.raises(ValueError) as in_code:
+        ancf.Simulation.from_wire(wire, end_time=0.01, **stepping)
+    d = json.loads(json.dumps(BASE))
+    d["analysis"].pop("time_step")
+    d["analysis"].update(stepping)
+    with pytest.raises(ancf.SceneError) as in_scene:
+        ancf.Scene.from_dict(d)
+    assert in_scene.value.field == f"analysis.{field}"
+    # The same reason, each in its own field's name.
+    assert str(in_code.value) == f"{field}: " + str(in_scene.value).split(": ", 1)[1]

@@ -925,42 +925,13 @@ fn analysis(a: &AnalysisSpec) -> Result<Analysis, SceneError> {
                     "missing (s), required for a dynamic run",
                 )
             })?;
-            let (time_step, step_control) = match time_step {
-                TimeStepSpec::Fixed(h) => {
-                    for (name, given) in [
-                        ("error_tolerance", a.error_tolerance.is_some()),
-                        ("max_time_step", a.max_time_step.is_some()),
-                    ] {
-                        if given {
-                            return Err(err(
-                                format!("analysis.{name}"),
-                                "only for time_step = \"auto\"",
-                            ));
-                        }
-                    }
-                    (h, None)
-                }
-                TimeStepSpec::Auto => {
-                    let tolerance = a.error_tolerance.ok_or_else(|| {
-                        err(
-                            "analysis.error_tolerance",
-                            "missing (m), required with time_step = \"auto\": the position error \
-                             the run may accumulate",
-                        )
-                    })?;
-                    positive("analysis.error_tolerance", tolerance)?;
-                    if let Some(h) = a.max_time_step {
-                        positive("analysis.max_time_step", h)?;
-                    }
-                    let control = StepControl {
-                        tolerance,
-                        max_step: a
-                            .max_time_step
-                            .unwrap_or_else(|| StepControl::default_max_step(end_time)),
-                    };
-                    (control.first_step(end_time), Some(control))
-                }
+            let fixed = match time_step {
+                TimeStepSpec::Fixed(h) => Some(h),
+                TimeStepSpec::Auto => None,
             };
+            let (time_step, step_control) =
+                StepControl::from_keys(fixed, end_time, a.error_tolerance, a.max_time_step)
+                    .map_err(in_table("analysis"))?;
             let d = DynamicSettings::default();
             let settings = DynamicSettings {
                 time_step,

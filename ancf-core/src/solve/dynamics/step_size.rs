@@ -59,6 +59,45 @@ impl StepControl {
         Ok(())
     }
 
+    /// The stepping that the keys ask for, the one rule every way in
+    /// (scene, Python) follows: a fixed step `Some(h)` takes neither an
+    /// error tolerance nor a longest step; `None` (`"auto"`) needs the
+    /// tolerance (m), takes a longest step (s; default
+    /// [`StepControl::default_max_step`]), and starts at
+    /// [`StepControl::first_step`]. Returns the first step (s) and the
+    /// control of an adaptive run; the fixed step's range is
+    /// [`super::DynamicSettings::check`]'s.
+    pub fn from_keys(
+        time_step: Option<f64>,
+        end_time: f64,
+        error_tolerance: Option<f64>,
+        max_time_step: Option<f64>,
+    ) -> Result<(f64, Option<StepControl>), ParameterError> {
+        let Some(tolerance) = error_tolerance else {
+            return match time_step {
+                Some(h) if max_time_step.is_none() => Ok((h, None)),
+                Some(_) => refuse("max_time_step", "only for time_step = \"auto\""),
+                None => refuse(
+                    "error_tolerance",
+                    "missing (m), required with time_step = \"auto\": the position error a \
+                     step may add",
+                ),
+            };
+        };
+        if time_step.is_some() {
+            return refuse("error_tolerance", "only for time_step = \"auto\"");
+        }
+        positive("error_tolerance", tolerance)?;
+        if let Some(h) = max_time_step {
+            positive("max_time_step", h)?;
+        }
+        let control = StepControl {
+            tolerance,
+            max_step: max_time_step.unwrap_or_else(|| StepControl::default_max_step(end_time)),
+        };
+        Ok((control.first_step(end_time), Some(control)))
+    }
+
     /// The longest step of a run of `end_time` s unless the scene says:
     /// a hundredth of the run, so that its histories have at least a
     /// hundred points.

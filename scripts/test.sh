@@ -4,6 +4,11 @@
 # Needs a Rust toolchain and python3 with venv; fetches crates and PyPI packages.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The Rust tests get a temporary folder of their own, which must be empty
+# when they end: a test leaves nothing behind (a failing one may keep its
+# folder to look at, and then the suite has failed anyway).
+scratch=$(mktemp -d)
+export TMPDIR="$scratch"
 cargo test --release --workspace
 # The Slurm test is marked ignored (a machine without Slurm reports it as
 # not run). It runs here where a Slurm answers: one already running, or
@@ -25,6 +30,13 @@ if [ -n "$started_slurm" ]; then
   bash scripts/slurm-local.sh stop >/dev/null 2>&1 || true
 fi
 [ "$slurm_status" = 0 ] || exit "$slurm_status"
+left=$(ls -A "$scratch")
+rm -rf "$scratch"
+unset TMPDIR
+if [ -n "$left" ]; then
+  echo "the Rust tests left files in their temporary folder: $left" >&2
+  exit 1
+fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 python3 -m venv "$tmp/venv"

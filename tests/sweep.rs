@@ -443,6 +443,26 @@ fn the_report_counts_only_touched_rods_and_plots_only_varied_parameters() {
     let cells: Vec<&str> = row.split('|').map(str::trim).collect();
     assert_eq!(cells[2], "1", "{row}");
     assert_eq!(cells[3], cells[5], "one value: min = max ({row})");
+    // Where the extremes are: the touched variant, v000, for both.
+    assert_eq!((cells[7], cells[8]), ("v000", "v000"), "{row}");
+    // Two chosen rod positions are no sample: no quantiles. Marked an
+    // ensemble, the same variants get them.
+    assert!(!report.contains("Quantiles over the variants"), "{report}");
+    let ensemble = dir.join("ensemble.toml");
+    let text = std::fs::read_to_string(&sweep).unwrap();
+    std::fs::write(&ensemble, format!("ensemble = true\n{text}")).unwrap();
+    let out_e = dir.join("out_ensemble");
+    assert!(
+        sweep_cmd(&ensemble, &out_e, &[])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let report_e = std::fs::read_to_string(out_e.join("report.md")).unwrap();
+    assert!(
+        report_e.contains("Quantiles over the variants"),
+        "{report_e}"
+    );
     assert!(cells[3].parse::<f64>().unwrap() > 100.0, "{row}");
     assert!(
         cells[3].split('.').nth(1).is_some_and(|d| d.len() == 1),

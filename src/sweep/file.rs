@@ -72,6 +72,7 @@ impl SlurmSpec {
 struct SweepSpec {
     scene: PathBuf,
     mode: Option<Mode>,
+    ensemble: Option<bool>,
     parameters: toml::Table,
     slurm: Option<SlurmSpec>,
 }
@@ -83,6 +84,11 @@ pub struct Sweep {
     /// The base scene file, resolved against the sweep file's folder.
     pub scene: PathBuf,
     pub mode: Mode,
+    /// Whether the variants sample what is not known (a sag, a length
+    /// within its tolerance; `ensemble = true`): only then does the report
+    /// give quantiles with their confidence intervals. A grid over chosen
+    /// values is no sample, and gets its extremes and where they are.
+    pub ensemble: bool,
     /// Parameter paths, in the order of the columns of results.csv.
     pub parameters: Vec<String>,
     pub variants: Vec<Variant>,
@@ -267,7 +273,7 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
     })?;
     let base: toml::Table =
         toml::from_str(&base_text).map_err(|e| located(&scene, &base_text, &e))?;
-    expand(
+    let sweep = expand(
         scene,
         base,
         spec.mode.unwrap_or(Mode::Grid),
@@ -277,6 +283,10 @@ pub fn load(path: &Path) -> Result<Sweep, SweepError> {
     .map_err(|e| match parameter_line(&text, &e.0) {
         Some(line) => SweepError(format!("{}:{line}: {}", path.display(), e.0)),
         None => SweepError(format!("{}: {}", path.display(), e.0)),
+    })?;
+    Ok(Sweep {
+        ensemble: spec.ensemble.unwrap_or(false),
+        ..sweep
     })
 }
 
@@ -474,6 +484,7 @@ pub fn expand(
     Ok(Sweep {
         scene,
         mode,
+        ensemble: false,
         parameters: names,
         variants,
         slurm,

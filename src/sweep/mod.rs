@@ -52,6 +52,10 @@ pub struct SweepOptions {
 pub struct Manifest {
     pub scene: PathBuf,
     pub mode: Mode,
+    /// [`file::Sweep::ensemble`] (absent in a folder written before it
+    /// existed: a grid).
+    #[serde(default)]
+    pub ensemble: bool,
     pub parameters: Vec<String>,
     /// (id, the values as the sweep file writes them).
     pub variants: Vec<(String, Vec<String>)>,
@@ -62,6 +66,7 @@ impl Manifest {
         Manifest {
             scene: sweep.scene.clone(),
             mode: sweep.mode,
+            ensemble: sweep.ensemble,
             parameters: sweep.parameters.clone(),
             variants: sweep
                 .variants

@@ -547,7 +547,7 @@ fn design_numbers(
 /// ensemble of slightly perturbed scenes (a sag within its tolerance, a
 /// frame within its placement) gives the scatter a single run hides, and
 /// its largest value is the envelope a design takes.
-fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
+fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row], ensemble: bool) -> String {
     let done: Vec<&Row> = rows.iter().filter(|r| r.status == "completed").collect();
     let mut md = String::new();
     if done.len() < 2 {
@@ -556,22 +556,30 @@ fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
     let _ = writeln!(
         md,
         "\nOver the {} completed variants (spread = (max − min) / mean; n: the \
-         variants that have the number — a rod the wire never touched has no load):\n",
+         variants that have the number — a rod the wire never touched has no load; \
+         where: the variant of the extreme):\n",
         done.len()
     );
-    let _ = writeln!(md, "| quantity | n | min | mean | max | spread |");
-    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    let _ = writeln!(
+        md,
+        "| quantity | n | min | mean | max | spread | min at | max at |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
     for (name, unit, pick) in numbers {
-        let values: Vec<f64> = done.iter().filter_map(|r| pick(r)).collect();
+        let values: Vec<(f64, &str)> = (done.iter())
+            .filter_map(|r| pick(r).map(|v| (v, r.id.as_str())))
+            .collect();
         if values.is_empty() {
             continue;
         }
-        let (min, max) = values
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let first = (values[0], values[0]);
+        let ((min, min_at), (max, max_at)) = values.iter().fold(first, |(lo, hi), &v| {
+            (
+                if v.0 < lo.0 { v } else { lo },
+                if v.0 > hi.0 { v } else { hi },
+            )
+        });
+        let mean = values.iter().map(|v| v.0).sum::<f64>() / values.len() as f64;
         let spread = if mean != 0.0 {
             format!("{:.1} %", 100.0 * (max - min) / mean.abs())
         } else {
@@ -579,14 +587,17 @@ fn spread_table(numbers: &[(String, String, Pick)], rows: &[Row]) -> String {
         };
         let _ = writeln!(
             md,
-            "| {name} ({unit}) | {} | {} | {} | {} | {spread} |",
+            "| {name} ({unit}) | {} | {} | {} | {} | {spread} | {min_at} | {max_at} |",
             values.len(),
             significant(min),
             significant(mean),
             significant(max)
         );
     }
-    md += &quantile_table(numbers, &done);
+    // Quantiles describe a sample; a grid's chosen values are none.
+    if ensemble {
+        md += &quantile_table(numbers, &done);
+    }
     md
 }
 
@@ -671,7 +682,7 @@ fn report(out: &Path, m: &Manifest, rows: &[Row]) -> Result<(), String> {
         );
         let _ = writeln!(md, "| {} |", cells.join(" | "));
     }
-    md.push_str(&spread_table(&numbers, rows));
+    md.push_str(&spread_table(&numbers, rows, m.ensemble));
     let warned: Vec<String> = rows
         .iter()
         .flat_map(|r| r.warnings.iter().map(move |w| format!("* {}: {w}", r.id)))

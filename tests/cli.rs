@@ -1102,6 +1102,11 @@ fn the_span_break_scenes_hold_the_wire_on_their_ground() {
         let status = run_quiet(&scene, &out).status().unwrap();
         assert!(status.success(), "{name}");
         let s = summary(&out);
+        // The conductor's layers (ω = 0.1) report the continuum's strain.
+        assert_eq!(
+            s["strains"][0]["layer_strains"],
+            serde_json::json!(["continuum", "continuum"])
+        );
         let ground = &s["contact"]["ground"][0];
         let (depth, first) = (
             ground["max_depth"].as_f64().unwrap(),
@@ -1186,6 +1191,11 @@ fn a_tube_member_reports_its_utilization_and_warns_past_yield() {
         assert!(run_quiet(&scene, &out).status().unwrap().success());
         let s = summary(&out);
         let tube = &s["beams"][0];
+        // Solid layers (ω = 1) report their own fibres' strain.
+        assert_eq!(
+            s["strains"][1]["layer_strains"],
+            serde_json::json!(["material"])
+        );
         let u = tube["utilization"].as_f64().unwrap();
         let expected = p * 2.0 / m_pl;
         assert!(

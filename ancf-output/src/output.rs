@@ -272,6 +272,29 @@ pub struct StrainSummary {
     pub beam: String,
     #[serde(flatten)]
     pub record: ancf_core::loads::strain_record::StrainRecord,
+    /// What each of `layers` is, from the centre out: `"material"`, the
+    /// layer's own fibre strain (ω = 1: the section bends as one solid),
+    /// or `"continuum"` (ω < 1: the continuum element's strain at the
+    /// layer's outer radius, bending a whole section; a stranded layer's
+    /// strands bend about their own axes and strain far less, so read the
+    /// centerline's `axial` for what stretches the strands).
+    #[serde(default)]
+    pub layer_strains: Vec<String>,
+}
+
+impl StrainSummary {
+    /// The names of `layer_strains` for `section`'s layers.
+    pub fn layer_kinds(section: &ancf_core::section::Section) -> Vec<String> {
+        use ancf_core::material::MaterialModel;
+        (section.layers.iter())
+            .map(|l| match l.material.model {
+                MaterialModel::StVenantKirchhoff { bending_factor, .. } if bending_factor < 1.0 => {
+                    "continuum".to_string()
+                }
+                _ => "material".to_string(),
+            })
+            .collect()
+    }
 }
 
 /// How close the wire came to a clearance zone (`[[clearance]]`).

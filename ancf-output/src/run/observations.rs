@@ -161,6 +161,9 @@ impl Observations {
             .map(|(beam, record)| StrainSummary {
                 beam: beam.name.clone(),
                 record: record.clone(),
+                layer_strains: StrainSummary::layer_kinds(
+                    &scene.model.element(beam.elements.start).section,
+                ),
             })
             .collect()
     }

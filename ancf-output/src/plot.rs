@@ -271,7 +271,7 @@ fn draw_panel<DB: DrawingBackend>(
     p: &Panel,
     scale: f64,
 ) -> Result<bool, DrawingAreaErrorKind<DB::ErrorType>> {
-    let Some((x0, x1, mut y0, mut y1)) = bounds(&p.series) else {
+    let Some((x0, mut x1, mut y0, mut y1)) = bounds(&p.series) else {
         return Ok(false);
     };
     let all_zero = (p.series.iter())
@@ -281,13 +281,33 @@ fn draw_panel<DB: DrawingBackend>(
         (y0, y1) = (-1.0, 1.0);
     }
     let size = |px: f64| (px * scale).round() as u32;
+    // The legend (upper corner) never covers a curve: it gets room of its
+    // own, above the data while that costs at most a fifth of the plot's
+    // height, else beside it on the right (many series: an energy plot's
+    // six rows took 60 % of its height above the data).
+    let mut beside = false;
     if p.series.len() > 1 {
-        // Room above the data for the legend (upper corner), so that it
-        // never covers a curve: its rows and margins over the plot height.
-        let plot_height = area.dim_in_pixel().1 as f64 - (45.0 + 50.0) * scale;
+        let (width, height) = area.dim_in_pixel();
+        let plot_height = height as f64 - (45.0 + 50.0) * scale;
         let legend = (p.series.len() as f64 * 19.0 + 30.0) * scale;
         let frac = (legend / plot_height.max(1.0)).min(0.6);
-        y1 += (y1 - y0) * frac / (1.0 - frac);
+        if frac <= 0.2 {
+            y1 += (y1 - y0) * frac / (1.0 - frac);
+        } else {
+            // Its width: the line sample, margins and the longest label
+            // (about 6.5 px a character at 13 px).
+            let chars = p
+                .series
+                .iter()
+                .map(|s| s.label.chars().count())
+                .max()
+                .unwrap_or(0);
+            let legend_width = (45.0 + 6.5 * chars as f64) * scale;
+            let plot_width = width as f64 - (80.0 + 20.0) * scale;
+            let room = legend_width / (plot_width - legend_width).max(1.0);
+            x1 += (x1 - x0) * room.min(1.0);
+            beside = true;
+        }
     }
     let mut chart = ChartBuilder::on(area)
         .caption(p.title, ("sans-serif", size(20.0)))
@@ -371,8 +391,9 @@ fn draw_panel<DB: DrawingBackend>(
         )))?;
     }
     if p.series.len() > 1 {
-        // Marks label the largest values, usually near the top right.
-        let position = if p.marks.is_empty() {
+        // Marks label the largest values, usually near the top right; a
+        // legend beside the data is right of them all.
+        let position = if p.marks.is_empty() || beside {
             SeriesLabelPosition::UpperRight
         } else {
             SeriesLabelPosition::UpperLeft
@@ -639,6 +660,39 @@ mod tests {
             }
         }
         assert_eq!(average_down(&[255; 27], (1, 1), 3), vec![255, 255, 255]);
+    }
+
+    /// A plot of many series (an energy plot's six and more) keeps its
+    /// height for the data: the legend goes beside them, and the highest
+    /// curve runs near the top of the plot, not under a band of empty room
+    /// the legend's rows once took (60 % of the height).
+    #[test]
+    fn many_series_leave_the_height_to_the_data() {
+        let end = 1.0;
+        let flat = |y: f64| vec![(0.0, y), (0.5 * end, y), (end, y)];
+        let labels = ["top", "a", "b", "c", "d", "total + dissipated"];
+        let series: Vec<Series> = (labels.iter().enumerate())
+            .map(|(i, label)| Series {
+                label,
+                points: flat(if i == 0 { 1.0 } else { -(i as f64) / 10.0 }),
+            })
+            .collect();
+        let dir = std::env::temp_dir().join(format!("ancf-plot-many-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("many.png");
+        line_plot(&path, "many", "t", "y", &series).unwrap();
+        let img = image::open(&path).unwrap().to_rgb8();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let (w, h) = img.dimensions();
+        let blue = COLORS[0];
+        let is_blue = |p: &image::Rgb<u8>| {
+            (0..3).all(|k| (i32::from(p[k]) - i32::from([blue.0, blue.1, blue.2][k])).abs() < 40)
+        };
+        // The top curve's row: many blue pixels (the legend's sample is short).
+        let row = (0..h)
+            .find(|&y| (0..w).filter(|&x| is_blue(img.get_pixel(x, y))).count() > 200)
+            .expect("the top curve");
+        assert!(row < h / 5, "the top curve at row {row} of {h}");
     }
 
     /// A series denser than the pixels with sharp spikes (a raw force at

@@ -322,11 +322,11 @@ fn force_panel<'a>(title: &'a str, h: &LoadHistory, f: &Filtered, load: &RodLoad
         y_label: "force (N)",
         series: vec![
             Series {
-                label: "raw (every step)",
+                label: "raw, every step (with the wire's axial ringing)",
                 points: raw,
             },
             Series {
-                label: "CFC filtered",
+                label: "CFC filtered: the design value, as impact tests report",
                 points: (f.time.iter().copied())
                     .zip(f.force.iter().copied())
                     .collect(),

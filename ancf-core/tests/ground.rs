@@ -443,7 +443,7 @@ fn a_member_named_by_a_ground_rests_on_it_at_its_own_radius() {
             .support_on("tube", Support::new(4, SupportKind::Spring(horizontal)))
             .gravity([0.0, 0.0, -G]);
         let b = match named {
-            true => b.ground_touching(ground, &["tube"]),
+            true => b.ground_touching(ground, &["wire", "tube"]),
             false => b.ground(ground),
         };
         (b.build().unwrap(), ground_z)
@@ -493,7 +493,7 @@ fn a_member_dropped_flat_rebounds_at_the_coefficient_of_restitution() {
             .support(0, SupportKind::Fixed)
             .support(2, SupportKind::Fixed)
             .member(tube)
-            .ground_touching(ground, &["tube"])
+            .ground_touching(ground, &["wire", "tube"])
             .build()
             .unwrap()
     };

@@ -731,8 +731,8 @@ impl Wire {
     /// Coulomb μ and contact damping by a coefficient of restitution (None:
     /// elastic) with its model, as for rods. The wire touches it, and the
     /// frame members named in `beams` too (the scene file's list, which
-    /// names the wire as well; the members' names are checked when the
-    /// wire is built).
+    /// names the wire as well; the names are checked when the wire is
+    /// built).
     #[pyo3(signature = (point, normal, stiffness, friction=None, restitution=None, restitution_model=None, beams=None))]
     #[allow(clippy::too_many_arguments)]
     fn ground(
@@ -745,22 +745,6 @@ impl Wire {
         restitution_model: Option<&str>,
         beams: Option<Vec<String>>,
     ) -> PyResult<Wire> {
-        let wire = ancf_core::model::WIRE;
-        if let Some(b) = &beams
-            && !b.iter().any(|n| n == wire)
-        {
-            return Err(value_error(
-                "beams",
-                &format!(
-                    "{b:?} leaves out the wire, which touches every ground: list \"wire\" with \
-                     the members that touch it too"
-                ),
-            ));
-        }
-        let members: Vec<&str> = (beams.iter().flatten())
-            .map(String::as_str)
-            .filter(|&n| n != wire)
-            .collect();
         use ancf_core::model::contact::{ContactDamping, Rod};
         let damping = ContactDamping::from_keys(restitution, restitution_model)
             .map_err(|e| value_error(&e.field, &e.message))?;
@@ -772,9 +756,18 @@ impl Wire {
         ground
             .check()
             .map_err(|e| value_error(rod_argument(&e.field), &e.message))?;
-        Ok(Wire {
-            builder: self.builder.clone().ground_touching(ground, &members),
-        })
+        if let Some(b) = &beams {
+            ancf_core::model::contact::check_ground_beams(b)
+                .map_err(|e| value_error(&e.field, &e.message))?;
+        }
+        let builder = self.builder.clone();
+        let builder = match &beams {
+            Some(b) => {
+                builder.ground_touching(ground, &b.iter().map(String::as_str).collect::<Vec<_>>())
+            }
+            None => builder.ground(ground),
+        };
+        Ok(Wire { builder })
     }
 }
 

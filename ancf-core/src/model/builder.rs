@@ -267,9 +267,8 @@ pub struct WireBuilder {
     rods: Vec<Rod>,
     /// The grounds (planes), listed after the rods in the model.
     grounds: Vec<Rod>,
-    /// Each ground's frame members that touch it, by name (the wire
-    /// touches every ground).
-    ground_members: Vec<Vec<String>>,
+    /// Each ground's `beams` list, by name (`None`: the wire only).
+    ground_beams: Vec<Option<Vec<String>>>,
     contact: ContactSettings,
     /// The damping of every beam that names none of its own.
     damping: Option<Damping>,
@@ -291,7 +290,7 @@ impl WireBuilder {
             load_beams: Vec::new(),
             rods: Vec::new(),
             grounds: Vec::new(),
-            ground_members: Vec::new(),
+            ground_beams: Vec::new(),
             contact: ContactSettings::default(),
             damping: None,
             beam_damping: Vec::new(),
@@ -432,7 +431,7 @@ impl WireBuilder {
     pub fn rod(mut self, rod: Rod) -> Self {
         if rod.is_ground() {
             self.grounds.push(rod);
-            self.ground_members.push(Vec::new());
+            self.ground_beams.push(None);
         } else {
             self.rods.push(rod);
         }
@@ -446,14 +445,15 @@ impl WireBuilder {
         self.rod(ground)
     }
 
-    /// A ground ([`WireBuilder::ground`]) that the frame members named in
-    /// `members` touch too, each by the line law with its own outer radius
-    /// (a post that falls, a tube pressed down onto it); the wire touches
-    /// it as every ground.
-    pub fn ground_touching(mut self, ground: Rod, members: &[&str]) -> Self {
+    /// A ground ([`WireBuilder::ground`]) that the beams named in `beams`
+    /// touch: the wire (`"wire"`, which touches every ground and must be
+    /// named) and frame members, each by the line law with its own outer
+    /// radius (a post that falls, a tube pressed down onto it). The names
+    /// are checked when the model is built.
+    pub fn ground_touching(mut self, ground: Rod, beams: &[&str]) -> Self {
         self = self.ground(ground);
-        if let Some(names) = self.ground_members.last_mut() {
-            names.extend(members.iter().map(|m| m.to_string()));
+        if let Some(names) = self.ground_beams.last_mut() {
+            *names = Some(beams.iter().map(|b| b.to_string()).collect());
         }
         self
     }
@@ -629,8 +629,14 @@ impl WireBuilder {
         }
         let members = member_contacts(&self.members, &model)?;
         let mut grounded = Vec::new();
-        for (index, names) in self.ground_members.iter().enumerate() {
-            for name in names {
+        for (index, names) in self.ground_beams.iter().enumerate() {
+            let Some(names) = names else { continue };
+            super::contact::check_ground_beams(names).map_err(|e| ModelError::Ground {
+                index,
+                field: e.field,
+                message: e.message,
+            })?;
+            for name in names.iter().filter(|n| *n != super::WIRE) {
                 let beam = (model.beam(name).map(|(b, _)| b))
                     .filter(|&b| b > 0)
                     .ok_or_else(|| ModelError::Ground {

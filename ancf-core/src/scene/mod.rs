@@ -599,8 +599,11 @@ impl Scene {
         for rod in rods(&f.rod, wire_radius, &outer_material, &find)? {
             builder = builder.rod(rod);
         }
-        for (ground, members) in grounds(&f.ground)? {
-            builder = builder.ground_touching(ground, &members);
+        for (ground, beams) in grounds(&f.ground)? {
+            builder = match beams {
+                Some(beams) => builder.ground_touching(ground, &beams),
+                None => builder.ground(ground),
+            };
         }
         builder = builder.contact_settings(contact_settings(f.contact.as_ref()));
         if let Some(d) = damping(f.damping.as_ref(), "damping")? {
@@ -1125,27 +1128,12 @@ fn contact_damping(
 }
 
 /// `[[ground]]`: planes under the line law, each with its stiffness,
-/// friction and restitution, and the frame members that touch it besides
-/// the wire (`beams`, which names the wire too); the values and the
-/// members' names are the model's to check.
-fn grounds(specs: &[GroundSpec]) -> Result<Vec<(Rod, Vec<&str>)>, SceneError> {
+/// friction and restitution, and its `beams` (absent: the wire only); the
+/// values and the names are the model's to check.
+fn grounds(specs: &[GroundSpec]) -> Result<Vec<(Rod, Option<Vec<&str>>)>, SceneError> {
     let mut out = Vec::new();
     for (i, g) in specs.iter().enumerate() {
         let at = |k: &str| format!("ground[{i}].{k}");
-        let beams: Vec<&str> = g.beams.iter().flatten().map(String::as_str).collect();
-        if g.beams.is_some() && !beams.contains(&crate::model::WIRE) {
-            return Err(err(
-                at("beams"),
-                format!(
-                    "{beams:?} leaves out the wire, which touches every ground: list \"wire\" \
-                     with the members that touch it too"
-                ),
-            ));
-        }
-        let members = beams
-            .into_iter()
-            .filter(|&b| b != crate::model::WIRE)
-            .collect();
         let damping = contact_damping(g.restitution, g.restitution_model.as_deref(), &at)?;
         let plane = Rod::plane(g.point, g.normal, g.contact_stiffness);
         let ground = Rod {
@@ -1153,7 +1141,8 @@ fn grounds(specs: &[GroundSpec]) -> Result<Vec<(Rod, Vec<&str>)>, SceneError> {
             damping,
             ..plane
         };
-        out.push((ground, members));
+        let beams = (g.beams.as_ref()).map(|b| b.iter().map(String::as_str).collect());
+        out.push((ground, beams));
     }
     Ok(out)
 }

@@ -513,6 +513,24 @@ impl BeamContact {
     }
 }
 
+/// Whether a ground's `beams` list can be: it names the wire, which
+/// touches every ground (the rule a scene, the builder and Python follow;
+/// the members' names are the model's to check).
+pub fn check_ground_beams<S: AsRef<str> + std::fmt::Debug>(
+    beams: &[S],
+) -> Result<(), ParameterError> {
+    if beams.iter().any(|b| b.as_ref() == crate::model::WIRE) {
+        return Ok(());
+    }
+    refuse(
+        "beams",
+        format!(
+            "{beams:?} leaves out the wire, which touches every ground: list \"wire\" with the \
+             members that touch it too"
+        ),
+    )
+}
+
 /// A frame member's contact with the wire, as the model evaluates it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MemberContact {

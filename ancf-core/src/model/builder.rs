@@ -719,37 +719,15 @@ fn member_contacts(
         };
         let (radius, constants) = outer(i + 1);
         let c = m.contact;
-        let contact_stiffness = match (c.law, c.contact_stiffness) {
-            (ContactLaw::Line, Some(k)) => k,
-            (ContactLaw::Line, None) => {
-                return Err(at(
-                    "contact_stiffness",
-                    "missing (N/m^2), required for contact_law = \"line\"".into(),
-                ));
-            }
-            (ContactLaw::Hertz, None) => crate::model::contact::hertz_line_stiffness(
+        c.check_law().map_err(|e| at(&e.field, e.message))?;
+        let contact_stiffness = c.contact_stiffness.unwrap_or_else(|| {
+            crate::model::contact::hertz_line_stiffness(
                 constants,
                 wire_constants,
                 wire_radius,
                 radius,
-            ),
-            (ContactLaw::Hertz, Some(_)) => {
-                return Err(at(
-                    "contact_stiffness",
-                    "not used by contact_law = \"hertz\" (the stiffness follows from the \
-                     materials)"
-                        .into(),
-                ));
-            }
-            (ContactLaw::Surface, _) => {
-                return Err(at(
-                    "contact_law",
-                    "a member touches the wire by the line law (\"line\" or \"hertz\"); \
-                     surface test points are for rigid rods"
-                        .into(),
-                ));
-            }
-        };
+            )
+        });
         let contact = MemberContact {
             beam: i + 1,
             radius,

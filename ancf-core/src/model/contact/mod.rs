@@ -479,21 +479,8 @@ impl BeamContact {
                      without a law the Hertz stiffness of the two materials is used",
                 );
             }
-            (None | Some("hertz"), None) => ContactLaw::Hertz,
-            (Some("hertz"), Some(_)) => {
-                return refuse(
-                    "contact_stiffness",
-                    "not used by contact_law = \"hertz\", whose stiffness comes from the two \
-                     materials; give contact_law = \"line\" to use it",
-                );
-            }
-            (Some("line"), Some(_)) => ContactLaw::Line,
-            (Some("line"), None) => {
-                return refuse(
-                    "contact_stiffness",
-                    "missing: contact_law = \"line\" needs the line law's ε_L (N/m^2)",
-                );
-            }
+            (None | Some("hertz"), _) => ContactLaw::Hertz,
+            (Some("line"), _) => ContactLaw::Line,
             (Some(other), _) => {
                 return refuse(
                     "contact_law",
@@ -504,12 +491,38 @@ impl BeamContact {
                 );
             }
         };
-        Ok(BeamContact {
+        let contact = BeamContact {
             law,
             contact_stiffness,
             friction: friction.unwrap_or(0.0),
             damping: ContactDamping::from_keys(restitution, restitution_model)?,
-        })
+        };
+        contact.check_law()?;
+        Ok(contact)
+    }
+
+    /// Whether the law and the stiffness go together (the builder's check
+    /// too): the line law needs `contact_stiffness`, the Hertz law refuses
+    /// one (its stiffness comes from the two materials), and the surface
+    /// law is for rigid rods only.
+    pub fn check_law(&self) -> Result<(), ParameterError> {
+        match (self.law, self.contact_stiffness) {
+            (ContactLaw::Line, Some(_)) | (ContactLaw::Hertz, None) => Ok(()),
+            (ContactLaw::Line, None) => refuse(
+                "contact_stiffness",
+                "missing: contact_law = \"line\" needs the line law's ε_L (N/m^2)",
+            ),
+            (ContactLaw::Hertz, Some(_)) => refuse(
+                "contact_stiffness",
+                "not used by contact_law = \"hertz\", whose stiffness comes from the two \
+                 materials; give contact_law = \"line\" to use it",
+            ),
+            (ContactLaw::Surface, _) => refuse(
+                "contact_law",
+                "a member touches the wire by the line law (\"line\" or \"hertz\"); surface \
+                 test points are for rigid rods",
+            ),
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! ([`pattern`]); each Newton iteration only refills values in place
 //! ([`assemble`]).
 
-use super::plastic::History;
+use super::plastic::{History, PlasticLayout};
 use crate::element::ElementVector;
 use crate::linalg::pattern::Pattern;
 use crate::model::{Model, NODE_DOFS};
@@ -460,17 +460,14 @@ const PLASTIC_POINT_WEIGHT: f64 = 0.1;
 
 /// The first nodes of `parts` force chunks of about equal work, where
 /// yielding layers make some elements cost many times the others (a
-/// frame's members, all at the end): `None` without any, where
-/// [`chunks`]' equal sizes are equal work.
-fn weighted_starts(model: &Model, parts: usize) -> Option<Vec<usize>> {
-    let n = model.n_elements;
-    let weight = |el: usize| match model.is_gap(el) {
-        true => 0.0,
-        false => 1.0 + PLASTIC_POINT_WEIGHT * model.element(el).plastic_points() as f64,
-    };
-    if (0..n).all(|el| model.is_gap(el) || model.element(el).plastic_points() == 0) {
+/// frame's members, all at the end): `None` without any (`layout` empty),
+/// where [`chunks`]' equal sizes are equal work.
+fn weighted_starts(layout: &PlasticLayout, parts: usize) -> Option<Vec<usize>> {
+    if layout.is_empty() {
         return None;
     }
+    let n = layout.elements();
+    let weight = |el: usize| 1.0 + PLASTIC_POINT_WEIGHT * layout.points(el) as f64;
     let total: f64 = (0..n).map(weight).sum();
     let mut starts = vec![0];
     let mut done = 0.0;
@@ -515,7 +512,8 @@ fn assemble_chunks(
     energy: &mut [f64],
     values: Option<&mut [f64]>,
 ) {
-    let chunks = match (&values, weighted_starts(model, FORCE_CHUNKS)) {
+    let weighted = at.1.layout.and_then(|l| weighted_starts(l, FORCE_CHUNKS));
+    let chunks = match (&values, weighted) {
         (Some(_), _) => chunks(model.n_elements, CHUNK_ELEMENTS),
         (None, Some(starts)) => chunks_from(model.n_elements, &starts),
         (None, None) => {
@@ -1209,7 +1207,8 @@ mod tests {
             .support_on("tube", Support::new(0, SupportKind::Clamp))
             .build()
             .unwrap();
-        let starts = weighted_starts(&model, FORCE_CHUNKS).expect("a yielding layer");
+        let layout = crate::forces::plastic::PlasticLayout::of(&model);
+        let starts = weighted_starts(&layout, FORCE_CHUNKS).expect("a yielding layer");
         assert_eq!(starts.len(), FORCE_CHUNKS, "{starts:?}");
         let tube = model.beams[1].elements.clone();
         let last = *starts.last().unwrap();
@@ -1219,7 +1218,7 @@ mod tests {
         );
         assert!(
             weighted_starts(
-                &clamped_wire(
+                &crate::forces::plastic::PlasticLayout::of(&clamped_wire(
                     Section::circular(
                         &[(
                             0.0,
@@ -1230,7 +1229,7 @@ mod tests {
                     ),
                     300,
                     0.01
-                ),
+                )),
                 FORCE_CHUNKS
             )
             .is_none()

@@ -61,6 +61,16 @@ impl PlasticLayout {
         }
     }
 
+    /// Element `el`'s yielding points (0 for an elastic element or a gap).
+    pub fn points(&self, el: usize) -> usize {
+        self.range(el).len()
+    }
+
+    /// The element indices the layout covers (none when empty).
+    pub fn elements(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
     /// Element `el`'s range in the history.
     fn range(&self, el: usize) -> std::ops::Range<usize> {
         match self.offsets.get(el..el + 2) {

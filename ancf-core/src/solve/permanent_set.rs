@@ -8,6 +8,7 @@
 //! wire's weight, and a run is rarely long enough to end at rest.
 
 use crate::material::beam_plasticity::PlasticState;
+use crate::math::vec3::{norm, sub};
 use crate::model::Model;
 use crate::solve::statics::{StaticError, StaticSettings, solve_static_continuing};
 
@@ -55,12 +56,11 @@ pub fn permanent_set(
         displacement: Vec::with_capacity(nodes.len()),
     };
     for n in nodes {
-        let (a, b) = (
+        let d = sub(
             model.node_position(&after.q, n),
             model.node_position(&before.q, n),
         );
-        let d: [f64; 3] = std::array::from_fn(|k| a[k] - b[k]);
-        let size = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let size = norm(d);
         if size > out.set {
             (out.set, out.at) = (size, model.node_arc(n) - start);
         }

@@ -289,16 +289,13 @@ impl Observations {
             if !section.layers.iter().any(|l| l.material.is_plastic()) {
                 continue;
             }
-            let size = |a: [f64; 3]| a.iter().map(|x| x * x).sum::<f64>().sqrt();
+            use ancf_core::math::vec3::{norm, sub};
             let (mut moved, mut speed) = (0.0f64, 0.0f64);
             for n in beam.nodes.clone() {
-                let (r, r0) = (
-                    model.node_position(q, n),
-                    model.node_position(&model.reference, n),
-                );
-                moved = moved.max(size(std::array::from_fn(|k| r[k] - r0[k])));
+                let r = model.node_position(q, n);
+                moved = moved.max(norm(sub(r, model.node_position(&model.reference, n))));
                 if let Some(v) = v {
-                    speed = speed.max(size(model.node_position(v, n)));
+                    speed = speed.max(norm(model.node_position(v, n)));
                 }
             }
             out.end_displacement = Some(moved);

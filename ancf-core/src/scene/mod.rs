@@ -1127,10 +1127,13 @@ fn contact_damping(
     ContactDamping::from_keys(restitution, model).map_err(|e| err(at(&e.field), e.message))
 }
 
+/// A ground and the beams its `beams` names (`None`: the wire only).
+type GroundTouching<'a> = (Rod, Option<Vec<&'a str>>);
+
 /// `[[ground]]`: planes under the line law, each with its stiffness,
 /// friction and restitution, and its `beams` (absent: the wire only); the
 /// values and the names are the model's to check.
-fn grounds(specs: &[GroundSpec]) -> Result<Vec<(Rod, Option<Vec<&str>>)>, SceneError> {
+fn grounds(specs: &[GroundSpec]) -> Result<Vec<GroundTouching<'_>>, SceneError> {
     let mut out = Vec::new();
     for (i, g) in specs.iter().enumerate() {
         let at = |k: &str| format!("ground[{i}].{k}");
